@@ -1,0 +1,50 @@
+//! Reading inputs and writing outputs, shared by every command.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+/// Options every computational command shares.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Common {
+    /// Write the JSON result to this file instead of standard output.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Repeat the computation N times in the same process after reading the input (for timing
+    /// from outside); the result is still printed once.
+    #[arg(long, default_value_t = 1, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub repeat: u64,
+}
+
+/// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`. Unknown keys are
+/// rejected by the `T` types themselves (`#[serde(deny_unknown_fields)]`).
+pub fn read_input<T: DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read input file {}", path.display()))?;
+    if text.trim().is_empty() {
+        bail!("input file {} is empty", path.display());
+    }
+    let is_toml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    if is_toml {
+        toml::from_str(&text).with_context(|| format!("invalid TOML in {}", path.display()))
+    } else {
+        serde_json::from_str(&text).with_context(|| format!("invalid JSON in {}", path.display()))
+    }
+}
+
+/// Writes `value` as pretty JSON to the output file of `common`, or to standard output.
+pub fn write_output<T: Serialize>(common: &Common, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).context("cannot serialize the result")?;
+    match &common.output {
+        Some(path) => std::fs::write(path, text + "\n")
+            .with_context(|| format!("cannot write output file {}", path.display())),
+        None => {
+            println!("{text}");
+            Ok(())
+        }
+    }
+}

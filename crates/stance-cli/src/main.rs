@@ -1,0 +1,46 @@
+//! The `stance` command line. Thin by design: it parses arguments and files, calls the library
+//! (the `stance` facade crate), and writes JSON, plots and reports. The contract of every command
+//! (inputs, outputs, exit codes) is in the project's ARCHITECTURE.md.
+//!
+//! Exit codes: 0 on success, including negative outcomes (an unstable CoM, an infeasible
+//! retiming), which are reported in the JSON; 2 on bad input or usage, with a one-line message on
+//! standard error.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+
+/// Multi-contact stability of legged robots: cones, contact stability, retiming, robot models.
+#[derive(Parser)]
+#[command(name = "stance", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Convert polyhedral cones between span form (generators) and face form (inequalities).
+    #[command(subcommand)]
+    Cone(cmd::cone::ConeCommand),
+    /// Run the built-in examples of the paper end to end and print a summary.
+    Demo(cmd::demo::DemoArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Cone(c) => cmd::cone::run(c),
+        Command::Demo(a) => cmd::demo::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line: the whole chain of causes, separated by colons.
+            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::from(2)
+        }
+    }
+}

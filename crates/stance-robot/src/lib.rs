@@ -1,0 +1,1 @@
+//! (crate under construction; see the crate README and issues)

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Creates the project's Python virtualenv (default: .venv at the project root; override with
+# STANCE_VENV) and installs into it, from PyPI:
+#   always:   jvrc-description (the JVRC-1 humanoid URDF, used by stance-robot's tests)
+#   --peers:  the peers used as black-box oracles by bench/peers/ and the fixture scripts
+#             (pycddlib, pypoman, toppra, Pinocchio, NumPy, SciPy)
+# Idempotent: re-running it only installs what is missing.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+venv="${STANCE_VENV:-$root/.venv}"
+python="${PYTHON:-python3}"
+[ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
+pip=("$venv/bin/python" -m pip install --quiet --disable-pip-version-check)
+"${pip[@]}" -r "$root/bench/peers/requirements-tests.txt"
+if [ "${1:-}" = "--peers" ]; then
+  # pycddlib builds against the system's cddlib and GMP headers (Debian packages).
+  if ! [ -f /usr/include/cddlib/setoper.h ] && command -v apt-get >/dev/null; then
+    apt-get update -qq && apt-get install -y -qq libcdd-dev libgmp-dev >/dev/null
+  fi
+  "${pip[@]}" -r "$root/bench/peers/requirements-peers.txt"
+fi
+echo "virtualenv ready: $venv"
