@@ -310,6 +310,148 @@ impl Workspace {
     }
 }
 
+/// The row space of the facet matrix `fw` (`nf x r`) and its complement, the lineality space,
+/// as flat row-major orthonormal rows.
+fn split_lineality(fw: &[f64], nf: usize, r: usize, rank_tol: f64) -> (Vec<f64>, Vec<f64>) {
+    if r == 0 {
+        (Vec::new(), Vec::new())
+    } else if nf == 0 {
+        (
+            Vec::new(),
+            DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+        )
+    } else {
+        let fm = DMatrix::from_row_slice(nf, r, fw);
+        let (sv, vt) = sorted_svd(&fm);
+        let t = numerical_rank(&sv, rank_tol);
+        let mut perp = Vec::with_capacity(t * r);
+        for b in 0..t {
+            perp.extend(vt.row(b).iter());
+        }
+        let mut lin = Vec::with_capacity((r - t) * r);
+        for b in t..r {
+            lin.extend(vt.row(b).iter());
+        }
+        (perp, lin)
+    }
+}
+
+/// Certifies a claimed face form of `span(generators)` independently of how it was computed:
+/// soundness, support, lineality and completeness (see [`Certificate`]), plus the equations
+/// (they must annihilate every generator and number `d - dim span(V)`) and the claimed
+/// lineality space (its dimension must be that of the null space of the facets within
+/// `span(V)`, and the facets and equations must vanish on it).
+///
+/// ```
+/// use polycone::{nalgebra::DMatrix, span_to_face, certify_span_to_face, DdOptions, FaceForm};
+/// let v = DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 1.0, 0.0, 1.0, 1.0, -1.0, -1.0, 1.0]);
+/// let opts = DdOptions::default();
+/// let r = span_to_face(&v, &opts).unwrap();
+/// let ok = certify_span_to_face(&v, &r.face, &r.lineality, &opts).unwrap();
+/// assert!(ok.certified);
+/// // Drop a facet: the face form is now too large, and the certificate says so.
+/// let partial = FaceForm::new(r.face.facets.rows(0, 2).into_owned(), r.face.equations.clone()).unwrap();
+/// let bad = certify_span_to_face(&v, &partial, &r.lineality, &opts).unwrap();
+/// assert!(!bad.certified);
+/// ```
+pub fn certify_span_to_face(
+    generators: &DMatrix<f64>,
+    face: &FaceForm,
+    lineality: &DMatrix<f64>,
+    opts: &DdOptions,
+) -> Result<Certificate, ConeError> {
+    let d = generators.ncols();
+    if d == 0 {
+        return Err(ConeError::ZeroDimension);
+    }
+    check_finite("generators", generators)?;
+    face.validate()?;
+    if face.dim != d {
+        return Err(ConeError::DimensionMismatch {
+            what: "face form",
+            got: face.dim,
+            expected: d,
+        });
+    }
+    if lineality.nrows() > 0 && lineality.ncols() != d {
+        return Err(ConeError::DimensionMismatch {
+            what: "lineality",
+            got: lineality.ncols(),
+            expected: d,
+        });
+    }
+    check_finite("lineality", lineality)?;
+    opts.tol.validate()?;
+    let tol = &opts.tol;
+    let wh = whiten(generators, tol);
+    let r = wh.r;
+    // Facets in whitened coordinates (their components along the equations do not matter).
+    let nf = face.facets.nrows();
+    let mut fw = vec![0.0; nf * r];
+    let mut u = vec![0.0; d];
+    for f in 0..nf {
+        for j in 0..d {
+            u[j] = face.facets[(f, j)];
+        }
+        wh.facet_from_world(&u, &mut fw[f * r..(f + 1) * r]);
+    }
+    let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
+    let mut check = DdCore::default();
+    let mut scratch = Vec::new();
+    let mut cert = certify_whitened(
+        &wh,
+        &fw,
+        &perp,
+        &lin,
+        tol,
+        opts.arithmetic,
+        &mut check,
+        &mut scratch,
+    );
+    // Equations: annihilate the generators, and as many as the complement of span(V).
+    let maxn = (0..generators.nrows())
+        .map(|i| generators.row(i).norm())
+        .fold(0.0, f64::max);
+    let mut eq_res: f64 = 0.0;
+    for e in 0..face.equations.nrows() {
+        let row = face.equations.row(e);
+        let rn = row.norm();
+        for i in 0..generators.nrows() {
+            if maxn > 0.0 && rn > 0.0 {
+                eq_res = eq_res.max(row.dot(&generators.row(i)).abs() / (rn * maxn));
+            }
+        }
+    }
+    let eq_rank = {
+        let (sv, _) = if face.equations.nrows() > 0 {
+            sorted_svd(&face.equations)
+        } else {
+            (Vec::new(), DMatrix::zeros(0, 0))
+        };
+        numerical_rank(&sv, tol.rank)
+    };
+    cert.max_equation_residual = cert.max_equation_residual.max(eq_res);
+    if eq_res > tol.certificate || eq_rank + r != d {
+        cert.soundness = false;
+    }
+    // Claimed lineality: right dimension, and in the claimed cone's lineality space.
+    let l = r - perp.len().checked_div(r).unwrap_or(0);
+    let mut lin_ok = lineality.nrows() == l;
+    for b in 0..lineality.nrows() {
+        let x = lineality.row(b).transpose();
+        let n = x.norm();
+        let bad_f = (0..nf).any(|f| (face.facets.row(f) * &x)[0].abs() > tol.certificate * n);
+        let bad_e = (0..face.equations.nrows())
+            .any(|e| (face.equations.row(e) * &x)[0].abs() > tol.certificate * n);
+        if n == 0.0 || bad_f || bad_e {
+            lin_ok = false;
+        }
+    }
+    cert.lineality &= lin_ok;
+    cert.certified = cert.soundness && cert.support && cert.lineality && cert.completeness;
+    Ok(cert)
+}
+
 /// Converts a cone from span form to face form: `span(V) = {x : U x <= 0, E x = 0}`.
 ///
 /// `generators` is `n x d`, one generator per row (`n = 0` gives the zero cone, whose

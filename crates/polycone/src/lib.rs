@@ -68,7 +68,9 @@ pub mod precondition;
 pub mod tol;
 
 pub use certificate::Certificate;
-pub use convert::{face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace};
+pub use convert::{
+    certify_span_to_face, face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace,
+};
 pub use error::ConeError;
 pub use forms::{FaceForm, SpanForm};
 
