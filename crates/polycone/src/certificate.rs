@@ -12,13 +12,18 @@
 //! 3. **lineality** (`L ⊆ C`): the generators lying in `L` positively span `L`, i.e. they have
 //!    rank `l` and the dual cone `{y in L : g . y <= 0 for those g}` is `{0}` (checked by a double
 //!    description run in `L`, which must return no ray);
-//! 4. **completeness** (`C' ⊆ C`): a dual conversion of `U` (in `L^perp`) returns the extreme rays
-//!    of `C' ∩ L^perp`; each must be positively parallel to the projection onto `L^perp` of some
-//!    generator (which lies in `C` because `L ⊆ C`). Then `C' = L + cone(rays) ⊆ C`.
+//! 4. **completeness** (no facet of `C` is missing): in `L^perp`, where `C` is pointed of
+//!    dimension `t`, every ridge (facet of a facet) of a polyhedral cone lies in exactly two
+//!    facets. For each claimed facet `F`, its ridges are computed from the generators tight on
+//!    it (all `(t-2)`-subsets when `F` is simplicial, otherwise a small double description in
+//!    the hyperplane of `F`), and each ridge must be contained (as a set of generators) in
+//!    exactly two claimed facets. By 1 and 2 every claimed facet is a facet of `C`; if a facet
+//!    `F*` of `C` were missing, the facet graph of `C` being connected, some claimed facet `F`
+//!    would be adjacent to a missing one, and the ridge `F ∩ F*` would lie in one claimed facet
+//!    only. (`t = 1`: exactly one facet; `t = 2`: exactly two.)
 //!
 //! A face form missing facets (the failure of cddlib's float mode described in the crate docs)
-//! passes 1 and 2 but fails 4: the missing facets leave `C'` an extreme ray that is no
-//! generator. Equations are checked separately: every generator satisfies them and their number
+//! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
 //! is `d - r`.
 
 use crate::dd::DdCore;
@@ -48,10 +53,11 @@ pub struct Certificate {
     pub unsupported_facets: Vec<usize>,
     /// The lineality space is positively spanned by generators.
     pub lineality: bool,
-    /// Completeness: every extreme ray of the claimed cone is a generator.
+    /// Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
     pub completeness: bool,
-    /// Number of extreme rays of the claimed cone that match no generator.
-    pub unmatched_rays: usize,
+    /// Number of ridges (of claimed facets) not covered by exactly two claimed facets
+    /// (`usize::MAX` when the facet count is impossible for the dimension).
+    pub open_ridges: usize,
 }
 
 impl Certificate {
@@ -75,8 +81,8 @@ impl Certificate {
         }
         if !self.completeness {
             r.push(format!(
-                "completeness: {} extreme ray(s) of the face form are not generators",
-                self.unmatched_rays
+                "completeness: {} ridge(s) not shared by exactly two facets",
+                self.open_ridges
             ));
         }
         r.join("; ")
@@ -87,6 +93,8 @@ impl Certificate {
 /// `perp` (`t x r`, orthonormal rows) spans the facets, `lin` (`(r - t) x r`, orthonormal rows)
 /// its complement, the claimed lineality space.
 #[allow(clippy::too_many_arguments)]
+/// Returns the certificate and the extreme generators (indices into `wh.kept`, see
+/// [`Incidence::extreme`]).
 pub(crate) fn certify_whitened(
     wh: &Whitened,
     fw: &[f64],
@@ -96,7 +104,7 @@ pub(crate) fn certify_whitened(
     arithmetic: Arithmetic,
     check: &mut DdCore,
     scratch: &mut Vec<f64>,
-) -> Certificate {
+) -> (Certificate, Vec<usize>) {
     let r = wh.r;
     let nf = fw.len().checked_div(r).unwrap_or(0);
     let t = perp.len().checked_div(r).unwrap_or(0);
@@ -133,6 +141,7 @@ pub(crate) fn certify_whitened(
         let rank = rank_of(
             (0..cnt).map(|i| &proj[i * r..(i + 1) * r]),
             r,
+            r - 1,
             tol.support_rank,
             scratch,
         );
@@ -167,51 +176,17 @@ pub(crate) fn certify_whitened(
         };
     }
 
-    // 4. Completeness: the rays of the dual conversion of the facets are generators.
-    let mut unmatched_rays = 0;
-    let mut completeness = true;
-    if t > 0 {
-        let mut rows = vec![0.0; nf * t];
-        for f in 0..nf {
-            let u = &fw[f * r..(f + 1) * r];
-            for b in 0..t {
-                rows[f * t + b] = dot(&perp[b * r..(b + 1) * r], u);
-            }
-            normalize(&mut rows[f * t..(f + 1) * t]);
-        }
-        // Projected generators, in `perp` coordinates, unit (those not in L).
-        let mut gens = Vec::new();
-        for i in 0..ng {
-            let g = wh.gen(i);
-            let start = gens.len();
-            for b in 0..t {
-                gens.push(dot(&perp[b * r..(b + 1) * r], g));
-            }
-            if normalize(&mut gens[start..]) <= tol.certificate {
-                gens.truncate(start);
-            }
-        }
-        let ngp = gens.len() / t;
-        match check.run(&rows, nf, t, tol.incidence, tol.support_rank) {
-            Ok(()) => {
-                for k in 0..check.n {
-                    let ray = check.ray(k);
-                    let matched = (0..ngp).any(|i| {
-                        let g = &gens[i * t..(i + 1) * t];
-                        let d2: f64 = ray.iter().zip(g).map(|(a, b)| (a - b) * (a - b)).sum();
-                        d2.sqrt() <= tol.parallel
-                    });
-                    if !matched {
-                        unmatched_rays += 1;
-                    }
-                }
-                completeness = unmatched_rays == 0;
-            }
-            Err(_) => completeness = false,
-        }
-    }
+    // 4. Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
+    let inc = Incidence::new(wh, fw, perp, t, tol);
+    let open_ridges = if ok_dims(t, nf) {
+        count_open_ridges(&inc, t, tol, check, scratch)
+    } else {
+        usize::MAX
+    };
+    let completeness = open_ridges == 0;
+    let extreme = inc.extreme(&wh.distinct);
 
-    Certificate {
+    let cert = Certificate {
         certified: soundness && support && lineality && completeness,
         arithmetic,
         max_violation,
@@ -221,6 +196,243 @@ pub(crate) fn certify_whitened(
         unsupported_facets,
         lineality,
         completeness,
-        unmatched_rays,
+        open_ridges,
+    };
+    (cert, extreme)
+}
+
+/// Facet counts that are possible for a pointed cone of dimension `t` (with `t >= 1`, at least
+/// `t` facets; `t = 1`: one; `t = 2`: two).
+fn ok_dims(t: usize, nf: usize) -> bool {
+    match t {
+        0 => nf == 0,
+        1 => nf == 1,
+        2 => nf == 2,
+        _ => nf >= t,
     }
+}
+
+/// Generator-facet incidence in `L^perp` coordinates (dimension `t`), as bitsets both ways.
+pub(crate) struct Incidence {
+    t: usize,
+    ng: usize,
+    nf: usize,
+    /// Generators (unit, `ng x t`), facets (unit, `nf x t`).
+    gp: Vec<f64>,
+    fp: Vec<f64>,
+    /// Generator lies in the lineality space (projection ~ 0).
+    in_l: Vec<bool>,
+    gw: usize,
+    fwd: usize,
+    /// `nf x gw`: generators tight on each facet.
+    inc: Vec<u64>,
+    /// `ng x fwd`: facets tight on each generator.
+    by_gen: Vec<u64>,
+}
+
+impl Incidence {
+    fn new(wh: &Whitened, fw: &[f64], perp: &[f64], t: usize, tol: &Tolerances) -> Self {
+        let r = wh.r;
+        let ng = wh.kept.len();
+        let nf = fw.len().checked_div(r).unwrap_or(0);
+        let mut gp = vec![0.0; ng * t];
+        let mut in_l = vec![false; ng];
+        for i in 0..ng {
+            let g = wh.gen(i);
+            for b in 0..t {
+                gp[i * t + b] = dot(&perp[b * r..(b + 1) * r], g);
+            }
+            if normalize(&mut gp[i * t..(i + 1) * t]) <= tol.certificate {
+                in_l[i] = true;
+            }
+        }
+        let mut fp = vec![0.0; nf * t];
+        for f in 0..nf {
+            for b in 0..t {
+                fp[f * t + b] = dot(&perp[b * r..(b + 1) * r], &fw[f * r..(f + 1) * r]);
+            }
+            normalize(&mut fp[f * t..(f + 1) * t]);
+        }
+        let gw = ng.div_ceil(64).max(1);
+        let fwd = nf.div_ceil(64).max(1);
+        let mut inc = vec![0u64; nf * gw];
+        let mut by_gen = vec![0u64; ng * fwd];
+        for f in 0..nf {
+            let u = &fp[f * t..(f + 1) * t];
+            for i in 0..ng {
+                if !in_l[i] && dot(u, &gp[i * t..(i + 1) * t]).abs() <= tol.incidence {
+                    inc[f * gw + i / 64] |= 1 << (i % 64);
+                    by_gen[i * fwd + f / 64] |= 1 << (f % 64);
+                }
+            }
+        }
+        Self {
+            t,
+            ng,
+            nf,
+            gp,
+            fp,
+            in_l,
+            gw,
+            fwd,
+            inc,
+            by_gen,
+        }
+    }
+
+    /// Extreme generators among `candidates` (indices into `kept`), one per extreme ray: `g` is
+    /// extreme iff it is not in `L` and no generator is tight on a strict superset of the
+    /// facets `g` is tight on (for a complete face form, those generators lie in the smallest
+    /// face containing `g`, which is a ray iff `g` is extreme); among generators tight on the
+    /// same facets (the same ray), the first is kept.
+    fn extreme(&self, candidates: &[usize]) -> Vec<usize> {
+        if self.t == 0 {
+            return Vec::new();
+        }
+        let fwd = self.fwd;
+        let set = |i: usize| &self.by_gen[i * fwd..(i + 1) * fwd];
+        let mut out: Vec<usize> = Vec::new();
+        for &g in candidates {
+            if self.in_l[g] {
+                continue;
+            }
+            let sg = set(g);
+            let dominated = candidates.iter().any(|&h| {
+                h != g
+                    && !self.in_l[h]
+                    && sg.iter().zip(set(h)).all(|(a, b)| a & !b == 0)
+                    && sg != set(h)
+            });
+            if dominated || out.iter().any(|&o| set(o) == sg) {
+                continue;
+            }
+            out.push(g);
+        }
+        out
+    }
+}
+
+/// The ridge check of completeness (see the module doc), for `t >= 3` (smaller `t` are decided by
+/// [`ok_dims`]). Returns the number of ridges not covered by exactly two facets.
+fn count_open_ridges(
+    incd: &Incidence,
+    t: usize,
+    tol: &Tolerances,
+    small: &mut DdCore,
+    scratch: &mut Vec<f64>,
+) -> usize {
+    if t < 3 {
+        return 0;
+    }
+    let Incidence {
+        ng, nf, gw, fwd, ..
+    } = *incd;
+    let (gp, fp, inc, by_gen) = (&incd.gp, &incd.fp, &incd.inc, &incd.by_gen);
+    let mut open = 0;
+    let mut members: Vec<usize> = Vec::new();
+    let mut basis = vec![0.0; t * t];
+    let mut rows: Vec<f64> = Vec::new();
+    let mut acc = vec![0u64; fwd];
+    let mut ridge: Vec<usize> = Vec::new();
+    let mut vbuf = vec![0.0; t];
+    // Counts the facets containing `ridge` (generator indices); 2 expected.
+    let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
+        acc.fill(u64::MAX);
+        for &i in ridge {
+            for (a, b) in acc.iter_mut().zip(&by_gen[i * fwd..(i + 1) * fwd]) {
+                *a &= b;
+            }
+        }
+        let extra = fwd * 64 - nf;
+        acc.iter().map(|w| w.count_ones()).sum::<u32>()
+            - if ridge.is_empty() { extra as u32 } else { 0 }
+    };
+    for f in 0..nf {
+        members.clear();
+        for i in 0..ng {
+            if inc[f * gw + i / 64] >> (i % 64) & 1 == 1 {
+                members.push(i);
+            }
+        }
+        if members.len() < t - 1 {
+            open += 1;
+            continue;
+        }
+        if members.len() == t - 1 {
+            // Simplicial facet: its ridges drop one generator each.
+            for drop in 0..members.len() {
+                ridge.clear();
+                ridge.extend(
+                    members
+                        .iter()
+                        .enumerate()
+                        .filter(|&(k, _)| k != drop)
+                        .map(|(_, &i)| i),
+                );
+                if covered(&ridge, &mut acc) != 2 {
+                    open += 1;
+                }
+            }
+            continue;
+        }
+        // Orthonormal basis of the hyperplane u^perp in R^t (Gram-Schmidt of u, e_1, ..., e_t).
+        let u = &fp[f * t..(f + 1) * t];
+        let mut nb = 0;
+        scratch.clear();
+        scratch.extend_from_slice(u);
+        let v = &mut vbuf[..];
+        for e in 0..t {
+            if nb == t - 1 {
+                break;
+            }
+            v.fill(0.0);
+            v[e] = 1.0;
+            for _ in 0..2 {
+                let c = dot(v, u);
+                for k in 0..t {
+                    v[k] -= c * u[k];
+                }
+                for q in 0..nb {
+                    let c = dot(v, &basis[q * t..(q + 1) * t]);
+                    for k in 0..t {
+                        v[k] -= c * basis[q * t + k];
+                    }
+                }
+            }
+            if normalize(v) > 0.5 {
+                basis[nb * t..(nb + 1) * t].copy_from_slice(v);
+                nb += 1;
+            }
+        }
+        let k = t - 1;
+        rows.clear();
+        for &i in &members {
+            let g = &gp[i * t..(i + 1) * t];
+            let start = rows.len();
+            for q in 0..k {
+                rows.push(dot(g, &basis[q * t..(q + 1) * t]));
+            }
+            normalize(&mut rows[start..]);
+        }
+        if small
+            .run(&rows, members.len(), k, tol.incidence, tol.support_rank)
+            .is_err()
+        {
+            open += 1;
+            continue;
+        }
+        for q in 0..small.n {
+            let z = &small.z[q * small.words..(q + 1) * small.words];
+            ridge.clear();
+            for (loc, &i) in members.iter().enumerate() {
+                if z[loc / 64] >> (loc % 64) & 1 == 1 {
+                    ridge.push(i);
+                }
+            }
+            if covered(&ridge, &mut acc) != 2 {
+                open += 1;
+            }
+        }
+    }
+    open
 }

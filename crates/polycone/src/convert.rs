@@ -18,7 +18,7 @@ use nalgebra::DMatrix;
 
 use crate::certificate::{certify_whitened, Certificate};
 use crate::dd::DdCore;
-use crate::linalg::{normalize, numerical_rank, orthonormal_rows, rank_of, sorted_svd};
+use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
 use crate::precondition::{whiten, Whitened};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
@@ -206,30 +206,10 @@ impl Workspace {
             fw.extend_from_slice(self.core.ray(f));
         }
         // Lineality: the null space of the facet matrix, in whitened coordinates.
-        let (perp, lin) = if r == 0 {
-            (Vec::new(), Vec::new())
-        } else if nf == 0 {
-            (
-                Vec::new(),
-                DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
-            )
-        } else {
-            let fm = DMatrix::from_row_slice(nf, r, &fw);
-            let (sv, vt) = sorted_svd(&fm);
-            let t = numerical_rank(&sv, tol.rank);
-            let mut perp = Vec::with_capacity(t * r);
-            for b in 0..t {
-                perp.extend(vt.row(b).iter());
-            }
-            let mut lin = Vec::with_capacity((r - t) * r);
-            for b in t..r {
-                lin.extend(vt.row(b).iter());
-            }
-            (perp, lin)
-        };
+        let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
         let t = perp.len().checked_div(r).unwrap_or(0);
         let l = r - t;
-        let certificate = certify_whitened(
+        let (certificate, extreme_kept) = certify_whitened(
             &wh,
             &fw,
             &perp,
@@ -270,36 +250,9 @@ impl Workspace {
             lw.row_mut(b).copy_from_slice(&x);
         }
         let lineality = orthonormal_rows(&lw, tol.rank);
-        // Extreme generators: tight facets of rank t - 1, one per incidence pattern.
-        let mut extreme = Vec::new();
-        if t > 0 {
-            let mut seen: Vec<Vec<bool>> = Vec::new();
-            let mut tight_rows = Vec::new();
-            for &i in &wh.distinct {
-                let g = wh.gen(i);
-                let pattern: Vec<bool> = (0..nf)
-                    .map(|f| crate::linalg::dot(&fw[f * r..(f + 1) * r], g).abs() <= tol.incidence)
-                    .collect();
-                tight_rows.clear();
-                for f in 0..nf {
-                    if pattern[f] {
-                        tight_rows.extend_from_slice(&fw[f * r..(f + 1) * r]);
-                    }
-                }
-                let cnt = tight_rows.len() / r;
-                let rank = rank_of(
-                    (0..cnt).map(|k| &tight_rows[k * r..(k + 1) * r]),
-                    r,
-                    tol.support_rank,
-                    &mut self.scratch,
-                );
-                if rank + 1 == t && !seen.contains(&pattern) {
-                    seen.push(pattern);
-                    extreme.push(wh.kept[i]);
-                }
-            }
-            extreme.sort_unstable();
-        }
+        // Extreme generators (a by-product of the certificate's incidence), as input rows.
+        let mut extreme: Vec<usize> = extreme_kept.iter().map(|&i| wh.kept[i]).collect();
+        extreme.sort_unstable();
         Ok(Polar {
             wh,
             facets: facets_m,
@@ -398,7 +351,7 @@ pub fn certify_span_to_face(
     let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
     let mut check = DdCore::default();
     let mut scratch = Vec::new();
-    let mut cert = certify_whitened(
+    let (mut cert, _) = certify_whitened(
         &wh,
         &fw,
         &perp,
