@@ -404,8 +404,10 @@ fn x_range(
     Some(([x_lo, x_hi], [Some(a_hi), Some(a_lo)]))
 }
 
-/// After the backward pass failed at `i_fail`: the smallest grid point whose own feasible set is
-/// empty, else the controllable-set failure.
+/// After the backward pass failed at `i_fail`: the smallest grid point whose own rows admit no
+/// `(u, x)` (with `u` free in its bounds); else the smallest stage whose feasible set `Omega_i`
+/// (with interpolation: also the rows of `i + 1` at the next state, and `x_{i+1} >= 0`) is
+/// empty; else the controllable-set failure.
 fn diagnose(
     k: &CanonicalConstraints,
     disc: Discretization,
@@ -417,13 +419,13 @@ fn diagnose(
     let n = k.num_points();
     let mut hit = false;
     for i in 0..n {
-        let (bbox, bad) = if i + 1 < n {
-            // Omega_i with the K lines relaxed to the whole box.
-            let (b, bad) = ws.assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
-            (b, bad)
-        } else {
-            ws.assemble(k, disc, i, None, false, tol)
-        };
+        let (bbox, bad) = ws.assemble(k, disc, i, None, false, tol);
+        if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
+            return Status::FeasibleSetEmpty { index: i };
+        }
+    }
+    for i in 0..n - 1 {
+        let (bbox, bad) = ws.assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
         if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
             return Status::FeasibleSetEmpty { index: i };
         }

@@ -1,6 +1,8 @@
 //! Shared helpers of the integration tests: loading the retiming instances of `testdata/topp/`.
 #![allow(dead_code)]
 
+pub mod lp;
+
 use stance_topp::CanonicalConstraints;
 
 #[derive(serde::Deserialize)]
