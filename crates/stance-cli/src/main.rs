@@ -25,6 +25,8 @@ enum Command {
     /// Convert polyhedral cones between span form (generators) and face form (inequalities).
     #[command(subcommand)]
     Cone(cmd::cone::ConeCommand),
+    /// Time-optimal retiming on raw rows a sdd + b sd^2 + c <= 0 (reachability analysis).
+    Topp(cmd::topp::ToppArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
 }
@@ -34,6 +36,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Topp(a) => cmd::topp::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

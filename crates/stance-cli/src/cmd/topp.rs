@@ -1,0 +1,117 @@
+//! `stance topp FILE`: time-optimal retiming on raw rows `a sdd + b sd^2 + c <= 0`.
+//!
+//! Input (JSON or TOML): `{"s": [N+1], "a": [[m] x (N+1)], "b": ..., "c": ..., "sd_start",
+//! "sd_end", "discretization": "collocation" | "interpolation"}` (`sd_start`, `sd_end` default to
+//! 0, the discretization to collocation). Output: `{"status", "duration", "sd", "sdd", "t",
+//! "controllable_sets"}` plus `"discretization"` (the one that ran), `"index"` (the grid point of
+//! a failure, else null) and `"max_residual"` (largest enforced row residual, rows scaled to unit
+//! norm). Infeasible instances are a status, exit code 0.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
+use stance::stance_topp::{
+    solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Workspace,
+};
+
+use super::io::{read_input, write_output, Common};
+
+#[derive(clap::Args)]
+pub struct ToppArgs {
+    /// Input JSON (or .toml) file with s, a, b, c, sd_start, sd_end, discretization.
+    pub file: PathBuf,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+#[derive(Deserialize, Clone, Copy, Default)]
+#[serde(rename_all = "lowercase")]
+enum DiscretizationName {
+    #[default]
+    Collocation,
+    Interpolation,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ToppInput {
+    s: Vec<f64>,
+    a: Vec<Vec<f64>>,
+    b: Vec<Vec<f64>>,
+    c: Vec<Vec<f64>>,
+    #[serde(default)]
+    sd_start: f64,
+    #[serde(default)]
+    sd_end: f64,
+    #[serde(default)]
+    discretization: DiscretizationName,
+}
+
+#[derive(Serialize)]
+struct ToppOutput {
+    status: &'static str,
+    discretization: &'static str,
+    index: Option<usize>,
+    duration: Option<f64>,
+    sd: Option<Vec<f64>>,
+    sdd: Option<Vec<f64>>,
+    t: Option<Vec<f64>>,
+    controllable_sets: Vec<Option<[f64; 2]>>,
+    max_residual: Option<f64>,
+}
+
+pub fn run(args: ToppArgs) -> Result<()> {
+    let input: ToppInput = read_input(&args.file)?;
+    let k = CanonicalConstraints::from_dense(&input.s, &input.a, &input.b, &input.c)?;
+    let disc = match input.discretization {
+        DiscretizationName::Collocation => Discretization::Collocation,
+        DiscretizationName::Interpolation => Discretization::Interpolation,
+    };
+    let opts = SolveOptions::new(disc)
+        .with_start(input.sd_start)
+        .with_end(input.sd_end);
+    let mut ws = Workspace::new();
+    let mut sol = solve_with(&k, &opts, &mut ws)?;
+    for _ in 1..args.common.repeat {
+        sol = solve_with(&k, &opts, &mut ws)?;
+    }
+    let index = match sol.status {
+        Status::FeasibleSetEmpty { index }
+        | Status::ControllableSetEmpty { index }
+        | Status::ForwardPassFailed { index }
+        | Status::Stalled { index } => Some(index),
+        Status::StartOutsideControllable { .. } => Some(0),
+        Status::Optimal => None,
+    };
+    let finite = |v: f64| v.is_finite().then_some(v);
+    let out = match &sol.profile {
+        Some(p) => ToppOutput {
+            status: sol.status.name(),
+            discretization: disc.name(),
+            index,
+            duration: finite(p.duration()),
+            sd: Some(p.sd()),
+            sdd: Some(p.u().to_vec()),
+            // Infinite times (a stalled profile) cannot be written in JSON.
+            t: p.times()
+                .iter()
+                .all(|t| t.is_finite())
+                .then(|| p.times().to_vec()),
+            controllable_sets: sol.controllable.clone(),
+            max_residual: Some(p.residuals(&k, disc).max_normalized()),
+        },
+        None => ToppOutput {
+            status: sol.status.name(),
+            discretization: disc.name(),
+            index,
+            duration: None,
+            sd: None,
+            sdd: None,
+            t: None,
+            controllable_sets: sol.controllable.clone(),
+            max_residual: None,
+        },
+    };
+    write_output(&args.common, &out)
+}

@@ -1,0 +1,366 @@
+//! Canonical constraints of time-optimal path parameterization.
+//!
+//! # Math
+//!
+//! On a path `q(s)`, `s in [s_0, s_N]`, with `u = s''` and `x = s'^2`, every constraint that is
+//! linear in the generalized acceleration (contact stability through the GIWC, paper eq. 13-14;
+//! torque limits; ...) reads, at each grid point `s_i`,
+//!
+//! ```text
+//!     a_ij u + b_ij x + c_ij <= 0          j = 0 .. m_i - 1
+//! ```
+//!
+//! plus optional bounds `x_lo_i <= x <= x_hi_i` and `u_lo_i <= u <= u_hi_i`. This module stores
+//! the rows of all grid points in one flat buffer with per-point offsets (`rows_at(i)` is a
+//! slice), validated once: finite coefficients, matching shapes, a strictly increasing grid.
+
+use crate::error::ToppError;
+
+/// One row `a u + b x + c <= 0`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Row {
+    /// Coefficient of `u = s''`.
+    pub a: f64,
+    /// Coefficient of `x = s'^2`.
+    pub b: f64,
+    /// Constant term.
+    pub c: f64,
+}
+
+impl Row {
+    /// Value `a u + b x + c` (the row holds when it is `<= 0`).
+    ///
+    /// ```
+    /// use stance_topp::Row;
+    /// assert_eq!(Row { a: 1.0, b: 2.0, c: -3.0 }.value(1.0, 1.0), 0.0);
+    /// ```
+    #[inline]
+    pub fn value(&self, u: f64, x: f64) -> f64 {
+        self.a * u + self.b * x + self.c
+    }
+}
+
+/// Rows `a u + b x + c <= 0` at every grid point, stored contiguously, with optional bounds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CanonicalConstraints {
+    s: Vec<f64>,
+    offsets: Vec<usize>,
+    rows: Vec<Row>,
+    x_bounds: Option<Vec<[f64; 2]>>,
+    u_bounds: Option<Vec<[f64; 2]>>,
+}
+
+fn check_grid(s: &[f64]) -> Result<(), ToppError> {
+    if s.len() < 2 {
+        return Err(ToppError::GridTooShort { got: s.len() });
+    }
+    if let Some((i, &v)) = s.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(ToppError::NotFinite {
+            what: "s",
+            point: i,
+            row: 0,
+            value: v,
+        });
+    }
+    for i in 1..s.len() {
+        if s[i] <= s[i - 1] {
+            return Err(ToppError::GridNotIncreasing {
+                index: i,
+                value: s[i],
+                prev_index: i - 1,
+                prev: s[i - 1],
+            });
+        }
+    }
+    Ok(())
+}
+
+fn check_bounds(
+    what: &'static str,
+    bounds: &[[f64; 2]],
+    n: usize,
+    allow_negative: bool,
+) -> Result<(), ToppError> {
+    if bounds.len() != n {
+        return Err(ToppError::Shape {
+            what: what.to_string(),
+            expected: n,
+            got: bounds.len(),
+        });
+    }
+    for (i, &[lo, hi]) in bounds.iter().enumerate() {
+        if lo.is_nan() || hi.is_nan() {
+            return Err(ToppError::NotFinite {
+                what,
+                point: i,
+                row: 0,
+                value: f64::NAN,
+            });
+        }
+        if lo > hi {
+            return Err(ToppError::InvalidValue {
+                what,
+                detail: format!("empty interval [{lo}, {hi}] at grid point {i}; give lo <= hi"),
+            });
+        }
+        if !allow_negative && hi < 0.0 {
+            return Err(ToppError::InvalidValue {
+                what,
+                detail: format!(
+                    "upper bound {hi} < 0 at grid point {i}; x = s'^2 is never negative"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+impl CanonicalConstraints {
+    /// Builds the constraints from a grid `s` (`N + 1` points), per-point row offsets
+    /// (`N + 2` entries, starting at 0, non-decreasing, ending at `rows.len()`) and the rows.
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// // Two grid points, one row each: x <= 1.
+    /// let r = Row { a: 0.0, b: 1.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// assert_eq!(k.num_points(), 2);
+    /// assert_eq!(k.rows_at(1), &[r]);
+    /// assert!(CanonicalConstraints::new(vec![0.0, 0.0], vec![0, 1, 2], vec![r, r]).is_err());
+    /// ```
+    pub fn new(s: Vec<f64>, offsets: Vec<usize>, rows: Vec<Row>) -> Result<Self, ToppError> {
+        check_grid(&s)?;
+        if offsets.len() != s.len() + 1 {
+            return Err(ToppError::Shape {
+                what: "offsets (grid points + 1)".into(),
+                expected: s.len() + 1,
+                got: offsets.len(),
+            });
+        }
+        if offsets[0] != 0
+            || offsets.windows(2).any(|w| w[1] < w[0])
+            || offsets[s.len()] != rows.len()
+        {
+            return Err(ToppError::InvalidValue {
+                what: "offsets",
+                detail: format!(
+                    "offsets must start at 0, never decrease and end at the number of rows ({})",
+                    rows.len()
+                ),
+            });
+        }
+        for i in 0..s.len() {
+            for (j, r) in rows[offsets[i]..offsets[i + 1]].iter().enumerate() {
+                for (what, v) in [("a", r.a), ("b", r.b), ("c", r.c)] {
+                    if !v.is_finite() {
+                        return Err(ToppError::NotFinite {
+                            what,
+                            point: i,
+                            row: j,
+                            value: v,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            s,
+            offsets,
+            rows,
+            x_bounds: None,
+            u_bounds: None,
+        })
+    }
+
+    /// Builds the constraints from dense per-point arrays `a[i][j]`, `b[i][j]`, `c[i][j]` (the
+    /// layout of the command-line files; the number of rows may differ between grid points but
+    /// must agree between `a`, `b` and `c`).
+    ///
+    /// ```
+    /// use stance_topp::CanonicalConstraints;
+    /// let s = [0.0, 0.5, 1.0];
+    /// let a = vec![vec![1.0, -1.0]; 3];
+    /// let b = vec![vec![0.0, 0.0]; 3];
+    /// let c = vec![vec![-1.0, -1.0]; 3]; // |u| <= 1
+    /// let k = CanonicalConstraints::from_dense(&s, &a, &b, &c).unwrap();
+    /// assert_eq!(k.rows_at(2).len(), 2);
+    /// assert!(CanonicalConstraints::from_dense(&s, &a, &b, &c[..2]).is_err());
+    /// ```
+    pub fn from_dense(
+        s: &[f64],
+        a: &[Vec<f64>],
+        b: &[Vec<f64>],
+        c: &[Vec<f64>],
+    ) -> Result<Self, ToppError> {
+        let n = s.len();
+        for (what, arr) in [
+            ("a (grid points)", a),
+            ("b (grid points)", b),
+            ("c (grid points)", c),
+        ] {
+            if arr.len() != n {
+                return Err(ToppError::Shape {
+                    what: what.into(),
+                    expected: n,
+                    got: arr.len(),
+                });
+            }
+        }
+        let mut offsets = Vec::with_capacity(n + 1);
+        offsets.push(0);
+        let mut rows = Vec::with_capacity(a.iter().map(Vec::len).sum());
+        for i in 0..n {
+            let m = a[i].len();
+            for (what, arr) in [("b", &b[i]), ("c", &c[i])] {
+                if arr.len() != m {
+                    return Err(ToppError::Shape {
+                        what: format!("{what}[{i}] (rows, must match a[{i}])"),
+                        expected: m,
+                        got: arr.len(),
+                    });
+                }
+            }
+            for j in 0..m {
+                rows.push(Row {
+                    a: a[i][j],
+                    b: b[i][j],
+                    c: c[i][j],
+                });
+            }
+            offsets.push(rows.len());
+        }
+        Self::new(s.to_vec(), offsets, rows)
+    }
+
+    /// Adds bounds `lo_i <= x <= hi_i` on `x = s'^2` at every grid point (`N + 1` pairs; use
+    /// `f64::INFINITY` for no upper bound).
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// let k = k.with_x_bounds(vec![[0.0, 4.0]; 2]).unwrap();
+    /// assert_eq!(k.x_bounds_at(1), [0.0, 4.0]);
+    /// ```
+    pub fn with_x_bounds(mut self, bounds: Vec<[f64; 2]>) -> Result<Self, ToppError> {
+        check_bounds("x bounds", &bounds, self.s.len(), false)?;
+        self.x_bounds = Some(bounds);
+        Ok(self)
+    }
+
+    /// Adds bounds `lo_i <= u <= hi_i` on `u = s''` at every grid point (`N + 1` pairs).
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 0.0, b: 1.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// let k = k.with_u_bounds(vec![[-2.0, 2.0]; 2]).unwrap();
+    /// assert_eq!(k.u_bounds_at(0), [-2.0, 2.0]);
+    /// assert_eq!(k.x_bounds_at(0), [0.0, f64::INFINITY]);
+    /// ```
+    pub fn with_u_bounds(mut self, bounds: Vec<[f64; 2]>) -> Result<Self, ToppError> {
+        check_bounds("u bounds", &bounds, self.s.len(), true)?;
+        self.u_bounds = Some(bounds);
+        Ok(self)
+    }
+
+    /// The grid `s_0 < ... < s_N`.
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let k = CanonicalConstraints::new(vec![0.0, 2.0], vec![0, 0, 0], vec![]).unwrap();
+    /// assert_eq!(k.grid(), &[0.0, 2.0]);
+    /// ```
+    pub fn grid(&self) -> &[f64] {
+        &self.s
+    }
+
+    /// Number of grid points `N + 1`.
+    ///
+    /// ```
+    /// use stance_topp::CanonicalConstraints;
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0, 2.0], vec![0, 0, 0, 0], vec![]).unwrap();
+    /// assert_eq!(k.num_points(), 3);
+    /// ```
+    pub fn num_points(&self) -> usize {
+        self.s.len()
+    }
+
+    /// The rows of grid point `i` (panics if `i >= num_points()`, a programming error).
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 0, 1], vec![r]).unwrap();
+    /// assert!(k.rows_at(0).is_empty());
+    /// assert_eq!(k.rows_at(1).len(), 1);
+    /// ```
+    pub fn rows_at(&self, i: usize) -> &[Row] {
+        &self.rows[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// All rows, grid point after grid point (see [`Self::offsets`]).
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// assert_eq!(k.rows().len(), 2);
+    /// ```
+    pub fn rows(&self) -> &[Row] {
+        &self.rows
+    }
+
+    /// Mutable rows, for producers that refill the same shape in place (see
+    /// [`crate::factored`]); the caller keeps them finite.
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
+    /// let mut k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// k.rows_mut()[0].c = -2.0;
+    /// assert_eq!(k.rows_at(0)[0].c, -2.0);
+    /// ```
+    pub fn rows_mut(&mut self) -> &mut [Row] {
+        &mut self.rows
+    }
+
+    /// Row offsets: the rows of grid point `i` are `rows()[offsets()[i]..offsets()[i + 1]]`.
+    ///
+    /// ```
+    /// use stance_topp::CanonicalConstraints;
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 0, 0], vec![]).unwrap();
+    /// assert_eq!(k.offsets(), &[0, 0, 0]);
+    /// ```
+    pub fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+
+    /// Bounds on `x` at grid point `i` (`[0, inf]` when none were given).
+    ///
+    /// ```
+    /// use stance_topp::CanonicalConstraints;
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 0, 0], vec![]).unwrap();
+    /// assert_eq!(k.x_bounds_at(0), [0.0, f64::INFINITY]);
+    /// ```
+    pub fn x_bounds_at(&self, i: usize) -> [f64; 2] {
+        match &self.x_bounds {
+            Some(b) => [b[i][0].max(0.0), b[i][1]],
+            None => [0.0, f64::INFINITY],
+        }
+    }
+
+    /// Bounds on `u` at grid point `i` (`[-inf, inf]` when none were given).
+    ///
+    /// ```
+    /// use stance_topp::CanonicalConstraints;
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 0, 0], vec![]).unwrap();
+    /// assert_eq!(k.u_bounds_at(1), [f64::NEG_INFINITY, f64::INFINITY]);
+    /// ```
+    pub fn u_bounds_at(&self, i: usize) -> [f64; 2] {
+        match &self.u_bounds {
+            Some(b) => b[i],
+            None => [f64::NEG_INFINITY, f64::INFINITY],
+        }
+    }
+}

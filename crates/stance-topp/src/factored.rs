@@ -1,0 +1,302 @@
+//! Factored rows: `a_i = U w_a(s_i)`, `b_i = U w_b(s_i)`, `c_i = U w_c(s_i)` for a fixed matrix
+//! `U` (m x 6) and three 6-vectors per grid point, produced in one cache-friendly sweep.
+//!
+//! # Math (paper eq. 14)
+//!
+//! For contact stability `U` is the GIWC face matrix (`U w_GI <= 0`; computed once per stance
+//! elsewhere) and, for a CoM path `p(s)` with mass `m`, gravity `g` and angular-momentum terms
+//! `L' = l1 s'' + l2 s'^2`,
+//!
+//! ```text
+//!     w_a = -(m p_s , m p x p_s  + l1)
+//!     w_b = -(m p_ss, m p x p_ss + l2)
+//!     w_c =  (m g   , m p x g)
+//! ```
+//!
+//! Since `p'' = p_s u + p_ss x` and `L' = l1 u + l2 x` along the path, the gravito-inertial
+//! wrench is `w_GI = w_c + w_a u + w_b x`, so `a u + b x + c = U w_GI` and the rows hold exactly
+//! when `U w_GI <= 0` ([`eq14_vectors`]). This module only multiplies:
+//! it knows nothing about contacts. The units of the rows are those of `U w` (for unit-norm face
+//! rows and wrenches in N and N m: newtons).
+
+use crate::constraints::{CanonicalConstraints, Row};
+use crate::error::ToppError;
+use crate::path::{PathCurve, PathPoint};
+
+/// The three 6-vectors of eq. 14 at one path point (see the module docs).
+///
+/// ```
+/// use stance_topp::factored::eq14_vectors;
+/// use stance_topp::path::PathPoint;
+/// let q = PathPoint { p: [0.0, 0.0, 1.0], ps: [1.0, 0.0, 0.0], pss: [0.0; 3] };
+/// let [wa, wb, wc] = eq14_vectors(&q, 2.0, [0.0, 0.0, -10.0], [0.0; 3], [0.0; 3]);
+/// assert_eq!(wa, [-2.0, 0.0, 0.0, 0.0, -2.0, 0.0]); // -(m p_s, m p x p_s)
+/// assert_eq!(wb, [0.0; 6]);
+/// assert_eq!(wc, [0.0, 0.0, -20.0, 0.0, 0.0, 0.0]); // p x g = 0 for p on the z axis
+/// ```
+pub fn eq14_vectors(
+    q: &PathPoint,
+    mass: f64,
+    gravity: [f64; 3],
+    l1: [f64; 3],
+    l2: [f64; 3],
+) -> [[f64; 6]; 3] {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let wrench = |v: [f64; 3], extra: [f64; 3], sign: f64| {
+        let t = cross(q.p, v);
+        [
+            sign * mass * v[0],
+            sign * mass * v[1],
+            sign * mass * v[2],
+            sign * (mass * t[0] + extra[0]),
+            sign * (mass * t[1] + extra[1]),
+            sign * (mass * t[2] + extra[2]),
+        ]
+    };
+    [
+        wrench(q.ps, l1, -1.0),
+        wrench(q.pss, l2, -1.0),
+        wrench(gravity, [0.0; 3], 1.0),
+    ]
+}
+
+/// `U` stored by columns, and the three vectors of every grid point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FactoredRows {
+    /// Columns of `U` (6 of length m), for vectorized sweeps over the rows.
+    cols: [Vec<f64>; 6],
+    s: Vec<f64>,
+    w: Vec<[[f64; 6]; 3]>,
+}
+
+fn check_finite6(what: &'static str, v: &[[f64; 6]]) -> Result<(), ToppError> {
+    for (i, r) in v.iter().enumerate() {
+        if let Some((j, x)) = r.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(ToppError::NotFinite {
+                what,
+                point: i,
+                row: j,
+                value: *x,
+            });
+        }
+    }
+    Ok(())
+}
+
+impl FactoredRows {
+    /// From `U` (rows of 6) and per grid point `[w_a, w_b, w_c]`.
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// let u = vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]];
+    /// let w = vec![[[1.0; 6], [2.0; 6], [-3.0; 6]]; 2];
+    /// let f = FactoredRows::new(&u, vec![0.0, 1.0], w).unwrap();
+    /// let k = f.to_constraints();
+    /// assert_eq!(k.rows_at(1)[0], stance_topp::Row { a: 1.0, b: 2.0, c: -3.0 });
+    /// ```
+    pub fn new(u: &[[f64; 6]], s: Vec<f64>, w: Vec<[[f64; 6]; 3]>) -> Result<Self, ToppError> {
+        check_finite6("U", u)?;
+        if w.len() != s.len() {
+            return Err(ToppError::Shape {
+                what: "factored vectors (one triple per grid point)".into(),
+                expected: s.len(),
+                got: w.len(),
+            });
+        }
+        for (i, t) in w.iter().enumerate() {
+            check_finite6("factored vector", &t[..]).map_err(|e| match e {
+                ToppError::NotFinite {
+                    what, row, value, ..
+                } => ToppError::NotFinite {
+                    what,
+                    point: i,
+                    row,
+                    value,
+                },
+                e => e,
+            })?;
+        }
+        // Grid validity is checked by CanonicalConstraints; check here too so errors come early.
+        CanonicalConstraints::new(s.clone(), vec![0; s.len() + 1], vec![])?;
+        let cols = std::array::from_fn(|k| u.iter().map(|r| r[k]).collect());
+        Ok(Self { cols, s, w })
+    }
+
+    /// Eq. 14 along a sampled CoM path (point-mass model when `l1`, `l2` are `None`).
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// use stance_topp::path::PathPoint;
+    /// let u = vec![[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]]; // f_z <= 0 for w_GI: the weight points down
+    /// let q = PathPoint { p: [0.0; 3], ps: [0.0, 0.0, 1.0], pss: [0.0; 3] };
+    /// let f = FactoredRows::from_samples(&u, vec![0.0, 1.0], &[q, q], 1.0, [0.0, 0.0, -9.81], None)
+    ///     .unwrap();
+    /// let r = f.to_constraints().rows_at(0)[0];
+    /// assert_eq!((r.a, r.b, r.c), (-1.0, 0.0, -9.81)); // u <= ... : s'' >= -9.81 (free fall)
+    /// ```
+    pub fn from_samples(
+        u: &[[f64; 6]],
+        s: Vec<f64>,
+        samples: &[PathPoint],
+        mass: f64,
+        gravity: [f64; 3],
+        angular: Option<&[[[f64; 3]; 2]]>,
+    ) -> Result<Self, ToppError> {
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(ToppError::InvalidValue {
+                what: "mass",
+                detail: format!("{mass} kg; give a finite positive mass"),
+            });
+        }
+        if let Some(v) = gravity.iter().find(|v| !v.is_finite()) {
+            return Err(ToppError::NotFinite {
+                what: "gravity",
+                point: 0,
+                row: 0,
+                value: *v,
+            });
+        }
+        if samples.len() != s.len() {
+            return Err(ToppError::Shape {
+                what: "path samples (one per grid point)".into(),
+                expected: s.len(),
+                got: samples.len(),
+            });
+        }
+        if let Some(l) = angular {
+            if l.len() != s.len() {
+                return Err(ToppError::Shape {
+                    what: "angular-momentum terms [l1, l2] (one pair per grid point)".into(),
+                    expected: s.len(),
+                    got: l.len(),
+                });
+            }
+        }
+        let w = samples
+            .iter()
+            .enumerate()
+            .map(|(i, q)| {
+                let [l1, l2] = angular.map_or([[0.0; 3]; 2], |l| l[i]);
+                eq14_vectors(q, mass, gravity, l1, l2)
+            })
+            .collect();
+        Self::new(u, s, w)
+    }
+
+    /// Eq. 14 along a CoM path evaluated at the grid `s` (point-mass model).
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// use stance_topp::path::Polyline;
+    /// let path = Polyline::new(vec![0.0, 1.0], vec![[0.0; 3], [0.1, 0.0, 0.0]]).unwrap();
+    /// let u = vec![[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]];
+    /// let f = FactoredRows::from_path(&u, vec![0.0, 0.5, 1.0], &path, 30.0, [0.0, 0.0, -9.81])
+    ///     .unwrap();
+    /// assert_eq!(f.to_constraints().num_points(), 3);
+    /// ```
+    pub fn from_path(
+        u: &[[f64; 6]],
+        s: Vec<f64>,
+        path: &impl PathCurve,
+        mass: f64,
+        gravity: [f64; 3],
+    ) -> Result<Self, ToppError> {
+        let samples: Vec<PathPoint> = s.iter().map(|&si| path.eval(si)).collect();
+        Self::from_samples(u, s, &samples, mass, gravity, None)
+    }
+
+    /// Number of rows per grid point (rows of `U`).
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// let f = FactoredRows::new(&[[0.0; 6]; 3], vec![0.0, 1.0], vec![[[0.0; 6]; 3]; 2]).unwrap();
+    /// assert_eq!(f.num_rows(), 3);
+    /// ```
+    pub fn num_rows(&self) -> usize {
+        self.cols[0].len()
+    }
+
+    /// New canonical constraints holding the rows (allocates once).
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// let f = FactoredRows::new(&[[1.0; 6]; 2], vec![0.0, 1.0], vec![[[1.0; 6]; 3]; 2]).unwrap();
+    /// assert_eq!(f.to_constraints().rows().len(), 4);
+    /// ```
+    pub fn to_constraints(&self) -> CanonicalConstraints {
+        let m = self.num_rows();
+        let n = self.s.len();
+        let offsets = (0..=n).map(|i| i * m).collect();
+        let mut k = CanonicalConstraints::new(self.s.clone(), offsets, vec![Row::default(); n * m])
+            .expect("grid validated at construction");
+        self.fill(k.rows_mut());
+        k
+    }
+
+    /// Writes the rows of every grid point into `out` (`N + 1` times `m` rows, grid point after
+    /// grid point): the hot path, no allocation. Panics if `out` has the wrong length (a
+    /// programming error: take it from [`Self::to_constraints`]).
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// let f = FactoredRows::new(&[[1.0, 2.0, 0.0, 0.0, 0.0, 0.0]], vec![0.0, 1.0],
+    ///     vec![[[1.0; 6], [0.0; 6], [-1.0; 6]]; 2]).unwrap();
+    /// let mut k = f.to_constraints();
+    /// f.fill(k.rows_mut());
+    /// assert_eq!(k.rows_at(0)[0].a, 3.0);
+    /// assert_eq!(k.rows_at(0)[0].c, -3.0);
+    /// ```
+    pub fn fill(&self, out: &mut [Row]) {
+        let m = self.num_rows();
+        assert_eq!(out.len(), m * self.s.len(), "output buffer shape");
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { fill_avx2(&self.cols, &self.w, out) };
+                return;
+            }
+        }
+        fill_generic(&self.cols, &self.w, out);
+    }
+}
+
+#[inline(always)]
+fn fill_kernel(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
+    let m = cols[0].len();
+    if m == 0 {
+        return;
+    }
+    let [c0, c1, c2, c3, c4, c5] = cols;
+    let (c0, c1, c2, c3, c4, c5) = (&c0[..m], &c1[..m], &c2[..m], &c3[..m], &c4[..m], &c5[..m]);
+    for (wi, rows) in w.iter().zip(out.chunks_exact_mut(m)) {
+        let [wa, wb, wc] = wi;
+        for j in 0..m {
+            let u = [c0[j], c1[j], c2[j], c3[j], c4[j], c5[j]];
+            let dot = |v: &[f64; 6]| {
+                u[0] * v[0] + u[1] * v[1] + u[2] * v[2] + u[3] * v[3] + u[4] * v[4] + u[5] * v[5]
+            };
+            rows[j] = Row {
+                a: dot(wa),
+                b: dot(wb),
+                c: dot(wc),
+            };
+        }
+    }
+}
+
+fn fill_generic(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
+    fill_kernel(cols, w, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn fill_avx2(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
+    fill_kernel(cols, w, out)
+}

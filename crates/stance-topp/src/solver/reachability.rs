@@ -1,0 +1,519 @@
+//! Backward controllable sets and the greedy forward pass.
+
+use super::options::{Discretization, Solution, SolveOptions, SolveStats, Status};
+use crate::constraints::CanonicalConstraints;
+use crate::error::ToppError;
+use crate::lp2::{self, Box2, Line, Lp2, Lp2Stats};
+use crate::profile::Profile;
+use crate::tol::Tolerances;
+
+/// Reusable buffers of the solver: solving many instances of similar size with the same
+/// workspace allocates only for the returned [`Solution`].
+#[derive(Debug, Default, Clone)]
+pub struct Workspace {
+    /// Normalized collocation lines of every grid point (same offsets as the rows).
+    coll: Vec<Line>,
+    /// `true` where a constant row `c > 0` makes grid point `i` infeasible.
+    coll_bad: Vec<bool>,
+    /// Normalized interpolation lines of stage `i` (rows of `i + 1` at `x + 2 Delta_i u`).
+    interp: Vec<Line>,
+    interp_off: Vec<usize>,
+    interp_bad: Vec<bool>,
+    /// Lines of the current stage.
+    stage: Vec<Line>,
+    order: Vec<usize>,
+}
+
+/// Index of the two lines `x + 2 Delta u <= hi` and `x + 2 Delta u >= lo` in a stage.
+const K_LINES: usize = 2;
+
+impl Workspace {
+    /// An empty workspace (buffers grow on first use).
+    ///
+    /// ```
+    /// let ws = stance_topp::Workspace::new();
+    /// # let _ = ws;
+    /// ```
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn prepare(&mut self, k: &CanonicalConstraints, disc: Discretization, tol: &Tolerances) {
+        let n = k.num_points();
+        let s = k.grid();
+        self.coll.clear();
+        self.coll_bad.clear();
+        self.interp.clear();
+        self.interp_off.clear();
+        self.interp_bad.clear();
+        // One line per row, so the collocation lines share the rows' offsets.
+        self.interp_off.push(0);
+        for i in 0..n {
+            let mut bad = false;
+            for r in k.rows_at(i) {
+                match Line::from_row(r.a, r.b, r.c, tol.zero_row) {
+                    Some(l) => self.coll.push(l),
+                    None => {
+                        if r.c > tol.feasibility {
+                            bad = true;
+                        }
+                        // A satisfied constant row adds nothing; keep the slot so that row
+                        // indices (and warm starts) stay aligned across grid points.
+                        self.coll.push(Line {
+                            nu: 0.0,
+                            nx: 0.0,
+                            d: 1.0,
+                        });
+                    }
+                }
+            }
+            self.coll_bad.push(bad);
+        }
+        if disc == Discretization::Interpolation {
+            for i in 0..n - 1 {
+                let two_delta = 2.0 * (s[i + 1] - s[i]);
+                let mut bad = false;
+                for r in k.rows_at(i + 1) {
+                    match Line::from_row(r.a + two_delta * r.b, r.b, r.c, tol.zero_row) {
+                        Some(l) => self.interp.push(l),
+                        None => {
+                            if r.c > tol.feasibility {
+                                bad = true;
+                            }
+                            self.interp.push(Line {
+                                nu: 0.0,
+                                nx: 0.0,
+                                d: 1.0,
+                            });
+                        }
+                    }
+                }
+                self.interp_off.push(self.interp.len());
+                self.interp_bad.push(bad);
+            }
+        }
+    }
+
+    /// Fills `self.stage` for stage `i` (`k_next = Some(K_{i+1})`) or for the end point alone
+    /// (`k_next = None`). Returns the bounding box and whether a constant row is violated.
+    fn assemble(
+        &mut self,
+        k: &CanonicalConstraints,
+        disc: Discretization,
+        i: usize,
+        k_next: Option<[f64; 2]>,
+        with_interp: bool,
+        tol: &Tolerances,
+    ) -> (Box2, bool) {
+        let s = k.grid();
+        let off = k.offsets();
+        self.stage.clear();
+        let mut bad = self.coll_bad[i];
+        if let Some([lo, hi]) = k_next {
+            let two_delta = 2.0 * (s[i + 1] - s[i]);
+            let norm = two_delta.hypot(1.0);
+            let (nu, nx) = (two_delta / norm, 1.0 / norm);
+            let cap = tol.max_x + two_delta * tol.max_u;
+            self.stage.push(Line {
+                nu,
+                nx,
+                d: hi.min(cap) / norm,
+            });
+            self.stage.push(Line {
+                nu: -nu,
+                nx: -nx,
+                d: -lo / norm,
+            });
+        }
+        self.stage.extend_from_slice(&self.coll[off[i]..off[i + 1]]);
+        if with_interp && disc == Discretization::Interpolation && k_next.is_some() {
+            self.stage
+                .extend_from_slice(&self.interp[self.interp_off[i]..self.interp_off[i + 1]]);
+            bad |= self.interp_bad[i];
+        }
+        let [xl, xh] = k.x_bounds_at(i);
+        let [ul, uh] = k.u_bounds_at(i);
+        (
+            Box2 {
+                u_lo: ul.max(-tol.max_u),
+                u_hi: uh.min(tol.max_u),
+                x_lo: xl.max(0.0),
+                x_hi: xh.min(tol.max_x),
+            },
+            bad,
+        )
+    }
+}
+
+/// Retimes the path: backward controllable sets, then the greedy forward pass.
+///
+/// ```
+/// use stance_topp::{solve, CanonicalConstraints, Discretization, Row, SolveOptions, Status};
+/// // x <= 1 (speed limit 1) and |u| <= 1 on s in [0, 4], rest to rest:
+/// // accelerate over s in [0, 0.5], cruise, brake over [3.5, 4]: duration 1 + 3 + 1 = 5.
+/// let rows = vec![
+///     Row { a: 0.0, b: 1.0, c: -1.0 },
+///     Row { a: 1.0, b: 0.0, c: -1.0 },
+///     Row { a: -1.0, b: 0.0, c: -1.0 },
+/// ];
+/// let s: Vec<f64> = (0..=400).map(|i| i as f64 / 100.0).collect();
+/// let offsets: Vec<usize> = (0..=401).map(|i| 3 * i).collect();
+/// let k = CanonicalConstraints::new(s, offsets, rows.repeat(401)).unwrap();
+/// let sol = solve(&k, &SolveOptions::new(Discretization::Interpolation)).unwrap();
+/// assert_eq!(sol.status, Status::Optimal);
+/// assert!((sol.duration().unwrap() - 5.0).abs() < 1e-9);
+/// ```
+pub fn solve(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
+    solve_with(k, opts, &mut Workspace::new())
+}
+
+/// [`solve`] with a reusable [`Workspace`].
+///
+/// ```
+/// use stance_topp::{solve_with, CanonicalConstraints, Row, SolveOptions, Workspace};
+/// let rows = vec![Row { a: 1.0, b: 0.0, c: -1.0 }, Row { a: -1.0, b: 0.0, c: -1.0 }];
+/// let s: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+/// let offsets: Vec<usize> = (0..=11).map(|i| 2 * i).collect();
+/// let k = CanonicalConstraints::new(s, offsets, rows.repeat(11)).unwrap();
+/// let mut ws = Workspace::new();
+/// let d1 = solve_with(&k, &SolveOptions::default(), &mut ws).unwrap().duration().unwrap();
+/// let d2 = solve_with(&k, &SolveOptions::default(), &mut ws).unwrap().duration().unwrap();
+/// assert_eq!(d1, d2);
+/// ```
+pub fn solve_with(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    ws: &mut Workspace,
+) -> Result<Solution, ToppError> {
+    opts.validate()?;
+    let tol = opts.tol;
+    let disc = opts.discretization;
+    let n = k.num_points();
+    ws.prepare(k, disc, &tol);
+    let mut stats = SolveStats::default();
+    let mut hit_box = false;
+    let mut controllable: Vec<Option<[f64; 2]>> = vec![None; n];
+
+    let end = [opts.sd_end[0].powi(2), opts.sd_end[1].powi(2)];
+    let backward = backward_pass(
+        k,
+        disc,
+        end,
+        ws,
+        &tol,
+        opts.warm_start,
+        &mut controllable,
+        &mut stats,
+        &mut hit_box,
+    );
+    if let Err(i_fail) = backward {
+        let status = diagnose(k, disc, ws, &tol, i_fail, &mut stats);
+        return Ok(Solution {
+            status,
+            discretization: disc,
+            controllable,
+            profile: None,
+            hit_box,
+            stats,
+        });
+    }
+    let fail = |status| Solution {
+        status,
+        discretization: disc,
+        controllable: controllable.clone(),
+        profile: None,
+        hit_box,
+        stats,
+    };
+
+    // Forward pass.
+    let x_start = opts.sd_start * opts.sd_start;
+    let [lo0, hi0] = controllable[0].expect("backward pass succeeded");
+    if x_start < lo0 - tol.state * lo0.max(1.0) || x_start > hi0 + tol.state * hi0.max(1.0) {
+        return Ok(fail(Status::StartOutsideControllable {
+            x_start,
+            lo: lo0,
+            hi: hi0,
+        }));
+    }
+    let s = k.grid();
+    let mut x = vec![0.0; n];
+    let mut u = vec![0.0; n - 1];
+    x[0] = x_start.clamp(lo0, hi0);
+    for i in 0..n - 1 {
+        let [lo1, hi1] = controllable[i + 1].expect("backward pass succeeded");
+        let (bbox, _) = ws.assemble(k, disc, i, Some([lo1, hi1]), true, &tol);
+        let xi = x[i];
+        let mut u_lo = bbox.u_lo;
+        let mut u_hi = bbox.u_hi;
+        let mut ok = true;
+        for l in &ws.stage {
+            let rhs = l.d - l.nx * xi;
+            if l.nu.abs() <= tol.parallel {
+                if rhs < -tol.state {
+                    ok = false;
+                }
+            } else if l.nu > 0.0 {
+                u_hi = u_hi.min(rhs / l.nu);
+            } else {
+                u_lo = u_lo.max(rhs / l.nu);
+            }
+        }
+        if !ok || u_lo > u_hi + tol.state {
+            return Ok(fail(Status::ForwardPassFailed { index: i }));
+        }
+        let two_delta = 2.0 * (s[i + 1] - s[i]);
+        let x_next = (xi + two_delta * u_hi).clamp(lo1, hi1).max(0.0);
+        u[i] = (x_next - xi) / two_delta;
+        x[i + 1] = x_next;
+    }
+    let profile = Profile::from_states(s.to_vec(), x, u);
+    let status = match profile.first_stall() {
+        Some(index) => Status::Stalled { index },
+        None => Status::Optimal,
+    };
+    Ok(Solution {
+        status,
+        discretization: disc,
+        controllable,
+        profile: Some(profile),
+        hit_box,
+        stats,
+    })
+}
+
+fn add_stats(stats: &mut SolveStats, s: &Lp2Stats) {
+    stats.lps += 1;
+    stats.moves += s.moves;
+    stats.inner_steps += s.inner_steps;
+}
+
+/// Fills `controllable`; `Err(i)` when `K_i` is empty (or grid point `i` has a violated constant
+/// row).
+#[allow(clippy::too_many_arguments)]
+fn backward_pass(
+    k: &CanonicalConstraints,
+    disc: Discretization,
+    end: [f64; 2],
+    ws: &mut Workspace,
+    tol: &Tolerances,
+    warm: bool,
+    controllable: &mut [Option<[f64; 2]>],
+    stats: &mut SolveStats,
+    hit_box: &mut bool,
+) -> Result<(), usize> {
+    let n = k.num_points();
+    // K_N: the end interval intersected with the states feasible at s_N.
+    let (mut bbox, bad) = ws.assemble(k, disc, n - 1, None, false, tol);
+    if bad {
+        return Err(n - 1);
+    }
+    bbox.x_lo = bbox.x_lo.max(end[0]);
+    bbox.x_hi = bbox.x_hi.min(end[1]);
+    let range = x_range(ws, bbox, tol, [None, None], stats, hit_box);
+    let Some((mut kn, _)) = range else {
+        return Err(n - 1);
+    };
+    // A fixed end speed: keep it exact (the LP returns it up to round-off).
+    if end[0] == end[1] {
+        kn = [end[0], end[0]];
+    }
+    controllable[n - 1] = Some(kn);
+    let mut active = [None, None];
+    for i in (0..n - 1).rev() {
+        let k_next = controllable[i + 1].expect("set above");
+        let (bbox, bad) = ws.assemble(k, disc, i, Some(k_next), true, tol);
+        if bad {
+            return Err(i);
+        }
+        let warm_idx = if warm { active } else { [None, None] };
+        match x_range(ws, bbox, tol, warm_idx, stats, hit_box) {
+            Some((set, act)) => {
+                controllable[i] = Some(set);
+                active = act;
+            }
+            None => return Err(i),
+        }
+    }
+    Ok(())
+}
+
+/// Lines active at the two optima of [`x_range`] (`[max-x actives, min-x actives]`).
+type Actives = [Option<[Option<usize>; 2]>; 2];
+
+/// `[min x, max x]` over the current stage lines and `bbox`, or `None` when empty.
+fn x_range(
+    ws: &mut Workspace,
+    bbox: Box2,
+    tol: &Tolerances,
+    warm: Actives,
+    stats: &mut SolveStats,
+    hit_box: &mut bool,
+) -> Option<([f64; 2], Actives)> {
+    let mut first = [0usize; 2 + K_LINES];
+    let mut run = |c: [f64; 2], t: [f64; 2], w: Option<[Option<usize>; 2]>, ws: &mut Workspace| {
+        // Warm start: the K lines (almost always active) and the previous stage's actives.
+        let mut nf = 0;
+        for j in 0..K_LINES.min(ws.stage.len()) {
+            first[nf] = j;
+            nf += 1;
+        }
+        if let Some(w) = w {
+            for j in w.into_iter().flatten() {
+                first[nf] = j;
+                nf += 1;
+            }
+        }
+        let mut st = Lp2Stats::default();
+        let r = lp2::solve(
+            &ws.stage,
+            bbox,
+            c,
+            t,
+            &first[..nf],
+            &mut ws.order,
+            tol,
+            &mut st,
+        );
+        add_stats(stats, &st);
+        r
+    };
+    let hi = run([0.0, 1.0], [1.0, 0.0], warm[0], ws);
+    let Lp2::Optimal {
+        x: x_hi,
+        active: a_hi,
+        ..
+    } = hi
+    else {
+        return None;
+    };
+    let lo = run([0.0, -1.0], [-1.0, 0.0], warm[1], ws);
+    let Lp2::Optimal {
+        x: x_lo,
+        active: a_lo,
+        ..
+    } = lo
+    else {
+        return None;
+    };
+    if x_hi >= tol.max_x * (1.0 - 1e-12) {
+        *hit_box = true;
+    }
+    let x_lo = x_lo.max(0.0);
+    let x_hi = x_hi.max(x_lo);
+    Some(([x_lo, x_hi], [Some(a_hi), Some(a_lo)]))
+}
+
+/// After the backward pass failed at `i_fail`: the smallest grid point whose own rows admit no
+/// `(u, x)` (with `u` free in its bounds); else the smallest stage whose feasible set `Omega_i`
+/// (with interpolation: also the rows of `i + 1` at the next state, and `x_{i+1} >= 0`) is
+/// empty; else the controllable-set failure.
+fn diagnose(
+    k: &CanonicalConstraints,
+    disc: Discretization,
+    ws: &mut Workspace,
+    tol: &Tolerances,
+    i_fail: usize,
+    stats: &mut SolveStats,
+) -> Status {
+    let n = k.num_points();
+    let mut hit = false;
+    for i in 0..n {
+        let (bbox, bad) = ws.assemble(k, disc, i, None, false, tol);
+        if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
+            return Status::FeasibleSetEmpty { index: i };
+        }
+    }
+    for i in 0..n - 1 {
+        let (bbox, bad) = ws.assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
+        if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
+            return Status::FeasibleSetEmpty { index: i };
+        }
+    }
+    Status::ControllableSetEmpty { index: i_fail }
+}
+
+/// The admissible range of end speeds `[sd_lo, sd_hi]` at `s_N` from the start speed of `opts`
+/// (its `sd_end` is ignored), for chaining segments: every end speed in the range is reachable
+/// by some admissible profile, none outside. `None` when no end speed is reachable.
+///
+/// Computed as forward reachable sets `R_{i+1} = {x + 2 Delta_i u : x in R_i, (u, x) in
+/// Omega_i} ∩ K_{i+1}` with `K` the controllable sets towards any end speed; two LPs per stage.
+///
+/// ```
+/// use stance_topp::{end_speed_range, CanonicalConstraints, Row, SolveOptions};
+/// // |u| <= 1 on s in [0, 1] from rest: the end speed is at most sqrt(2 * 1 * 1).
+/// let rows = vec![Row { a: 1.0, b: 0.0, c: -1.0 }, Row { a: -1.0, b: 0.0, c: -1.0 }];
+/// let s: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+/// let offsets: Vec<usize> = (0..=11).map(|i| 2 * i).collect();
+/// let k = CanonicalConstraints::new(s, offsets, rows.repeat(11)).unwrap();
+/// let [lo, hi] = end_speed_range(&k, &SolveOptions::default()).unwrap().unwrap();
+/// assert!(lo.abs() < 1e-9 && (hi - 2f64.sqrt()).abs() < 1e-9);
+/// ```
+pub fn end_speed_range(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+) -> Result<Option<[f64; 2]>, ToppError> {
+    opts.validate()?;
+    let tol = opts.tol;
+    let disc = opts.discretization;
+    let n = k.num_points();
+    let mut ws = Workspace::new();
+    ws.prepare(k, disc, &tol);
+    let mut stats = SolveStats::default();
+    let mut hit = false;
+    let mut controllable = vec![None; n];
+    if backward_pass(
+        k,
+        disc,
+        [0.0, f64::INFINITY],
+        &mut ws,
+        &tol,
+        opts.warm_start,
+        &mut controllable,
+        &mut stats,
+        &mut hit,
+    )
+    .is_err()
+    {
+        return Ok(None);
+    }
+    let x_start = opts.sd_start * opts.sd_start;
+    let [lo0, hi0] = controllable[0].expect("backward pass succeeded");
+    if x_start < lo0 - tol.state * lo0.max(1.0) || x_start > hi0 + tol.state * hi0.max(1.0) {
+        return Ok(None);
+    }
+    let s = k.grid();
+    let mut reach = [x_start.clamp(lo0, hi0); 2];
+    for i in 0..n - 1 {
+        let k_next = controllable[i + 1].expect("backward pass succeeded");
+        let (mut bbox, _) = ws.assemble(k, disc, i, Some(k_next), true, &tol);
+        bbox.x_lo = bbox.x_lo.max(reach[0]);
+        bbox.x_hi = bbox.x_hi.min(reach[1]);
+        let two_delta = 2.0 * (s[i + 1] - s[i]);
+        let norm = two_delta.hypot(1.0);
+        let c = [two_delta / norm, 1.0 / norm];
+        let t = [-c[1], c[0]];
+        let mut st = Lp2Stats::default();
+        let hi = lp2::solve(&ws.stage, bbox, c, t, &[0, 1], &mut ws.order, &tol, &mut st);
+        let lo = lp2::solve(
+            &ws.stage,
+            bbox,
+            [-c[0], -c[1]],
+            [-t[0], -t[1]],
+            &[0, 1],
+            &mut ws.order,
+            &tol,
+            &mut st,
+        );
+        match (lo, hi) {
+            (Lp2::Optimal { u: ul, x: xl, .. }, Lp2::Optimal { u: uh, x: xh, .. }) => {
+                let a = (xl + two_delta * ul).max(k_next[0]);
+                let b = (xh + two_delta * uh).min(k_next[1]);
+                reach = [a.max(0.0), b.max(a).max(0.0)];
+            }
+            _ => return Ok(None),
+        }
+    }
+    Ok(Some([reach[0].sqrt(), reach[1].sqrt()]))
+}

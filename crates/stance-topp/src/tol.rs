@@ -1,0 +1,57 @@
+//! Every numerical threshold of the crate, with its unit, default and reason.
+//!
+//! Units: the path parameter `s` is dimensionless here (any unit works as long as it is used
+//! consistently); `u = s''` and `x = s'^2` are then both in `1/time^2`, so after a constraint row
+//! `a u + b x + c <= 0` is scaled to `|(a, b)| = 1`, its value is a distance in the `(u, x)` plane
+//! measured in `1/time^2`. The thresholds below that compare such values are in that unit.
+
+/// Numerical thresholds of the solver, passed through [`crate::SolveOptions`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// A row `a u + b x + c <= 0` whose coefficient norm `|(a, b)|` is at most
+    /// `zero_row * max(1, |c|)` is treated as the constant constraint `c <= 0`.
+    /// Unit: dimensionless (relative). Default `1e-12`: coefficients below that are round-off of
+    /// exact zeros (for example a row of a cone that is orthogonal to the path tangent).
+    pub zero_row: f64,
+    /// Slack allowed on a normalized row (`|(a, b)| = 1`) when a point is tested against it in
+    /// the 2-variable LP. Unit: `1/time^2`. Default `1e-10`: well above the round-off of the
+    /// products involved (|u|, |x| up to about 1e4 times 1e-16) and far below any physically
+    /// meaningful margin.
+    pub feasibility: f64,
+    /// Two constraint lines whose normalized normals have a cross product at most this are
+    /// treated as parallel in the 1-D sub-problems of the LP kernel. Unit: dimensionless (sine of
+    /// the angle). Default `1e-13`: intersections of nearly parallel lines are ill-conditioned
+    /// beyond that point.
+    pub parallel: f64,
+    /// Amount by which a state may lie outside a controllable set, or a row may be violated in
+    /// the forward pass, and still be accepted as round-off. Relative to `max(1, |x|)` for
+    /// states; unit `1/time^2` for normalized rows. Default `1e-8`: the backward pass solves each
+    /// LP to about `1e-12` relative; `1e-8` leaves room for the accumulation over thousands of
+    /// grid points while still catching any real infeasibility.
+    pub state: f64,
+    /// Bounding box of the LPs: `|u| <= max_u`. Unit: `1/time^2`. Default `1e8`: only bounds the
+    /// LP when the constraints leave `u` free; a result that touches it is reported through
+    /// [`crate::Solution::hit_box`].
+    pub max_u: f64,
+    /// Bounding box of the LPs: `x <= max_x`. Unit: `1/time^2`. Default `1e8` (path speed `1e4`
+    /// per unit time): only matters when no constraint bounds the speed.
+    pub max_x: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Self {
+            zero_row: 1e-12,
+            feasibility: 1e-10,
+            parallel: 1e-13,
+            state: 1e-8,
+            max_u: 1e8,
+            max_x: 1e8,
+        }
+    }
+}
+
+/// Default bound on the constraint violation between grid points asked of
+/// [`crate::between::refine_until`], as a fraction of the scale the caller gives (for contact stability,
+/// `m |g|`). Unit: dimensionless. Default `0.01` (1 % of the robot's weight), the figure.
+pub const DEFAULT_BETWEEN_GRID_FRACTION: f64 = 0.01;
