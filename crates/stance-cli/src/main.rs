@@ -27,6 +27,9 @@ enum Command {
     Cone(cmd::cone::ConeCommand),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
+    /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
+    #[command(subcommand)]
+    Robot(cmd::robot::RobotCommand),
 }
 
 fn main() -> ExitCode {
@@ -34,6 +37,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Robot(c) => cmd::robot::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

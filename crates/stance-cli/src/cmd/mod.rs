@@ -4,3 +4,4 @@ pub mod cone;
 pub mod demo;
 #[allow(dead_code)] // shared helpers; each command module uses the ones it needs
 pub mod io;
+pub mod robot;
