@@ -29,6 +29,9 @@ enum Command {
     Topp(cmd::topp::ToppArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
+    /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
+    #[command(subcommand)]
+    Robot(cmd::robot::RobotCommand),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +40,7 @@ fn main() -> ExitCode {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
         Command::Topp(a) => cmd::topp::run(a),
+        Command::Robot(c) => cmd::robot::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,123 @@
+//! `stance robot centroidal --urdf FILE --q q0,q1,... [--v v0,v1,...] [--lock JOINT ...]`:
+//! mass, CoM, CoM Jacobian, centroidal momentum matrix `A_g` and `dA_g/dt v`, with Pinocchio's
+//! conventions (see the `stance-robot` crate docs).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use stance::stance_robot::{centroidal_map_dot_v, Data, Model, UrdfOptions};
+
+use super::io::{write_output, Common};
+
+#[derive(clap::Subcommand)]
+pub enum RobotCommand {
+    /// Mass, CoM, CoM Jacobian, A_g and dA_g/dt v of a free-floating URDF robot.
+    Centroidal(CentroidalArgs),
+}
+
+#[derive(clap::Args)]
+pub struct CentroidalArgs {
+    /// The robot's URDF file (the root link gets a free-flyer joint).
+    #[arg(long, value_name = "FILE")]
+    pub urdf: PathBuf,
+    /// Configuration, comma separated: x,y,z,qx,qy,qz,qw then the joints in Pinocchio's order
+    /// (continuous joints as cos,sin). Negative values work: --q=-0.2,...
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    pub q: String,
+    /// Velocity, comma separated: base linear and angular (base frame), then the joints.
+    /// Default: zero.
+    #[arg(long, value_name = "V", allow_hyphen_values = true)]
+    pub v: Option<String>,
+    /// Joints to lock (removed from q and v), at 0 or at NAME=VALUE (rad or m).
+    #[arg(long, value_name = "JOINT", num_args = 1.., action = clap::ArgAction::Append)]
+    pub lock: Vec<String>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+#[derive(Serialize)]
+struct CentroidalOutput {
+    mass: f64,
+    com: Vec<f64>,
+    com_jacobian: Vec<Vec<f64>>,
+    centroidal_map: Vec<Vec<f64>>,
+    centroidal_map_dot_v: Vec<f64>,
+    joint_names: Vec<String>,
+    nq: usize,
+    nv: usize,
+}
+
+pub fn run(cmd: RobotCommand) -> Result<()> {
+    match cmd {
+        RobotCommand::Centroidal(args) => centroidal(args),
+    }
+}
+
+fn parse_list(what: &str, text: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .enumerate()
+        .map(|(i, s)| {
+            let s = s.trim();
+            s.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .with_context(|| format!("--{what}: entry {i} ('{s}') is not a finite number"))
+        })
+        .collect()
+}
+
+fn parse_lock(spec: &str) -> Result<(String, f64)> {
+    match spec.split_once('=') {
+        None => Ok((spec.to_string(), 0.0)),
+        Some((name, value)) => {
+            let v: f64 = value
+                .trim()
+                .parse()
+                .with_context(|| format!("--lock {spec}: '{value}' is not a number"))?;
+            if name.is_empty() {
+                bail!("--lock {spec}: the joint name is empty");
+            }
+            Ok((name.to_string(), v))
+        }
+    }
+}
+
+fn centroidal(args: CentroidalArgs) -> Result<()> {
+    let locked = args
+        .lock
+        .iter()
+        .map(|s| parse_lock(s))
+        .collect::<Result<Vec<_>>>()?;
+    let options = UrdfOptions {
+        locked,
+        ..Default::default()
+    };
+    let model = Model::from_urdf_file(&args.urdf, &options)?;
+    let q = parse_list("q", &args.q)?;
+    let v = match &args.v {
+        Some(text) => parse_list("v", text)?,
+        None => vec![0.0; model.nv],
+    };
+    let mut data = Data::new(&model);
+    let mut dh = centroidal_map_dot_v(&model, &mut data, &q, &v)?;
+    for _ in 1..args.common.repeat {
+        dh = centroidal_map_dot_v(&model, &mut data, &q, &v)?;
+    }
+    let rows = |m: &dyn Fn(usize, usize) -> f64, r: usize| -> Vec<Vec<f64>> {
+        (0..r)
+            .map(|i| (0..model.nv).map(|j| m(i, j)).collect())
+            .collect()
+    };
+    let out = CentroidalOutput {
+        mass: data.mass,
+        com: data.com.as_slice().to_vec(),
+        com_jacobian: rows(&|i, j| data.com_jacobian[(i, j)], 3),
+        centroidal_map: rows(&|i, j| data.centroidal_map[(i, j)], 6),
+        centroidal_map_dot_v: dh.as_slice().to_vec(),
+        joint_names: model.joint_names(),
+        nq: model.nq,
+        nv: model.nv,
+    };
+    write_output(&args.common, &out)
+}

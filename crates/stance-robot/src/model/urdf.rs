@@ -1,0 +1,448 @@
+//! Building a [`Model`] from URDF text: validation of the tree and inertias, Pinocchio's joint
+//! order, fixed and locked joints merged into their parent body.
+
+use std::collections::HashMap;
+
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+use super::{Frame, FrameKind, Joint, JointKind, Model, RootJoint, UrdfOptions};
+use crate::error::RobotError;
+use crate::spatial::{axis_angle, Inertia, Pose};
+
+/// Where a URDF link ends up: the joint it moves with and its placement in that joint's frame.
+#[derive(Clone, Copy)]
+struct Attach {
+    joint: usize,
+    joint_from_link: Pose,
+}
+
+impl Model {
+    /// Reads a URDF file; see [`Model::from_urdf_str`].
+    ///
+    /// ```
+    /// let r = stance_robot::Model::from_urdf_file("no/such/file.urdf", &Default::default());
+    /// assert!(matches!(r, Err(stance_robot::RobotError::Io { .. })));
+    /// ```
+    pub fn from_urdf_file(
+        path: impl AsRef<std::path::Path>,
+        options: &UrdfOptions,
+    ) -> Result<Model, RobotError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        Model::from_urdf_str(&text, options)
+    }
+
+    /// Builds the model from URDF text: free-flyer (or fixed) root, revolute, continuous,
+    /// prismatic and fixed joints, link inertias, joint limits; the joints of
+    /// `options.locked` are fixed at the given values. Mimic tags are ignored (the joints are
+    /// independent, as in Pinocchio's default URDF parser); lock mimic joints if they must not
+    /// move.
+    ///
+    /// ```
+    /// use stance_robot::{Model, UrdfOptions};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &UrdfOptions::default()).unwrap();
+    /// assert_eq!(m.nv + 1, m.nq - 1); // free flyer (7, 6) and one continuous joint (2, 1)
+    /// let locked = UrdfOptions { locked: vec![("neck".into(), 0.0)], ..Default::default() };
+    /// let m2 = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &locked).unwrap();
+    /// assert_eq!(m2.nv, m.nv - 1);
+    /// assert!((m2.total_mass() - m.total_mass()).abs() < 1e-12);
+    /// ```
+    pub fn from_urdf_str(text: &str, options: &UrdfOptions) -> Result<Model, RobotError> {
+        let robot = urdf_rs::read_from_string(text)
+            .map_err(|e| RobotError::Urdf(e.to_string().replace('\n', " ")))?;
+        build(&robot, options)
+    }
+}
+
+fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotError> {
+    let tol = options.tolerances;
+    // Names are unique.
+    let mut link_index: HashMap<&str, usize> = HashMap::new();
+    for (i, l) in robot.links.iter().enumerate() {
+        if link_index.insert(l.name.as_str(), i).is_some() {
+            return Err(RobotError::DuplicateName {
+                kind: "link",
+                name: l.name.clone(),
+            });
+        }
+    }
+    let mut joint_names: HashMap<&str, usize> = HashMap::new();
+    for (i, j) in robot.joints.iter().enumerate() {
+        if joint_names.insert(j.name.as_str(), i).is_some() {
+            return Err(RobotError::DuplicateName {
+                kind: "joint",
+                name: j.name.clone(),
+            });
+        }
+    }
+    if robot.links.is_empty() {
+        return Err(RobotError::NotATree("the URDF has no <link>".into()));
+    }
+    // Parent joint of each link; children of each link.
+    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+    for (ji, j) in robot.joints.iter().enumerate() {
+        let p = *link_index
+            .get(j.parent.link.as_str())
+            .ok_or_else(|| RobotError::UnknownLink {
+                joint: j.name.clone(),
+                link: j.parent.link.clone(),
+            })?;
+        let c = *link_index
+            .get(j.child.link.as_str())
+            .ok_or_else(|| RobotError::UnknownLink {
+                joint: j.name.clone(),
+                link: j.child.link.clone(),
+            })?;
+        if let Some(prev) = parent_joint[c] {
+            return Err(RobotError::MultipleParents {
+                link: j.child.link.clone(),
+                first: robot.joints[prev].name.clone(),
+                second: j.name.clone(),
+            });
+        }
+        parent_joint[c] = Some(ji);
+        children[p].push(ji);
+    }
+    // Children in the byte order of their joint names (Pinocchio's traversal order).
+    for c in children.iter_mut() {
+        c.sort_by(|a, b| robot.joints[*a].name.cmp(&robot.joints[*b].name));
+    }
+    let roots: Vec<usize> = (0..robot.links.len())
+        .filter(|&l| parent_joint[l].is_none())
+        .collect();
+    let root = match roots.as_slice() {
+        [r] => *r,
+        [] => {
+            return Err(RobotError::NotATree(
+                "every link has a parent joint, so the joints form a cycle; remove the joint that closes it".into(),
+            ))
+        }
+        many => {
+            let names: Vec<&str> = many.iter().map(|&l| robot.links[l].name.as_str()).collect();
+            return Err(RobotError::NotATree(format!(
+                "several links have no parent joint ({}); connect them with joints so that one root remains",
+                names.join(", ")
+            )));
+        }
+    };
+    // Locked joints exist and are movable.
+    let mut locked: HashMap<&str, f64> = HashMap::new();
+    for (name, value) in &options.locked {
+        let Some(&ji) = joint_names.get(name.as_str()) else {
+            return Err(RobotError::CannotLock {
+                joint: name.clone(),
+                reason: "no joint of that name in the URDF".into(),
+            });
+        };
+        if !value.is_finite() {
+            return Err(RobotError::CannotLock {
+                joint: name.clone(),
+                reason: "the lock value is not finite".into(),
+            });
+        }
+        if robot.joints[ji].joint_type == urdf_rs::JointType::Fixed {
+            return Err(RobotError::CannotLock {
+                joint: name.clone(),
+                reason: "it is a fixed joint already".into(),
+            });
+        }
+        locked.insert(name.as_str(), *value);
+    }
+    // Link inertias, validated.
+    let mut link_inertia = Vec::with_capacity(robot.links.len());
+    for l in &robot.links {
+        link_inertia.push(link_inertia_of(l, tol.inertia_psd_rel)?);
+    }
+
+    let mut model = Model {
+        name: robot.name.clone(),
+        joints: vec![Joint {
+            name: "universe".into(),
+            kind: JointKind::Universe,
+            parent: 0,
+            parent_from_joint: Pose::identity(),
+            idx_q: 0,
+            idx_v: 0,
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+            velocity_limit: f64::INFINITY,
+            effort_limit: f64::INFINITY,
+        }],
+        inertias: vec![Inertia::zero()],
+        frames: vec![Frame {
+            name: "universe".into(),
+            kind: FrameKind::FixedJoint,
+            parent_joint: 0,
+            joint_from_frame: Pose::identity(),
+        }],
+        nq: 0,
+        nv: 0,
+        dof_joint: Vec::new(),
+        subtree_end: Vec::new(),
+        locked: options.locked.clone(),
+        tolerances: tol,
+    };
+
+    let root_attach = match options.root {
+        RootJoint::FreeFlyer => {
+            let k = model.add_joint(
+                "root_joint".into(),
+                JointKind::FreeFlyer,
+                0,
+                Pose::identity(),
+                None,
+            );
+            model.frames.push(Frame {
+                name: "root_joint".into(),
+                kind: FrameKind::Joint,
+                parent_joint: k,
+                joint_from_frame: Pose::identity(),
+            });
+            Attach {
+                joint: k,
+                joint_from_link: Pose::identity(),
+            }
+        }
+        RootJoint::Fixed => Attach {
+            joint: 0,
+            joint_from_link: Pose::identity(),
+        },
+    };
+    model.add_body(&robot.links[root].name, root_attach, &link_inertia[root]);
+
+    // Depth first, children in name order; an explicit stack (no recursion limit on deep files).
+    let mut visited = vec![false; robot.links.len()];
+    visited[root] = true;
+    let mut stack: Vec<(usize, Attach)> = children[root]
+        .iter()
+        .rev()
+        .map(|&j| (j, root_attach))
+        .collect();
+    while let Some((ji, parent_attach)) = stack.pop() {
+        let j = &robot.joints[ji];
+        let c = link_index[j.child.link.as_str()];
+        visited[c] = true;
+        let placement = parent_attach
+            .joint_from_link
+            .compose(&Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy));
+        let kind = joint_kind(j, tol.min_axis_norm)?;
+        let attach = match (kind, locked.get(j.name.as_str())) {
+            (Some(kind), None) => {
+                let k = model.add_joint(
+                    j.name.clone(),
+                    kind,
+                    parent_attach.joint,
+                    placement,
+                    Some(&j.limit),
+                );
+                model.frames.push(Frame {
+                    name: j.name.clone(),
+                    kind: FrameKind::Joint,
+                    parent_joint: k,
+                    joint_from_frame: Pose::identity(),
+                });
+                Attach {
+                    joint: k,
+                    joint_from_link: Pose::identity(),
+                }
+            }
+            (kind, lock) => {
+                let placement = match (kind, lock) {
+                    (Some(kind), Some(&value)) => placement.compose(&locked_motion(&kind, value)),
+                    _ => placement,
+                };
+                model.frames.push(Frame {
+                    name: j.name.clone(),
+                    kind: FrameKind::FixedJoint,
+                    parent_joint: parent_attach.joint,
+                    joint_from_frame: placement,
+                });
+                Attach {
+                    joint: parent_attach.joint,
+                    joint_from_link: placement,
+                }
+            }
+        };
+        model.add_body(&j.child.link, attach, &link_inertia[c]);
+        stack.extend(children[c].iter().rev().map(|&g| (g, attach)));
+    }
+    if let Some(l) = visited.iter().position(|v| !v) {
+        return Err(RobotError::NotATree(format!(
+            "link '{}' is not reachable from the root link '{}' (a cycle of joints); remove the joint that closes it",
+            robot.links[l].name, robot.links[root].name
+        )));
+    }
+    // Subtree ranges (parents precede children).
+    let n = model.joints.len();
+    model.subtree_end = (0..n).collect();
+    for i in (1..n).rev() {
+        let p = model.joints[i].parent;
+        if i != p {
+            model.subtree_end[p] = model.subtree_end[p].max(model.subtree_end[i]);
+        }
+    }
+    model.subtree_end[0] = n - 1;
+    let mass = model.total_mass();
+    if mass <= tol.min_total_mass {
+        return Err(RobotError::MissingInertia { mass });
+    }
+    Ok(model)
+}
+
+impl Model {
+    fn add_joint(
+        &mut self,
+        name: String,
+        kind: JointKind,
+        parent: usize,
+        parent_from_joint: Pose,
+        limit: Option<&urdf_rs::JointLimit>,
+    ) -> usize {
+        let (nq, nv) = kind.dims();
+        let k = self.joints.len();
+        let finite_or = |x: f64, d: f64| if x.is_finite() { x } else { d };
+        let (mut lower, mut upper, mut velocity_limit, mut effort_limit) = (
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+        );
+        if let Some(l) = limit {
+            if matches!(
+                kind,
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+            ) {
+                lower = finite_or(l.lower, f64::NEG_INFINITY);
+                upper = finite_or(l.upper, f64::INFINITY);
+            }
+            velocity_limit = finite_or(l.velocity, f64::INFINITY);
+            effort_limit = finite_or(l.effort, f64::INFINITY);
+        }
+        self.joints.push(Joint {
+            name,
+            kind,
+            parent,
+            parent_from_joint,
+            idx_q: self.nq,
+            idx_v: self.nv,
+            lower,
+            upper,
+            velocity_limit,
+            effort_limit,
+        });
+        self.inertias.push(Inertia::zero());
+        self.dof_joint.extend(std::iter::repeat(k).take(nv));
+        self.nq += nq;
+        self.nv += nv;
+        k
+    }
+
+    fn add_body(&mut self, link: &str, at: Attach, inertia: &Inertia) {
+        self.frames.push(Frame {
+            name: link.to_string(),
+            kind: FrameKind::Body,
+            parent_joint: at.joint,
+            joint_from_frame: at.joint_from_link,
+        });
+        if inertia.mass > 0.0 || inertia.inertia_com.norm() > 0.0 {
+            let y = inertia.transformed(&at.joint_from_link);
+            self.inertias[at.joint] = self.inertias[at.joint].plus(&y);
+        }
+    }
+}
+
+fn joint_kind(j: &urdf_rs::Joint, min_axis_norm: f64) -> Result<Option<JointKind>, RobotError> {
+    use urdf_rs::JointType as T;
+    let axis = || {
+        let a = Vector3::from(*j.axis.xyz);
+        let n = a.norm();
+        if !(n.is_finite() && n > min_axis_norm) {
+            return Err(RobotError::ZeroAxis {
+                joint: j.name.clone(),
+            });
+        }
+        Ok(a / n)
+    };
+    Ok(match j.joint_type {
+        T::Fixed => None,
+        T::Revolute => Some(JointKind::Revolute { axis: axis()? }),
+        T::Continuous => Some(JointKind::Continuous { axis: axis()? }),
+        T::Prismatic => Some(JointKind::Prismatic { axis: axis()? }),
+        ref other => {
+            return Err(RobotError::UnsupportedJointType {
+                joint: j.name.clone(),
+                kind: format!("{other:?}").to_lowercase(),
+            })
+        }
+    })
+}
+
+/// The joint motion of a locked joint at `value` (angle or displacement).
+fn locked_motion(kind: &JointKind, value: f64) -> Pose {
+    match kind {
+        JointKind::Revolute { axis } | JointKind::Continuous { axis } => Pose {
+            rotation: axis_angle(axis, value),
+            translation: Vector3::zeros(),
+        },
+        JointKind::Prismatic { axis } => Pose {
+            rotation: Matrix3::identity(),
+            translation: axis * value,
+        },
+        JointKind::Universe | JointKind::FreeFlyer => Pose::identity(),
+    }
+}
+
+/// The link's inertia in the link frame, after checking that it is physical.
+fn link_inertia_of(l: &urdf_rs::Link, psd_rel: f64) -> Result<Inertia, RobotError> {
+    let i = &l.inertial;
+    let bad = |reason: String| RobotError::InvalidInertia {
+        link: l.name.clone(),
+        reason,
+    };
+    let m = i.mass.value;
+    if !(m.is_finite() && m >= 0.0) {
+        return Err(bad(format!("mass {m} must be finite and >= 0")));
+    }
+    let t = &i.inertia;
+    let entries = [t.ixx, t.ixy, t.ixz, t.iyy, t.iyz, t.izz];
+    if entries.iter().any(|x| !x.is_finite()) {
+        return Err(bad("an inertia entry is not finite".into()));
+    }
+    let pose_ok = i
+        .origin
+        .xyz
+        .iter()
+        .chain(i.origin.rpy.iter())
+        .all(|x| x.is_finite());
+    if !pose_ok {
+        return Err(bad("the <inertial><origin> is not finite".into()));
+    }
+    let inertia_com_local = Matrix3::new(
+        t.ixx, t.ixy, t.ixz, t.ixy, t.iyy, t.iyz, t.ixz, t.iyz, t.izz,
+    );
+    let scale = t.ixx.abs().max(t.iyy.abs()).max(t.izz.abs());
+    let eig = SymmetricEigen::new(inertia_com_local).eigenvalues;
+    if eig.iter().any(|&e| e < -psd_rel * scale) {
+        return Err(bad(format!(
+            "the inertia matrix has a negative eigenvalue ({:.3e}); it must be positive semi-definite",
+            eig.min()
+        )));
+    }
+    let (a, b, c) = (eig[0], eig[1], eig[2]);
+    let slack = psd_rel * scale;
+    if a + b < c - slack || a + c < b - slack || b + c < a - slack {
+        return Err(bad(
+            "the principal moments violate the triangle inequality (no rigid body has them)".into(),
+        ));
+    }
+    let frame = Pose::from_xyz_rpy(*i.origin.xyz, *i.origin.rpy);
+    Ok(Inertia {
+        mass: m,
+        lever: frame.translation,
+        inertia_com: frame.rotation * inertia_com_local * frame.rotation.transpose(),
+    })
+}

@@ -1,0 +1,76 @@
+//! Centroidal terms along a joint path `q(s)` (MATH.md section 6, the paper's Section V-B).
+//!
+//! # Math
+//!
+//! Along a path `q(s)` with tangent `q_s` and curvature `q_ss` (velocity-space vectors, so that
+//! `v = q_s s'` and, with the free flyer's body twist held constant, `v' = q_ss s'^2 + q_s s''`):
+//!
+//! - CoM: `p = c(q)`, `p_s = J_com q_s`, `p_ss = J_com q_ss + (dJ_com/ds) q_s`, so that
+//!   `p'' = p_s s'' + p_ss s'^2`;
+//! - angular momentum about the CoM, `L = A_g,ang(q) q_s s'`:
+//!   `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`, so that `L' = l1 s'' + l2 s'^2`.
+//!
+//! `(dA_g/ds) q_s` is `(dA_g/dt) v` evaluated at `v = q_s` (it is quadratic in the velocity), and
+//! `(dJ_com/ds) q_s` is its linear part over the mass.
+
+use nalgebra::Vector3;
+
+use crate::centroidal::centroidal_map_dot_v;
+use crate::data::Data;
+use crate::error::RobotError;
+use crate::kinematics::check_velocity;
+use crate::model::Model;
+
+/// The terms of the retiming constraints (13)-(14) at one path point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathTerms {
+    /// CoM `p(s)` (m).
+    pub p: Vector3<f64>,
+    /// `dp/ds` (m per unit of s).
+    pub p_s: Vector3<f64>,
+    /// `d^2p/ds^2`.
+    pub p_ss: Vector3<f64>,
+    /// `l1(s)`: coefficient of `s''` in `L'` (angular momentum about the CoM, kg m^2 per unit s).
+    pub l1: Vector3<f64>,
+    /// `l2(s)`: coefficient of `s'^2` in `L'`.
+    pub l2: Vector3<f64>,
+}
+
+/// `p, p_s, p_ss, l1, l2` at a path point `(q, q_s, q_ss)`.
+///
+/// ```
+/// use stance_robot::{path_terms, Data, Model};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let mut d = Data::new(&m);
+/// let mut q_s = vec![0.0; m.nv];
+/// q_s[2] = 1.0; // the whole robot goes up along the path
+/// let t = path_terms(&m, &mut d, &m.neutral(), &q_s, &vec![0.0; m.nv]).unwrap();
+/// assert!((t.p_s - nalgebra::Vector3::z()).norm() < 1e-14);
+/// assert!(t.p_ss.norm() < 1e-14 && t.l1.norm() < 1e-12 && t.l2.norm() < 1e-12);
+/// ```
+pub fn path_terms(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    q_s: &[f64],
+    q_ss: &[f64],
+) -> Result<PathTerms, RobotError> {
+    check_velocity(model, q_ss)?;
+    let drift = centroidal_map_dot_v(model, data, q, q_s)?;
+    let a = &data.centroidal_map;
+    let mut h_s = nalgebra::Vector6::zeros();
+    let mut h_ss = drift;
+    for k in 0..model.nv {
+        let col = a.column(k);
+        h_s += col * q_s[k];
+        h_ss += col * q_ss[k];
+    }
+    let m = data.mass;
+    Ok(PathTerms {
+        p: data.com,
+        p_s: h_s.fixed_rows::<3>(0) / m,
+        p_ss: h_ss.fixed_rows::<3>(0) / m,
+        l1: h_s.fixed_rows::<3>(3).into(),
+        l2: h_ss.fixed_rows::<3>(3).into(),
+    })
+}

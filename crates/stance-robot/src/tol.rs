@@ -1,0 +1,69 @@
+//! Every numerical threshold of the crate, with its unit, default and reason.
+//!
+//! They are gathered in [`Tolerances`], which the model builder and the kinematics take as an
+//! option; [`Tolerances::default`] gives the values below.
+
+/// Largest accepted deviation of a free-flyer quaternion's norm from 1 (dimensionless).
+///
+/// Default `1e-6`: configuration vectors written with 7 to 9 significant digits (JSON files,
+/// command lines) stay accepted, while a vector whose 4 quaternion entries are plainly not a unit
+/// quaternion (a typo, joint angles shifted by one slot) is rejected instead of silently
+/// normalized. Accepted quaternions are normalized before use.
+pub const QUATERNION_NORM_TOL: f64 = 1e-6;
+
+/// Largest accepted deviation of `cos^2 + sin^2` of a continuous joint's `(cos, sin)` pair from 1
+/// (dimensionless). Same reason and default as [`QUATERNION_NORM_TOL`].
+pub const UNIT_COMPLEX_NORM_TOL: f64 = 1e-6;
+
+/// Smallest total mass for which the centre of mass is defined (kg).
+///
+/// Default `1e-9` kg: a URDF without any `<inertial>` mass (or whose only masses are on locked or
+/// removed parts) has no CoM; below a microgram the CoM is round-off.
+pub const MIN_TOTAL_MASS: f64 = 1e-9;
+
+/// Smallest accepted norm of a joint axis in a URDF (dimensionless; axes are normalized).
+///
+/// Default `1e-12`: a zero axis (`xyz="0 0 0"`) is a modelling error, while any non-zero axis is
+/// a direction that can be normalized exactly enough.
+pub const MIN_AXIS_NORM: f64 = 1e-12;
+
+/// Tolerance on the symmetric positive semi-definiteness of a link's rotational inertia (kg m^2),
+/// relative to the largest diagonal entry: eigenvalues down to `-tol * max|I_ii|` and triangle
+/// inequalities violated by that much are accepted as round-off of the URDF's decimal digits.
+///
+/// Default `1e-9`.
+pub const INERTIA_PSD_REL_TOL: f64 = 1e-9;
+
+/// The thresholds above, passed as options to [`crate::Model::from_urdf_str`] and to the
+/// configuration checks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// See [`QUATERNION_NORM_TOL`].
+    pub quaternion_norm: f64,
+    /// See [`UNIT_COMPLEX_NORM_TOL`].
+    pub unit_complex_norm: f64,
+    /// See [`MIN_TOTAL_MASS`].
+    pub min_total_mass: f64,
+    /// See [`MIN_AXIS_NORM`].
+    pub min_axis_norm: f64,
+    /// See [`INERTIA_PSD_REL_TOL`].
+    pub inertia_psd_rel: f64,
+}
+
+impl Default for Tolerances {
+    /// The documented defaults.
+    ///
+    /// ```
+    /// let t = stance_robot::Tolerances::default();
+    /// assert_eq!(t.quaternion_norm, stance_robot::tol::QUATERNION_NORM_TOL);
+    /// ```
+    fn default() -> Self {
+        Self {
+            quaternion_norm: QUATERNION_NORM_TOL,
+            unit_complex_norm: UNIT_COMPLEX_NORM_TOL,
+            min_total_mass: MIN_TOTAL_MASS,
+            min_axis_norm: MIN_AXIS_NORM,
+            inertia_psd_rel: INERTIA_PSD_REL_TOL,
+        }
+    }
+}
