@@ -1,1 +1,2 @@
 //! (crate under construction; see the crate README and issues)
+pub mod polytope;
