@@ -1,10 +1,18 @@
 //! `stance cone span-to-face FILE` and `stance cone face-to-span FILE`.
+//!
+//! Input (JSON, or TOML for a `.toml` file):
+//! - span-to-face: `{"generators": [[...], ...], "dim": d}` (`dim` optional, needed only when
+//!   there is no generator: the zero cone of `R^d`);
+//! - face-to-span: `{"facets": [[...], ...], "equations": [[...], ...], "dim": d}` (`equations`
+//!   and `dim` optional).
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use stance::polycone::{self, nalgebra::DMatrix, Arithmetic, DdOptions, FaceForm, Workspace};
 
-use super::io::Common;
+use super::io::{read_input, write_output, Common};
 
 #[derive(clap::Subcommand)]
 pub enum ConeCommand {
@@ -25,6 +33,144 @@ pub struct ConvertArgs {
     pub common: Common,
 }
 
-pub fn run(_cmd: ConeCommand) -> Result<()> {
-    bail!("the cone commands are not available in this build yet")
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpanInput {
+    generators: Vec<Vec<f64>>,
+    #[serde(default)]
+    dim: Option<usize>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FaceInput {
+    facets: Vec<Vec<f64>>,
+    #[serde(default)]
+    equations: Vec<Vec<f64>>,
+    #[serde(default)]
+    dim: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct SpanToFaceOutput {
+    dim: usize,
+    facets: Vec<Vec<f64>>,
+    equations: Vec<Vec<f64>>,
+    lineality: Vec<Vec<f64>>,
+    extreme_generators: Vec<usize>,
+    certified: bool,
+}
+
+#[derive(Serialize)]
+struct FaceToSpanOutput {
+    dim: usize,
+    generators: Vec<Vec<f64>>,
+    lineality: Vec<Vec<f64>>,
+    irredundant_facets: Vec<usize>,
+    certified: bool,
+}
+
+/// Rows -> matrix, checking the row lengths and finiteness; `dim` from the rows or the option.
+fn to_matrix(what: &str, rows: &[Vec<f64>], dim: Option<usize>) -> Result<DMatrix<f64>> {
+    let d = match (rows.first(), dim) {
+        (Some(r), Some(d)) if r.len() != d => {
+            bail!("{what}: row 0 has {} entries but \"dim\" is {d}", r.len())
+        }
+        (Some(r), _) => r.len(),
+        (None, Some(d)) => d,
+        (None, None) => bail!("{what} is empty: give at least one row, or \"dim\""),
+    };
+    if d == 0 {
+        bail!("{what}: the dimension is 0; rows need at least one entry");
+    }
+    for (i, r) in rows.iter().enumerate() {
+        if r.len() != d {
+            bail!(
+                "{what}: row {i} has {} entries but row 0 has {d} (ragged rows)",
+                r.len()
+            );
+        }
+        if let Some((j, v)) = r.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            bail!("{what}: row {i}, column {j} is {v}; every entry must be a finite number");
+        }
+    }
+    Ok(DMatrix::from_fn(rows.len(), d, |i, j| rows[i][j]))
+}
+
+fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| m.row(i).iter().copied().collect())
+        .collect()
+}
+
+fn options(exact: bool) -> DdOptions {
+    DdOptions {
+        arithmetic: if exact {
+            Arithmetic::Exact
+        } else {
+            Arithmetic::Tolerance
+        },
+        ..DdOptions::default()
+    }
+}
+
+pub fn run(cmd: ConeCommand) -> Result<()> {
+    match cmd {
+        ConeCommand::SpanToFace(a) => {
+            let input: SpanInput = read_input(&a.file)?;
+            let v = to_matrix("generators", &input.generators, input.dim)?;
+            let opts = options(a.exact);
+            let mut ws = Workspace::new();
+            let mut result = None;
+            for _ in 0..a.common.repeat {
+                result = Some(ws.span_to_face(&v, &opts).context("span-to-face")?);
+            }
+            let r = result.expect("repeat >= 1");
+            write_output(
+                &a.common,
+                &SpanToFaceOutput {
+                    dim: r.face.dim,
+                    facets: rows(&r.face.facets),
+                    equations: rows(&r.face.equations),
+                    lineality: rows(&r.lineality),
+                    extreme_generators: r.extreme_generators,
+                    certified: r.certificate.certified,
+                },
+            )
+        }
+        ConeCommand::FaceToSpan(a) => {
+            let input: FaceInput = read_input(&a.file)?;
+            let dim = input
+                .dim
+                .or_else(|| input.facets.first().map(Vec::len))
+                .or_else(|| input.equations.first().map(Vec::len));
+            if input.facets.is_empty() && input.equations.is_empty() && dim.is_none() {
+                bail!("facets and equations are both empty: give at least one row, or \"dim\"");
+            }
+            let u = to_matrix("facets", &input.facets, dim)?;
+            let e = to_matrix("equations", &input.equations, dim)?;
+            let face = FaceForm::new(u, e).map_err(polycone_error)?;
+            let opts = options(a.exact);
+            let mut ws = Workspace::new();
+            let mut result = None;
+            for _ in 0..a.common.repeat {
+                result = Some(ws.face_to_span(&face, &opts).context("face-to-span")?);
+            }
+            let r = result.expect("repeat >= 1");
+            write_output(
+                &a.common,
+                &FaceToSpanOutput {
+                    dim: r.span.dim,
+                    generators: rows(&r.span.generators),
+                    lineality: rows(&r.span.lineality),
+                    irredundant_facets: r.irredundant_facets,
+                    certified: r.certificate.certified,
+                },
+            )
+        }
+    }
+}
+
+fn polycone_error(e: polycone::ConeError) -> anyhow::Error {
+    anyhow::Error::new(e)
 }

@@ -1,0 +1,347 @@
+//! The two conversions, span -> face and face -> span, and their reusable [`Workspace`].
+//!
+//! # Math
+//!
+//! **span -> face.** For `C = span(V)`: precondition (see [`crate::precondition`]) to whitened
+//! unit generators `w_i` in `R^r`, `r = dim span(V)`; the equations are the complement of
+//! `span(V)`. In `R^r` the cone is full-dimensional, and its facets are the extreme rays of the
+//! **polar** `C° = {u : w_i . u <= 0 for all i}`, a pointed cone (the `w_i` span `R^r`), computed
+//! by the double description method ([`crate::dd`]). The lineality space of `C` is the orthogonal
+//! complement of `span(C°)`, i.e. the null space of the facet matrix.
+//!
+//! **face -> span.** For `C = {x : U x <= 0, E x = 0}` the polar is
+//! `C° = span([U; E; -E])`, and `(C°)° = C`: the extreme rays of `C` are the facets of `C°`, the
+//! lineality space of `C` is the equation space of `C°`. So face -> span is span -> face on the
+//! polar, with the same preconditioning and certificate.
+
+use nalgebra::DMatrix;
+
+use crate::certificate::{certify_whitened, Certificate};
+use crate::dd::DdCore;
+use crate::linalg::{normalize, numerical_rank, orthonormal_rows, rank_of, sorted_svd};
+use crate::precondition::{whiten, Whitened};
+use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
+
+/// The result of [`span_to_face`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpanToFace {
+    /// `{x : facets x <= 0, equations x = 0}`; unit rows, facets orthogonal to the equations
+    /// and to the lineality space, in lexicographic order.
+    pub face: FaceForm,
+    /// Orthonormal basis (rows) of the lineality space of the cone.
+    pub lineality: DMatrix<f64>,
+    /// Indices of input rows that are extreme rays (modulo the lineality space), one per extreme
+    /// ray (the first input row among positively parallel ones), increasing.
+    pub extreme_generators: Vec<usize>,
+    /// What was verified.
+    pub certificate: Certificate,
+}
+
+/// The result of [`face_to_span`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FaceToSpan {
+    /// `{generators^T z + lineality^T y : z >= 0}`: unit extreme rays (orthogonal to the
+    /// lineality space) and an orthonormal basis of the lineality space.
+    pub span: SpanForm,
+    /// Indices of input facet rows that are irredundant (facets of the cone), increasing.
+    pub irredundant_facets: Vec<usize>,
+    /// What was verified (on the polar conversion, which implies this one).
+    pub certificate: Certificate,
+}
+
+/// Reusable buffers of the conversions. Repeated conversions through the same workspace reuse
+/// its arenas: the double description loop does not allocate once they are large enough.
+#[derive(Clone, Debug, Default)]
+pub struct Workspace {
+    core: DdCore,
+    check: DdCore,
+    rows: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            let v = m[(i, j)];
+            if !v.is_finite() {
+                return Err(ConeError::NonFinite {
+                    what,
+                    row: i,
+                    col: j,
+                    value: v,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Everything span -> face computes, in whitened and world coordinates.
+struct Polar {
+    wh: Whitened,
+    facets: DMatrix<f64>,
+    lineality: DMatrix<f64>,
+    extreme: Vec<usize>,
+    certificate: Certificate,
+}
+
+impl Workspace {
+    /// A new, empty workspace.
+    ///
+    /// ```
+    /// let mut ws = polycone::Workspace::new();
+    /// let v = polycone::nalgebra::DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 1.0]);
+    /// let r = ws.span_to_face(&v, &Default::default()).unwrap();
+    /// assert_eq!(r.face.facets.nrows(), 2);
+    /// ```
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// [`span_to_face`] with this workspace's buffers.
+    ///
+    /// ```
+    /// use polycone::{nalgebra::DMatrix, Workspace, DdOptions};
+    /// let mut ws = Workspace::new();
+    /// // The quadrant of R^2 plus a redundant generator.
+    /// let v = DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 1.0, 1.0, 0.0, 2.0]);
+    /// let r = ws.span_to_face(&v, &DdOptions::default()).unwrap();
+    /// assert_eq!(r.extreme_generators, vec![0, 2]);
+    /// assert!(r.certificate.certified);
+    /// ```
+    pub fn span_to_face(
+        &mut self,
+        generators: &DMatrix<f64>,
+        opts: &DdOptions,
+    ) -> Result<SpanToFace, ConeError> {
+        let d = generators.ncols();
+        if d == 0 {
+            return Err(ConeError::ZeroDimension);
+        }
+        check_finite("generators", generators)?;
+        let p = self.polar(generators, opts)?;
+        Ok(SpanToFace {
+            face: FaceForm {
+                dim: d,
+                facets: p.facets,
+                equations: p.wh.equations.clone(),
+            },
+            lineality: p.lineality,
+            extreme_generators: p.extreme,
+            certificate: p.certificate,
+        })
+    }
+
+    /// [`face_to_span`] with this workspace's buffers.
+    ///
+    /// ```
+    /// use polycone::{nalgebra::DMatrix, Workspace, DdOptions, FaceForm};
+    /// let mut ws = Workspace::new();
+    /// // The half-plane y >= 0: lineality along x, one generator (0, 1).
+    /// let face = FaceForm::new(DMatrix::from_row_slice(1, 2, &[0.0, -1.0]), DMatrix::zeros(0, 2)).unwrap();
+    /// let r = ws.face_to_span(&face, &DdOptions::default()).unwrap();
+    /// assert_eq!(r.span.generators.nrows(), 1);
+    /// assert!((r.span.generators[(0, 1)] - 1.0).abs() < 1e-12);
+    /// assert_eq!(r.span.lineality.nrows(), 1);
+    /// ```
+    pub fn face_to_span(
+        &mut self,
+        face: &FaceForm,
+        opts: &DdOptions,
+    ) -> Result<FaceToSpan, ConeError> {
+        face.validate()?;
+        let d = face.dim;
+        let (nu, ne) = (face.facets.nrows(), face.equations.nrows());
+        let mut g = DMatrix::zeros(nu + 2 * ne, d);
+        if nu > 0 {
+            g.view_mut((0, 0), (nu, d)).copy_from(&face.facets);
+        }
+        if ne > 0 {
+            g.view_mut((nu, 0), (ne, d)).copy_from(&face.equations);
+            g.view_mut((nu + ne, 0), (ne, d))
+                .copy_from(&(-&face.equations));
+        }
+        let p = self.polar(&g, opts)?;
+        let irredundant_facets = p.extreme.iter().copied().filter(|&i| i < nu).collect();
+        Ok(FaceToSpan {
+            span: SpanForm {
+                dim: d,
+                generators: p.facets,
+                lineality: p.wh.equations.clone(),
+            },
+            irredundant_facets,
+            certificate: p.certificate,
+        })
+    }
+
+    /// span -> face on `v` (finite, `d >= 1` columns): the common engine of both directions.
+    fn polar(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+        opts.tol.validate()?;
+        if opts.arithmetic == Arithmetic::Exact {
+            return Err(ConeError::Unsupported(
+                "exact arithmetic is not available in this version; use Arithmetic::Tolerance"
+                    .into(),
+            ));
+        }
+        let tol = &opts.tol;
+        let d = v.ncols();
+        let wh = whiten(v, tol);
+        let r = wh.r;
+        // Double description on the polar, in whitened coordinates.
+        self.rows.clear();
+        for &i in &wh.distinct {
+            self.rows.extend_from_slice(wh.gen(i));
+        }
+        let m = wh.distinct.len();
+        if r > 0 {
+            self.core
+                .run(&self.rows, m, r, tol.incidence, tol.rank)
+                .map_err(|e| ConeError::Uncertified(format!("double description failed: {e:?}")))?;
+        } else {
+            self.core.n = 0;
+        }
+        let nf = if r > 0 { self.core.n } else { 0 };
+        let mut fw: Vec<f64> = Vec::with_capacity(nf * r);
+        for f in 0..nf {
+            fw.extend_from_slice(self.core.ray(f));
+        }
+        // Lineality: the null space of the facet matrix, in whitened coordinates.
+        let (perp, lin) = if r == 0 {
+            (Vec::new(), Vec::new())
+        } else if nf == 0 {
+            (
+                Vec::new(),
+                DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+            )
+        } else {
+            let fm = DMatrix::from_row_slice(nf, r, &fw);
+            let (sv, vt) = sorted_svd(&fm);
+            let t = numerical_rank(&sv, tol.rank);
+            let mut perp = Vec::with_capacity(t * r);
+            for b in 0..t {
+                perp.extend(vt.row(b).iter());
+            }
+            let mut lin = Vec::with_capacity((r - t) * r);
+            for b in t..r {
+                lin.extend(vt.row(b).iter());
+            }
+            (perp, lin)
+        };
+        let t = perp.len().checked_div(r).unwrap_or(0);
+        let l = r - t;
+        let certificate = certify_whitened(
+            &wh,
+            &fw,
+            &perp,
+            &lin,
+            tol,
+            opts.arithmetic,
+            &mut self.check,
+            &mut self.scratch,
+        );
+        if !certificate.certified && !opts.allow_uncertified {
+            return Err(ConeError::Uncertified(certificate.failure_reason()));
+        }
+        // Facets in world coordinates, sorted lexicographically.
+        let mut facets: Vec<Vec<f64>> = (0..nf)
+            .map(|f| {
+                let mut u = vec![0.0; d];
+                wh.facet_to_world(&fw[f * r..(f + 1) * r], &mut u);
+                u
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..nf).collect();
+        order.sort_by(|&a, &b| {
+            facets[a]
+                .iter()
+                .zip(&facets[b])
+                .map(|(x, y)| x.total_cmp(y))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        let facets_m = DMatrix::from_fn(nf, d, |i, j| facets[order[i]][j]);
+        facets.clear();
+        // Lineality in world coordinates.
+        let mut lw = DMatrix::zeros(l, d);
+        let mut x = vec![0.0; d];
+        for b in 0..l {
+            wh.point_to_world(&lin[b * r..(b + 1) * r], &mut x);
+            normalize(&mut x);
+            lw.row_mut(b).copy_from_slice(&x);
+        }
+        let lineality = orthonormal_rows(&lw, tol.rank);
+        // Extreme generators: tight facets of rank t - 1, one per incidence pattern.
+        let mut extreme = Vec::new();
+        if t > 0 {
+            let mut seen: Vec<Vec<bool>> = Vec::new();
+            let mut tight_rows = Vec::new();
+            for &i in &wh.distinct {
+                let g = wh.gen(i);
+                let pattern: Vec<bool> = (0..nf)
+                    .map(|f| crate::linalg::dot(&fw[f * r..(f + 1) * r], g).abs() <= tol.incidence)
+                    .collect();
+                tight_rows.clear();
+                for f in 0..nf {
+                    if pattern[f] {
+                        tight_rows.extend_from_slice(&fw[f * r..(f + 1) * r]);
+                    }
+                }
+                let cnt = tight_rows.len() / r;
+                let rank = rank_of(
+                    (0..cnt).map(|k| &tight_rows[k * r..(k + 1) * r]),
+                    r,
+                    tol.support_rank,
+                    &mut self.scratch,
+                );
+                if rank + 1 == t && !seen.contains(&pattern) {
+                    seen.push(pattern);
+                    extreme.push(wh.kept[i]);
+                }
+            }
+            extreme.sort_unstable();
+        }
+        Ok(Polar {
+            wh,
+            facets: facets_m,
+            lineality,
+            extreme,
+            certificate,
+        })
+    }
+}
+
+/// Converts a cone from span form to face form: `span(V) = {x : U x <= 0, E x = 0}`.
+///
+/// `generators` is `n x d`, one generator per row (`n = 0` gives the zero cone, whose
+/// equations are the identity). See the crate docs for the tolerance contract; the result is
+/// certified or an error is returned (unless [`DdOptions::allow_uncertified`]).
+///
+/// ```
+/// use polycone::{nalgebra::DMatrix, span_to_face, DdOptions};
+/// // The positive orthant of R^3.
+/// let v = DMatrix::<f64>::identity(3, 3);
+/// let r = span_to_face(&v, &DdOptions::default()).unwrap();
+/// assert_eq!(r.face.facets.nrows(), 3);
+/// assert_eq!(r.face.equations.nrows(), 0);
+/// assert_eq!(r.extreme_generators, vec![0, 1, 2]);
+/// assert!(r.certificate.certified);
+/// ```
+pub fn span_to_face(generators: &DMatrix<f64>, opts: &DdOptions) -> Result<SpanToFace, ConeError> {
+    Workspace::new().span_to_face(generators, opts)
+}
+
+/// Converts a cone from face form to span form: `{x : U x <= 0, E x = 0} = span(V) + span(L)`
+/// with `L` the lineality space.
+///
+/// ```
+/// use polycone::{nalgebra::DMatrix, face_to_span, DdOptions, FaceForm};
+/// // x >= 0, y >= 0 in R^2 is generated by (1, 0) and (0, 1).
+/// let face = FaceForm::new(DMatrix::from_row_slice(2, 2, &[-1.0, 0.0, 0.0, -1.0]), DMatrix::zeros(0, 2)).unwrap();
+/// let r = face_to_span(&face, &DdOptions::default()).unwrap();
+/// assert_eq!(r.span.generators.nrows(), 2);
+/// assert_eq!(r.span.lineality.nrows(), 0);
+/// assert!(r.certificate.certified);
+/// ```
+pub fn face_to_span(face: &FaceForm, opts: &DdOptions) -> Result<FaceToSpan, ConeError> {
+    Workspace::new().face_to_span(face, opts)
+}

@@ -1,0 +1,141 @@
+//! Small dense linear-algebra helpers on row-major slices and `DMatrix` (rank, bases).
+
+use nalgebra::DMatrix;
+
+/// Full SVD of an `n x d` matrix, sorted: returns the `min(n, d)`... padded to `d` singular
+/// values in decreasing order and the `d x d` orthogonal matrix whose rows are the matching
+/// right singular vectors (a basis of `R^d`: the row space first, its complement after).
+pub(crate) fn sorted_svd(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
+    let (n, d) = m.shape();
+    let padded = if n >= d {
+        m.clone()
+    } else {
+        let mut p = DMatrix::zeros(d, d);
+        p.view_mut((0, 0), (n, d)).copy_from(m);
+        p
+    };
+    let svd = padded.svd(false, true);
+    let v_t = svd.v_t.expect("v_t was requested");
+    let s = svd.singular_values;
+    let mut idx: Vec<usize> = (0..s.len()).collect();
+    idx.sort_by(|&a, &b| s[b].total_cmp(&s[a]));
+    let mut sv = Vec::with_capacity(d);
+    let mut vt = DMatrix::zeros(d, d);
+    for (r, &i) in idx.iter().enumerate() {
+        sv.push(s[i]);
+        vt.row_mut(r).copy_from(&v_t.row(i));
+    }
+    (sv, vt)
+}
+
+/// Number of singular values above `rel * s_max` (0 when all are zero).
+pub(crate) fn numerical_rank(sv: &[f64], rel: f64) -> usize {
+    let smax = sv.first().copied().unwrap_or(0.0);
+    if smax <= 0.0 {
+        return 0;
+    }
+    sv.iter().filter(|&&s| s > rel * smax).count()
+}
+
+/// Rank of a set of vectors of length `k` (given by an iterator of slices) by modified
+/// Gram-Schmidt with pivoting on the largest residual; residual norms at most `eps` (absolute,
+/// the vectors being unit) count as zero. `buf` is reused scratch.
+pub(crate) fn rank_of<'a>(
+    vectors: impl Iterator<Item = &'a [f64]>,
+    k: usize,
+    eps: f64,
+    buf: &mut Vec<f64>,
+) -> usize {
+    buf.clear();
+    let mut n = 0;
+    for v in vectors {
+        buf.extend_from_slice(v);
+        n += 1;
+    }
+    let mut used = vec![false; n];
+    let mut rank = 0;
+    while rank < k {
+        let mut best = usize::MAX;
+        let mut best_nn = eps * eps;
+        for i in 0..n {
+            if used[i] {
+                continue;
+            }
+            let nn: f64 = buf[i * k..(i + 1) * k].iter().map(|x| x * x).sum();
+            if nn > best_nn {
+                best_nn = nn;
+                best = i;
+            }
+        }
+        if best == usize::MAX {
+            break;
+        }
+        used[best] = true;
+        rank += 1;
+        let inv = 1.0 / best_nn.sqrt();
+        for t in 0..k {
+            buf[best * k + t] *= inv;
+        }
+        for i in 0..n {
+            if used[i] {
+                continue;
+            }
+            let mut d = 0.0;
+            for t in 0..k {
+                d += buf[i * k + t] * buf[best * k + t];
+            }
+            for t in 0..k {
+                buf[i * k + t] -= d * buf[best * k + t];
+            }
+        }
+    }
+    rank
+}
+
+/// Orthonormalizes the rows of `m` (modified Gram-Schmidt, twice), dropping rows whose residual
+/// is at most `eps` times their original norm.
+pub(crate) fn orthonormal_rows(m: &DMatrix<f64>, eps: f64) -> DMatrix<f64> {
+    let d = m.ncols();
+    let mut out: Vec<nalgebra::RowDVector<f64>> = Vec::new();
+    for r in 0..m.nrows() {
+        let mut v = m.row(r).into_owned();
+        let n0 = v.norm();
+        if n0 == 0.0 {
+            continue;
+        }
+        for _ in 0..2 {
+            for q in &out {
+                let c = v.dot(q);
+                v -= q * c;
+            }
+        }
+        let n1 = v.norm();
+        if n1 > eps * n0 {
+            out.push(v / n1);
+        }
+    }
+    let mut res = DMatrix::zeros(out.len(), d);
+    for (i, q) in out.iter().enumerate() {
+        res.row_mut(i).copy_from(q);
+    }
+    res
+}
+
+/// Dot product of two slices.
+#[inline]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Normalizes `v` in place; returns its former norm.
+#[inline]
+pub(crate) fn normalize(v: &mut [f64]) -> f64 {
+    let n = dot(v, v).sqrt();
+    if n > 0.0 {
+        let inv = 1.0 / n;
+        for x in v.iter_mut() {
+            *x *= inv;
+        }
+    }
+    n
+}

@@ -1,0 +1,145 @@
+//! Preconditioning: a change of coordinates that makes the conversion independent of units and
+//! of the reference point.
+//!
+//! # Math
+//!
+//! Let `V` (`n x d`, one generator per row) have the thin SVD `V = Y S Q` with `S = diag(s_1 >=
+//! ... >= s_r > 0)` (singular values above [`crate::tol::Tolerances::rank`] times `s_1`), `Q`
+//! (`r x d`) orthonormal rows. Then
+//!
+//! - `span(V)` is the row space of `Q` and the **equations** of the cone are an orthonormal basis
+//!   `E` of its complement (`E v = 0` for every generator);
+//! - the **whitened coordinates** of `x in span(V)` are `y = S^{-1} Q x`, and the whitened
+//!   generators are the rows of `W = V Q^T S^{-1} = Y`, which has orthonormal columns.
+//!
+//! For any invertible linear map `M` of `R^d` (a change of reference point of wrenches, a change
+//! of units), `V M^T` has whitened generators `Y O` with `O` orthogonal: the problem the double
+//! description solves is the same up to a rotation, so its combinatorics and conditioning do
+//! not depend on where the world origin is or on the units. A facet `u_w . y <= 0` in whitened
+//! coordinates is `u . x <= 0` with `u = Q^T S^{-1} u_w` (then normalized).
+//!
+//! Zero generators (norm at most [`crate::tol::Tolerances::zero_generator`] times the largest) are
+//! dropped; whitened generators are normalized to unit rows, and positively parallel duplicates
+//! (distance at most [`crate::tol::Tolerances::duplicate`]) are merged.
+
+use nalgebra::DMatrix;
+
+use crate::linalg::{normalize, numerical_rank, sorted_svd};
+use crate::tol::Tolerances;
+
+/// A span-form problem in whitened coordinates.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Whitened {
+    /// Dimension of `span(V)`.
+    pub r: usize,
+    /// `r x d`, orthonormal rows spanning `span(V)`.
+    pub q: DMatrix<f64>,
+    /// The `r` singular values kept.
+    pub sv: Vec<f64>,
+    /// `(d - r) x d`, orthonormal rows: the equations.
+    pub equations: DMatrix<f64>,
+    /// Input indices of the nonzero generators.
+    pub kept: Vec<usize>,
+    /// Whitened unit generators, `kept.len() x r`, row-major.
+    pub w: Vec<f64>,
+    /// Indices into `kept` of the generators left after merging duplicates.
+    pub distinct: Vec<usize>,
+    /// Largest `|E v| / max |v|` over the generators (how far they are from `span(V)`).
+    pub equation_residual: f64,
+}
+
+impl Whitened {
+    /// Whitened generator `i` (index into `kept`).
+    #[inline]
+    pub fn gen(&self, i: usize) -> &[f64] {
+        &self.w[i * self.r..(i + 1) * self.r]
+    }
+
+    /// Maps a whitened facet normal back: `u = Q^T S^{-1} u_w`, normalized.
+    pub fn facet_to_world(&self, u_w: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in 0..self.r {
+            let f = u_w[c] / self.sv[c];
+            for (o, qv) in out.iter_mut().zip(self.q.row(c).iter()) {
+                *o += f * qv;
+            }
+        }
+        normalize(out);
+    }
+
+    /// Maps a whitened point back: `x = Q^T S y` (not normalized).
+    pub fn point_to_world(&self, y: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in 0..self.r {
+            let f = y[c] * self.sv[c];
+            for (o, qv) in out.iter_mut().zip(self.q.row(c).iter()) {
+                *o += f * qv;
+            }
+        }
+    }
+}
+
+/// Whitens the generators `v` (rows), assumed finite with `v.ncols() >= 1`.
+pub(crate) fn whiten(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
+    let (n, d) = v.shape();
+    let norms: Vec<f64> = (0..n).map(|i| v.row(i).norm()).collect();
+    let maxn = norms.iter().copied().fold(0.0, f64::max);
+    let kept: Vec<usize> = (0..n)
+        .filter(|&i| norms[i] > 0.0 && norms[i] > tol.zero_generator * maxn)
+        .collect();
+    if kept.is_empty() {
+        return Whitened {
+            r: 0,
+            q: DMatrix::zeros(0, d),
+            sv: Vec::new(),
+            equations: DMatrix::identity(d, d),
+            kept,
+            w: Vec::new(),
+            distinct: Vec::new(),
+            equation_residual: 0.0,
+        };
+    }
+    let mut vk = DMatrix::zeros(kept.len(), d);
+    for (r, &i) in kept.iter().enumerate() {
+        vk.row_mut(r).copy_from(&v.row(i));
+    }
+    let (sv_all, vt) = sorted_svd(&vk);
+    let r = numerical_rank(&sv_all, tol.rank);
+    let q = vt.rows(0, r).into_owned();
+    let equations = vt.rows(r, d - r).into_owned();
+    let sv = sv_all[..r].to_vec();
+    let mut w = vec![0.0; kept.len() * r];
+    let mut equation_residual: f64 = 0.0;
+    for (t, &i) in kept.iter().enumerate() {
+        let row = v.row(i);
+        for c in 0..r {
+            w[t * r + c] = q.row(c).dot(&row) / sv[c];
+        }
+        normalize(&mut w[t * r..(t + 1) * r]);
+        for e in 0..d - r {
+            equation_residual = equation_residual.max(equations.row(e).dot(&row).abs() / maxn);
+        }
+    }
+    let mut distinct: Vec<usize> = Vec::with_capacity(kept.len());
+    'outer: for t in 0..kept.len() {
+        let gt = &w[t * r..(t + 1) * r];
+        for &s in &distinct {
+            let gs = &w[s * r..(s + 1) * r];
+            let d2: f64 = gt.iter().zip(gs).map(|(a, b)| (a - b) * (a - b)).sum();
+            if d2 <= tol.duplicate * tol.duplicate {
+                continue 'outer;
+            }
+        }
+        distinct.push(t);
+    }
+    Whitened {
+        r,
+        q,
+        sv,
+        equations,
+        kept,
+        w,
+        distinct,
+        equation_residual,
+    }
+}

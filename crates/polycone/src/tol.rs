@@ -1,0 +1,83 @@
+//! Every numerical threshold of `polycone`, with its unit, default and reason.
+//!
+//! All thresholds are **dimensionless**: the engine first maps the input to well-scaled
+//! coordinates (see [`crate::precondition`]), where every generator and every constraint row is a
+//! unit vector, so that a slack `u . x` of two unit vectors is the cosine of their angle, and a
+//! threshold on it is a relative quantity independent of the units of the input.
+
+/// The thresholds of one conversion. [`Tolerances::default`] gives the values documented on each
+/// field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    /// A generator whose Euclidean norm is at most `zero_generator` times the largest generator
+    /// norm of the input is treated as the zero vector and ignored (it adds nothing to a cone).
+    /// Unit: relative norm. Default `1e-14`: a few units in the last place of `f64`, so only
+    /// vectors that are zero up to rounding are dropped.
+    pub zero_generator: f64,
+    /// Rank decisions (the dimension of `span(V)`, hence the equations; the lineality space) treat
+    /// a singular value at most `rank` times the largest one as zero. Unit: relative singular
+    /// value. Default `1e-10`: far above the `~1e-15` rounding noise of an SVD, far below the
+    /// smallest relative feature of a physical stance (a 10 um contact patch 1 km from the
+    /// origin is `1e-8`).
+    pub rank: f64,
+    /// Two preconditioned unit generators closer than `duplicate` (Euclidean distance) are the
+    /// same ray; the later one is dropped. Unit: relative distance (radians, for small angles).
+    /// Default `1e-12`: identical up to rounding.
+    pub duplicate: f64,
+    /// Incidence: a preconditioned unit generator `v` and a unit facet normal `u` with
+    /// `|u . v| <= incidence` are incident (the generator lies on the facet). This is the epsilon
+    /// of the tolerance contract: structure degenerate within it is merged. Unit: cosine
+    /// (dimensionless). Default `1e-9`.
+    pub incidence: f64,
+    /// Largest violation `u . v` (unit vectors, preconditioned coordinates) a certified answer
+    /// may show; also the largest residual allowed for equations and lineality. Unit: cosine.
+    /// Default `1e-8`: ten times `incidence`, the room rounding needs on top of merged
+    /// degeneracy.
+    pub certificate: f64,
+    /// Rank counts of incidence sets (the generators tight on a facet, projected on its
+    /// hyperplane) treat a Gram-Schmidt residual at most `support_rank` as zero. Unit: relative
+    /// norm (the vectors are unit). Default `1e-7`: well above `incidence` (vectors merged onto
+    /// the hyperplane leave residuals below it), well below the separation of distinct
+    /// generators of a physical stance after preconditioning.
+    pub support_rank: f64,
+    /// Two unit rays whose distance is at most `parallel` are the same ray in the completeness
+    /// check (matching the rays of the dual conversion to input generators). Unit: relative
+    /// distance. Default `1e-6`: the rays of a conversion are computed to about `1e-12`;
+    /// distinct extreme rays of the inputs the engine accepts are separated far more.
+    pub parallel: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Self {
+            zero_generator: 1e-14,
+            rank: 1e-10,
+            duplicate: 1e-12,
+            incidence: 1e-9,
+            certificate: 1e-8,
+            support_rank: 1e-7,
+            parallel: 1e-6,
+        }
+    }
+}
+
+impl Tolerances {
+    /// Checks that every threshold is finite and non-negative.
+    pub(crate) fn validate(&self) -> Result<(), crate::ConeError> {
+        let all = [
+            ("zero_generator", self.zero_generator),
+            ("rank", self.rank),
+            ("duplicate", self.duplicate),
+            ("incidence", self.incidence),
+            ("certificate", self.certificate),
+            ("support_rank", self.support_rank),
+            ("parallel", self.parallel),
+        ];
+        for (name, v) in all {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(crate::ConeError::BadTolerance { name, value: v });
+            }
+        }
+        Ok(())
+    }
+}
