@@ -95,3 +95,4 @@ pub struct DdOptions {
     /// [`ConeError::Uncertified`]. Default `false`.
     pub allow_uncertified: bool,
 }
+pub mod polytope;

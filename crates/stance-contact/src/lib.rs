@@ -1,1 +1,85 @@
-//! (crate under construction; see the crate README and issues)
+//! Contact stability of legged robots: contact wrench cones, the gravito-inertial wrench cone
+//! (GIWC) computed once per stance, static and robust static equilibrium, and supporting
+//! contact forces. Implements Sections II-IV of Caron, Pham and Nakamura, "Leveraging Cone
+//! Double Description for Multi-contact Stability of Humanoids with Applications to Statics
+//! and Dynamics" (RSS 2015), "the paper" below.
+//!
+//! # Math, in the paper's notation
+//!
+//! - Contact `i`: pose `world_from_contact = (R_i, p_i)` (z axis = surface normal into the
+//!   robot), a convex shape with vertices `v_j`, friction `mu_i` approximated by a k-sided
+//!   pyramid ([`FrictionModel`]; default the paper's outer 4-sided pyramid
+//!   `|f_x|, |f_y| <= mu f_z`).
+//! - Surface contact wrench cone (Proposition 1): `V_surf = A_surf V_point`
+//!   ([`Contact::v_surf`]).
+//! - `w_GI = A_stance w_all` (eq. 8-9, [`Stance::a_stance`]); `GIWC = span(A_stance V_all)`
+//!   ([`Stance::giwc_span`]); `U_stance = (A_stance V_all)^F` through polycone's double
+//!   description ([`Stance::u_stance`], [`Giwc`]), with equations and lineality. Convention:
+//!   `U_stance w_GI <= 0`, wrench at the world origin; the net contact wrench `w_c = -w_GI`
+//!   is in `-GIWC` ([`Giwc::net_contact_wrench_face`]).
+//! - Static equilibrium: `U_stance (m g, m p x g) <= 0`, half-spaces linear in the CoM `p`
+//!   ([`equilibrium`]); robust static equilibrium (eq. 12 with the sign fixed for `g` pointing
+//!   down) as an explicit 3-D polyhedron ([`equilibrium::RobustRegion`]).
+//! - Supporting forces: a QP over the vertex forces ([`supporting_forces`]), independent of the
+//!   double description; the check of every face-form test.
+//!
+//! Rows are `(force, torque)` everywhere. Thresholds live in [`tol`].
+//!
+//! # Example
+//!
+//! ```
+//! use stance_contact::{examples, equilibrium::StaticEquilibrium};
+//! let scene = examples::double_support_flat();
+//! let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
+//! let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
+//! assert!(eq.is_stable([0.0, 0.0, 0.8]));
+//! let polygon = eq.polygon(0.0).unwrap();
+//! assert_eq!(polygon.vertices.len(), 4); // both feet's outer corners
+//! ```
+//!
+//! # Limitations
+//!
+//! - Friction cones are polyhedral (k-sided pyramids); the exact second-order cone is not used.
+//! - Adding a contact recomputes `U_stance` from scratch (no incremental double description).
+//! - Region computations are tolerance-based (metres, [`tol`]): a CoM within
+//!   `DEFAULT_REGION_TOL` outside a half-space counts as stable, vertices within the polytope
+//!   merge distance are one vertex, and regions reaching farther than the polytope `far`
+//!   bound (1e6 m) are reported unbounded.
+//! - The static-equilibrium polygon for a gravity without vertical component is an error (the
+//!   prism is horizontal); for oblique gravity it is the cross-section at a chosen height.
+//! - The robust region margin outside `M` is a lower bound (largest plane violation), not the
+//!   exact distance.
+//! - The supporting-forces QP distributes forces on the shape vertices (the paper's model); it
+//!   reports `Unknown` if the solver stops without a conclusion.
+
+pub mod contact;
+pub mod equilibrium;
+pub mod error;
+pub mod examples;
+pub mod forces;
+pub mod friction;
+pub mod giwc;
+mod giwc_dd;
+pub mod scene;
+pub mod stance;
+pub mod tol;
+
+pub use contact::{Contact, Shape};
+pub use equilibrium::{com_halfspaces, EquilibriumOptions};
+pub use error::ContactError;
+pub use forces::{supporting_forces, ContactForces, ForcesOutcome, SupportingForces};
+pub use friction::{Approximation, FrictionModel};
+pub use giwc::Giwc;
+pub use giwc_dd::GiwcOptions;
+pub use nalgebra;
+pub use scene::{ContactSpec, Scene, ShapeSpec};
+pub use stance::{w_gi_static, Stance};
+
+#[inline]
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}

@@ -1,0 +1,103 @@
+//! Dedicated 2-D and 3-D routines between half-space and vertex descriptions of convex polytopes.
+//!
+//! # Math
+//!
+//! A convex polygon (polyhedron) `P = {p in R^d : a_i . p <= b_i, i = 1..n}` (`d = 2, 3`) is
+//! described either by its half-spaces (H-form) or by its vertices and faces (V-form):
+//!
+//! - [`polygon_from_halfplanes`]: half-planes -> vertices in counter-clockwise order, and for
+//!   each edge the half-plane it lies on (the *active* half-planes; the others are redundant);
+//! - [`polyhedron_from_halfspaces`]: half-spaces -> vertices, faces as vertex loops that are
+//!   counter-clockwise seen from outside, and the half-space of each face;
+//! - [`hull2`] and [`hull3`]: points -> convex hull, with its irredundant half-spaces, i.e. the
+//!   way back.
+//!
+//! Outcomes are values: [`RegionStatus::Empty`], [`RegionStatus::Unbounded`] (the region
+//! reaches farther than `far` from the origin; the part inside the box `[-far, far]^d` is
+//! returned, box faces marked by `None`), and lower-dimensional results (`dim < d`: a segment,
+//! a point, a flat polygon in 3-D).
+//!
+//! # Method and semantics
+//!
+//! The H -> V direction clips the box `[-far, far]^d` by each half-space in turn
+//! (Sutherland-Hodgman in 2-D; face-by-face clipping with a cap face in 3-D). Row normals are
+//! first normalized, so every predicate is a signed Euclidean distance compared with
+//! `dist_tol`: points within `dist_tol` of a plane count as on it. The result is exact for the
+//! input up to that tolerance: every returned vertex satisfies every half-space within
+//! `dist_tol` (plus rounding), and no point farther than `dist_tol` inside all half-spaces is
+//! missed. Vertices closer than `merge_tol` are merged, and vertices that are not corners
+//! (collinear or coplanar within `rank_tol`) are dropped. The hulls use the polar (3-D) or
+//! Andrew's monotone chain (2-D) with the same tolerances.
+//!
+//! Complexity: `O(n h)` in 2-D and `O(n F)` in 3-D, with `h` (`F`) the size of the running
+//! polygon (the number of running face vertices); fine for the hundreds of rows of a stance.
+
+mod hull;
+mod polygon;
+mod polyhedron;
+pub mod tol;
+
+pub use hull::{hull2, hull3};
+pub use polygon::{polygon_from_halfplanes, Polygon};
+pub use polyhedron::{polyhedron_from_halfspaces, Polyhedron};
+pub use tol::PolytopeOptions;
+
+/// What kind of region a half-space intersection is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RegionStatus {
+    /// No point satisfies all half-spaces (within the distance tolerance).
+    Empty,
+    /// A bounded region (possibly lower-dimensional: see the `dim` field of the result).
+    Bounded,
+    /// The region reaches farther than `far` from the origin; the part inside the box
+    /// `[-far, far]^d` is returned and box faces are marked with `None`.
+    Unbounded,
+}
+
+/// Errors of the polytope routines: bad input, with what to fix.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolytopeError {
+    /// A coordinate or offset is NaN or infinite.
+    #[error(
+        "row {row} of the input has a non-finite value (NaN or infinity): give finite numbers"
+    )]
+    NonFinite {
+        /// Index of the offending row.
+        row: usize,
+    },
+    /// Normal rows and offsets have different lengths.
+    #[error("{normals} normal rows but {offsets} offsets: give one offset per half-space")]
+    LengthMismatch {
+        /// Number of normal rows.
+        normals: usize,
+        /// Number of offsets.
+        offsets: usize,
+    },
+    /// The hull of an empty point set was asked for.
+    #[error("no points given: the convex hull needs at least one point")]
+    NoPoints,
+    /// Options out of range.
+    #[error("polytope options must be finite and positive, with `far` larger than the tolerances")]
+    BadOptions,
+}
+
+pub(crate) fn check_rows<const D: usize>(
+    normals: &[[f64; D]],
+    offsets: &[f64],
+) -> Result<(), PolytopeError> {
+    if normals.len() != offsets.len() {
+        return Err(PolytopeError::LengthMismatch {
+            normals: normals.len(),
+            offsets: offsets.len(),
+        });
+    }
+    for (row, (a, b)) in normals.iter().zip(offsets).enumerate() {
+        if !b.is_finite() || a.iter().any(|x| !x.is_finite()) {
+            return Err(PolytopeError::NonFinite { row });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,263 @@
+//! Half-planes `a_i . p <= b_i` in `R^2` -> convex polygon (Sutherland-Hodgman clipping of the
+//! far box, see the module doc of [`crate::polytope`]).
+
+use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
+
+/// A convex polygon given by its vertices, the result of [`polygon_from_halfplanes`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polygon {
+    /// Empty, bounded or unbounded (clipped to the far box).
+    pub status: RegionStatus,
+    /// Dimension of the region: 2 for a proper polygon, 1 for a segment, 0 for a point
+    /// (meaningless when `status` is `Empty`).
+    pub dim: usize,
+    /// Vertices in counter-clockwise order (for `dim == 2`), `[x, y]`.
+    pub vertices: Vec<[f64; 2]>,
+    /// `active[i]` is the input half-plane on which the edge from `vertices[i]` to
+    /// `vertices[i + 1]` (cyclically) lies, or `None` for an edge of the far box. Empty unless
+    /// `dim == 2`.
+    pub active: Vec<Option<usize>>,
+}
+
+impl Polygon {
+    /// The irredundant half-planes `(a, b)` (unit `a`, meaning `a . p <= b`) of the polygon, from
+    /// its edges; for `dim == 2` only.
+    ///
+    /// ```
+    /// use polycone::polytope::{polygon_from_halfplanes, PolytopeOptions};
+    /// let a = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0], [1.0, 1.0]];
+    /// let b = [1.0, 1.0, 1.0, 1.0, 10.0]; // the last one is redundant
+    /// let poly = polygon_from_halfplanes(&a, &b, &PolytopeOptions::default()).unwrap();
+    /// assert_eq!(poly.halfplanes().len(), 4);
+    /// ```
+    pub fn halfplanes(&self) -> Vec<([f64; 2], f64)> {
+        if self.dim != 2 {
+            return Vec::new();
+        }
+        let n = self.vertices.len();
+        (0..n)
+            .map(|i| {
+                let p = self.vertices[i];
+                let q = self.vertices[(i + 1) % n];
+                let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+                let len = dx.hypot(dy);
+                let a = [dy / len, -dx / len];
+                (a, a[0] * p[0] + a[1] * p[1])
+            })
+            .collect()
+    }
+
+    /// Signed area (positive for counter-clockwise vertices).
+    ///
+    /// ```
+    /// use polycone::polytope::{polygon_from_halfplanes, PolytopeOptions};
+    /// let a = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+    /// let poly = polygon_from_halfplanes(&a, &[1.0, 1.0, 2.0, 2.0], &PolytopeOptions::default()).unwrap();
+    /// assert!((poly.area() - 8.0).abs() < 1e-12);
+    /// ```
+    pub fn area(&self) -> f64 {
+        let n = self.vertices.len();
+        let mut s = 0.0;
+        for i in 0..n {
+            let p = self.vertices[i];
+            let q = self.vertices[(i + 1) % n];
+            s += p[0] * q[1] - p[1] * q[0];
+        }
+        0.5 * s
+    }
+}
+
+/// A running vertex and the label of its outgoing edge.
+#[derive(Debug, Clone, Copy)]
+struct Vx {
+    p: [f64; 2],
+    edge: Option<usize>,
+}
+
+/// Intersects the half-planes `normals[i] . p <= offsets[i]`.
+///
+/// Rows are normalized first; rows with a (near) zero normal are constant constraints `0 <=
+/// b` (empty result if `b < -dist_tol`). See [`Polygon`] for the outputs and
+/// [`crate::polytope`] for the semantics of the tolerances.
+///
+/// ```
+/// use polycone::polytope::{polygon_from_halfplanes, PolytopeOptions, RegionStatus};
+/// // The triangle x >= 0, y >= 0, x + y <= 1.
+/// let a = [[-1.0, 0.0], [0.0, -1.0], [1.0, 1.0]];
+/// let poly = polygon_from_halfplanes(&a, &[0.0, 0.0, 1.0], &PolytopeOptions::default()).unwrap();
+/// assert_eq!(poly.status, RegionStatus::Bounded);
+/// assert_eq!(poly.vertices.len(), 3);
+/// assert!((poly.area() - 0.5).abs() < 1e-12);
+/// // A half-plane alone is unbounded; two opposite half-planes with a gap are empty.
+/// let half = polygon_from_halfplanes(&[[1.0, 0.0]], &[0.0], &PolytopeOptions::default()).unwrap();
+/// assert_eq!(half.status, RegionStatus::Unbounded);
+/// let none = polygon_from_halfplanes(&[[1.0, 0.0], [-1.0, 0.0]], &[0.0, -1.0], &PolytopeOptions::default()).unwrap();
+/// assert_eq!(none.status, RegionStatus::Empty);
+/// ```
+pub fn polygon_from_halfplanes(
+    normals: &[[f64; 2]],
+    offsets: &[f64],
+    opts: &PolytopeOptions,
+) -> Result<Polygon, PolytopeError> {
+    opts.validate()?;
+    check_rows(normals, offsets)?;
+    let empty = Polygon {
+        status: RegionStatus::Empty,
+        dim: 0,
+        vertices: Vec::new(),
+        active: Vec::new(),
+    };
+    let f = opts.far;
+    let mut poly: Vec<Vx> = [[-f, -f], [f, -f], [f, f], [-f, f]]
+        .iter()
+        .map(|&p| Vx { p, edge: None })
+        .collect();
+    let mut next: Vec<Vx> = Vec::with_capacity(16);
+    let mut dist: Vec<f64> = Vec::with_capacity(16);
+    // Unit-normal rows (a zero row stays zero and is skipped below).
+    let lines: Vec<([f64; 2], f64)> = normals
+        .iter()
+        .zip(offsets)
+        .map(|(a, &b)| {
+            let norm = a[0].hypot(a[1]);
+            if norm < opts.zero_normal {
+                ([0.0, 0.0], b)
+            } else {
+                ([a[0] / norm, a[1] / norm], b / norm)
+            }
+        })
+        .collect();
+    for (i, &(a, b)) in lines.iter().enumerate() {
+        if a == [0.0, 0.0] {
+            if b < -opts.dist_tol {
+                return Ok(empty);
+            }
+            continue;
+        }
+        let (ax, ay) = (a[0], a[1]);
+        dist.clear();
+        dist.extend(poly.iter().map(|v| ax * v.p[0] + ay * v.p[1] - b));
+        if dist.iter().all(|&s| s <= opts.dist_tol) {
+            continue;
+        }
+        next.clear();
+        let n = poly.len();
+        for k in 0..n {
+            let cur = poly[k];
+            let nxt = poly[(k + 1) % n];
+            let (sc, sn) = (dist[k], dist[(k + 1) % n]);
+            let (ic, inx) = (sc <= opts.dist_tol, sn <= opts.dist_tol);
+            if ic {
+                next.push(cur);
+            }
+            if ic != inx {
+                let t = sc / (sc - sn);
+                let p = [
+                    cur.p[0] + t * (nxt.p[0] - cur.p[0]),
+                    cur.p[1] + t * (nxt.p[1] - cur.p[1]),
+                ];
+                // Leaving: the new edge runs along the clip line; entering: along the old edge.
+                let edge = if ic { Some(i) } else { cur.edge };
+                next.push(Vx { p, edge });
+            }
+        }
+        std::mem::swap(&mut poly, &mut next);
+        if poly.is_empty() {
+            return Ok(empty);
+        }
+    }
+    Ok(finish(poly, &lines, opts))
+}
+
+/// Merges close vertices, drops non-corners, classifies the result.
+fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) -> Polygon {
+    let close = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) <= opts.merge_tol;
+    // Merge consecutive near-duplicates; the surviving vertex keeps the later outgoing edge.
+    let mut changed = true;
+    while changed && poly.len() > 1 {
+        changed = false;
+        let n = poly.len();
+        for k in 0..n {
+            let j = (k + 1) % n;
+            if close(poly[k].p, poly[j].p) {
+                poly[k].edge = poly[j].edge;
+                poly.remove(j);
+                changed = true;
+                break;
+            }
+        }
+    }
+    // Drop vertices lying on the segment between their neighbours (within dist_tol).
+    let mut changed = true;
+    while changed && poly.len() > 2 {
+        changed = false;
+        let n = poly.len();
+        for k in 0..n {
+            let p = poly[(k + n - 1) % n].p;
+            let v = poly[k].p;
+            let q = poly[(k + 1) % n].p;
+            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+            let len = dx.hypot(dy);
+            let off = if len > 0.0 {
+                ((v[0] - p[0]) * dy - (v[1] - p[1]) * dx).abs() / len
+            } else {
+                0.0
+            };
+            if off <= opts.dist_tol {
+                poly.remove(k);
+                changed = true;
+                break;
+            }
+        }
+    }
+    // Polish: recompute each corner as the intersection of its two lines (the clipping
+    // interpolates along edges of the far box, which costs accuracy far from the origin).
+    let n = poly.len();
+    if n >= 3 {
+        let fixed: Vec<[f64; 2]> = (0..n)
+            .map(|k| {
+                let (Some(i), Some(j)) = (poly[(k + n - 1) % n].edge, poly[k].edge) else {
+                    return poly[k].p;
+                };
+                let (ai, aj) = (lines[i], lines[j]);
+                let det = ai.0[0] * aj.0[1] - ai.0[1] * aj.0[0];
+                if det.abs() <= opts.rank_tol {
+                    return poly[k].p;
+                }
+                [
+                    (ai.1 * aj.0[1] - ai.0[1] * aj.1) / det,
+                    (ai.0[0] * aj.1 - ai.1 * aj.0[0]) / det,
+                ]
+            })
+            .collect();
+        for (v, p) in poly.iter_mut().zip(fixed) {
+            v.p = p;
+        }
+    }
+    let dim = match poly.len() {
+        0 | 1 => 0,
+        2 => 1,
+        _ => 2,
+    };
+    let status = if poly.iter().any(|v| v.edge.is_none() && dim == 2)
+        || poly
+            .iter()
+            .any(|v| v.p[0].abs().max(v.p[1].abs()) >= opts.far - opts.dist_tol)
+    {
+        RegionStatus::Unbounded
+    } else {
+        RegionStatus::Bounded
+    };
+    let vertices = poly.iter().map(|v| v.p).collect();
+    let active = if dim == 2 {
+        poly.iter().map(|v| v.edge).collect()
+    } else {
+        Vec::new()
+    };
+    Polygon {
+        status,
+        dim,
+        vertices,
+        active,
+    }
+}

@@ -1,0 +1,75 @@
+//! Numerical thresholds of the 2-D/3-D polytope routines (`polycone::polytope`).
+//!
+//! Every threshold is an absolute length in the units of the input coordinates (metres in the
+//! robotics crates), because the routines work on points and planes, not on cones. Callers
+//! whose data live at another scale pass their own [`PolytopeOptions`].
+
+/// Default distance tolerance (input length unit; default `1e-9`): a point whose signed
+/// distance to a line or plane is at most this counts as on it (inside). Reason: 1e-9 m is far
+/// below any contact geometry and about 1e6 ulps above double rounding at the metre scale, so
+/// rounding never flips an inside/outside decision that matters.
+pub const DEFAULT_DIST_TOL: f64 = 1e-9;
+
+/// Default vertex merge distance (input length unit; default `1e-9`): vertices closer than this
+/// are one vertex. Same reason as [`DEFAULT_DIST_TOL`].
+pub const DEFAULT_MERGE_TOL: f64 = 1e-9;
+
+/// Default "far" bound (input length unit; default `1e6`): the computation starts from the box
+/// `[-far, far]^d`; a result that still touches this box is reported as unbounded, with the box
+/// faces marked. Reason: a million metres is beyond any robot workspace, and intersections on a
+/// box this size keep about 1e-10 absolute accuracy in double precision.
+pub const DEFAULT_FAR: f64 = 1e6;
+
+/// Default threshold on the norm of a normal vector (dimensionless; default `1e-12`): a row
+/// `a . p <= b` with `|a|` below this is treated as the constant constraint `0 <= b`.
+/// Reason: such rows carry no direction and dividing by their norm would amplify noise 1e12x.
+pub const DEFAULT_ZERO_NORMAL: f64 = 1e-12;
+
+/// Default rank threshold (dimensionless; default `1e-9`): unit normals whose mixed product
+/// (3-D) or cross product (2-D) is below this are treated as linearly dependent when deciding
+/// whether a vertex is a true corner. Reason: matches [`DEFAULT_DIST_TOL`] at unit scale.
+pub const DEFAULT_RANK_TOL: f64 = 1e-9;
+
+/// Options of the polytope routines; see the constants of this module for meaning and reasons.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolytopeOptions {
+    /// Distance under which a point is on a line/plane ([`DEFAULT_DIST_TOL`]).
+    pub dist_tol: f64,
+    /// Vertex merge distance ([`DEFAULT_MERGE_TOL`]).
+    pub merge_tol: f64,
+    /// Half-size of the initial box ([`DEFAULT_FAR`]).
+    pub far: f64,
+    /// Norm under which a normal is zero ([`DEFAULT_ZERO_NORMAL`]).
+    pub zero_normal: f64,
+    /// Rank threshold for unit normals ([`DEFAULT_RANK_TOL`]).
+    pub rank_tol: f64,
+}
+
+impl Default for PolytopeOptions {
+    fn default() -> Self {
+        Self {
+            dist_tol: DEFAULT_DIST_TOL,
+            merge_tol: DEFAULT_MERGE_TOL,
+            far: DEFAULT_FAR,
+            zero_normal: DEFAULT_ZERO_NORMAL,
+            rank_tol: DEFAULT_RANK_TOL,
+        }
+    }
+}
+
+impl PolytopeOptions {
+    /// Checks that every threshold is finite and positive and that `far` exceeds the others.
+    pub(crate) fn validate(&self) -> Result<(), super::PolytopeError> {
+        let ok = |x: f64| x.is_finite() && x > 0.0;
+        if !(ok(self.dist_tol)
+            && ok(self.merge_tol)
+            && ok(self.far)
+            && ok(self.zero_normal)
+            && ok(self.rank_tol))
+            || self.far <= self.dist_tol.max(self.merge_tol)
+        {
+            return Err(super::PolytopeError::BadOptions);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,43 @@
+//! Static and robust static equilibrium of the CoM (paper Section IV).
+//!
+//! Static equilibrium (`p'' = 0`, `L' = 0`): `U_stance (m g, m p x g) <= 0`; `m > 0` factors
+//! out. With `u = (u_f, u_t)` a row of `U_stance` and the triple product
+//! `u_t . (p x g) = p . (g x u_t)`, each row is a half-space **linear in the CoM** `p`:
+//!
+//! ```text
+//! a . p <= d,   a = g x u_t,   d = -u_f . g.
+//! ```
+//!
+//! (Equations `e . w_GI = 0` give two opposite half-spaces.) Since `a` is orthogonal to `g`, the
+//! set of static CoMs is an infinite prism along `g`; for vertical `g` its cross-section is the
+//! static-equilibrium polygon (Bretl and Lall 2008). For non-vertical `g` the prism is oblique:
+//! [`StaticEquilibrium::polygon`] returns its cross-section by the horizontal plane at a given
+//! height (the same polygon, translated, at every height).
+//!
+//! Robust static equilibrium for gravity-like vectors `g_1 .. g_K` (eq. 12, with the sign fixed
+//! for `g` pointing down: `U (g_k, p x g_k) <= 0`): `M` is the intersection of the K prisms, a
+//! 3-D polyhedron, bounded when the `g_k` are not all parallel ([`RobustRegion`]).
+//!
+//! Every half-space is normalized (`|a| = 1`), so residuals are distances in metres. Rows whose
+//! `a` vanishes (`|a| <= zero_normal |g|`) do not depend on the CoM: they are checked once
+//! (`0 <= d`), and if violated no CoM is stable.
+
+mod halfspaces;
+mod robust;
+mod statics;
+
+pub use halfspaces::{com_halfspaces, ComHalfspaces};
+pub use robust::RobustRegion;
+pub use statics::{StaticEquilibrium, StaticPolygon};
+
+use crate::tol::ContactTolerances;
+use polycone::polytope::PolytopeOptions;
+
+/// Options of the equilibrium computations.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EquilibriumOptions {
+    /// The crate's thresholds (membership band, zero normals).
+    pub tol: ContactTolerances,
+    /// Thresholds of the polygon/polyhedron routines (metres).
+    pub polytope: PolytopeOptions,
+}

@@ -1,0 +1,209 @@
+//! Supporting contact forces (wrench distribution): forces at the contact vertices that realize
+//! a given gravito-inertial wrench, or a certificate that none exist.
+//!
+//! With `f_ij` the force (contact frame of contact `i`) at vertex `q_ij` (world), the QP is
+//!
+//! ```text
+//! minimize    1/2 sum |f_ij|^2
+//! subject to  sum_ij (R_i f_ij, q_ij x R_i f_ij) = -w_GI     (Newton-Euler, world origin)
+//!             G f_ij <= 0                                     (friction pyramid, face form)
+//! ```
+//!
+//! solved by Clarabel (an interior-point solver). Infeasibility is Clarabel's certificate
+//! (status `PrimalInfeasible`). It uses the pyramids in **face** form and the forces directly,
+//! so it is independent of the span construction and of the double description: it is the
+//! check of every face-form test in the tests. The problem is scaled by `|w_GI|`.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
+
+use crate::tol::ContactTolerances;
+use crate::{ContactError, Stance};
+
+/// Outcome of [`supporting_forces`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForcesOutcome {
+    /// Forces were found (residual below `qp_max_residual`).
+    Feasible,
+    /// The solver certified that no forces exist.
+    Infeasible,
+    /// The solver stopped without a conclusion (see `solver_status`).
+    Unknown,
+}
+
+/// Forces of one contact.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactForces {
+    /// Contact name.
+    pub contact: String,
+    /// Application points (contact vertices), world coordinates (m).
+    pub points: Vec<[f64; 3]>,
+    /// Forces (N) in world coordinates, one per point.
+    pub forces_world: Vec<[f64; 3]>,
+    /// The same forces in the contact frame.
+    pub forces_local: Vec<[f64; 3]>,
+}
+
+/// Result of [`supporting_forces`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SupportingForces {
+    /// Feasible, infeasible or unknown.
+    pub outcome: ForcesOutcome,
+    /// Per-contact forces (meaningful when `outcome` is `Feasible`).
+    pub contacts: Vec<ContactForces>,
+    /// `|sum of contact wrenches + w_GI| / |w_GI|` of the returned forces.
+    pub residual: f64,
+    /// Largest friction-pyramid violation `max(G f) / |w_GI|` of the returned forces.
+    pub friction_violation: f64,
+    /// Clarabel's status, for the record.
+    pub solver_status: String,
+}
+
+fn csc_from_dense(rows: usize, cols: usize, a: &[f64]) -> CscMatrix<f64> {
+    let mut colptr = Vec::with_capacity(cols + 1);
+    let mut rowval = Vec::new();
+    let mut nzval = Vec::new();
+    colptr.push(0);
+    for c in 0..cols {
+        for r in 0..rows {
+            let v = a[r * cols + c];
+            if v != 0.0 {
+                rowval.push(r);
+                nzval.push(v);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(rows, cols, colptr, rowval, nzval)
+}
+
+/// Finds contact forces realizing `w_gi` (gravito-inertial wrench at the world origin, paper
+/// convention) with minimal sum of squared norms, or a certificate that none exist.
+///
+/// ```
+/// use stance_contact::{examples, supporting_forces, w_gi_static, ForcesOutcome};
+/// let scene = examples::single_support_flat();
+/// let stance = scene.stance().unwrap();
+/// let tol = Default::default();
+/// let ok = supporting_forces(&stance, &w_gi_static(30.0, scene.gravity, [0.0, 0.0, 0.8]), &tol).unwrap();
+/// assert_eq!(ok.outcome, ForcesOutcome::Feasible);
+/// let total_fz: f64 = ok.contacts[0].forces_world.iter().map(|f| f[2]).sum();
+/// assert!((total_fz - 30.0 * 9.81).abs() < 1e-4);
+/// let no = supporting_forces(&stance, &w_gi_static(30.0, scene.gravity, [0.2, 0.0, 0.8]), &tol).unwrap();
+/// assert_eq!(no.outcome, ForcesOutcome::Infeasible);
+/// ```
+pub fn supporting_forces(
+    stance: &Stance,
+    w_gi: &[f64; 6],
+    tol: &ContactTolerances,
+) -> Result<SupportingForces, ContactError> {
+    if w_gi.iter().any(|x| !x.is_finite()) {
+        return Err(ContactError::NonFinite {
+            what: "the gravito-inertial wrench".into(),
+        });
+    }
+    let model = stance.friction_model();
+    let k = model.sides;
+    // Variables: 3 per contact vertex.
+    let mut points: Vec<(usize, [f64; 3])> = Vec::new();
+    for (i, c) in stance.contacts().iter().enumerate() {
+        for q in c.vertices_world() {
+            points.push((i, q));
+        }
+    }
+    let nv = points.len();
+    let n = 3 * nv;
+    let m = 6 + k * nv;
+    let scale = w_gi.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let mut a = vec![0.0; m * n];
+    let mut b = vec![0.0; m];
+    for r in 0..6 {
+        b[r] = -w_gi[r] / scale;
+    }
+    let faces: Vec<Vec<[f64; 3]>> = stance
+        .contacts()
+        .iter()
+        .map(|c| model.faces(c.friction()))
+        .collect();
+    for (j, (i, q)) in points.iter().enumerate() {
+        let rot = stance.contacts()[*i].rotation();
+        let qr = crate::stance::skew(*q) * rot;
+        for r in 0..3 {
+            for c in 0..3 {
+                a[r * n + 3 * j + c] = rot[(r, c)];
+                a[(3 + r) * n + 3 * j + c] = qr[(r, c)];
+            }
+        }
+        for (s, g) in faces[*i].iter().enumerate() {
+            let row = 6 + k * j + s;
+            for c in 0..3 {
+                a[row * n + 3 * j + c] = g[c];
+            }
+        }
+    }
+    let p_mat = CscMatrix::identity(n);
+    let q = vec![0.0; n];
+    let a_mat = csc_from_dense(m, n, &a);
+    let cones = [
+        SupportedConeT::ZeroConeT(6),
+        SupportedConeT::NonnegativeConeT(k * nv),
+    ];
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_feas(tol.qp_feas)
+        .build()
+        .map_err(|e| ContactError::BadShape(format!("QP settings: {e:?}")))?;
+    let mut solver = DefaultSolver::new(&p_mat, &q, &a_mat, &b, &cones, settings)
+        .map_err(|e| ContactError::BadShape(format!("QP setup: {e:?}")))?;
+    solver.solve();
+    let status = solver.solution.status;
+    let x = &solver.solution.x;
+    // Residuals of the returned forces (whatever the status).
+    let mut residual = 0.0;
+    for r in 0..6 {
+        let v: f64 = (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>() - b[r];
+        residual += v * v;
+    }
+    let residual = residual.sqrt();
+    let friction_violation = (6..m)
+        .map(|r| (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>())
+        .fold(0.0, f64::max);
+    let outcome = match status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+            if residual <= tol.qp_max_residual && friction_violation <= tol.qp_max_residual =>
+        {
+            ForcesOutcome::Feasible
+        }
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+            ForcesOutcome::Infeasible
+        }
+        _ => ForcesOutcome::Unknown,
+    };
+    let mut contacts: Vec<ContactForces> = stance
+        .contacts()
+        .iter()
+        .map(|c| ContactForces {
+            contact: c.name().to_string(),
+            points: vec![],
+            forces_world: vec![],
+            forces_local: vec![],
+        })
+        .collect();
+    for (j, (i, qp)) in points.iter().enumerate() {
+        let fl = [x[3 * j] * scale, x[3 * j + 1] * scale, x[3 * j + 2] * scale];
+        let fw = stance.contacts()[*i].rotation() * nalgebra::Vector3::from(fl);
+        contacts[*i].points.push(*qp);
+        contacts[*i].forces_local.push(fl);
+        contacts[*i].forces_world.push([fw[0], fw[1], fw[2]]);
+    }
+    Ok(SupportingForces {
+        outcome,
+        contacts,
+        residual,
+        friction_violation,
+        solver_status: format!("{status:?}"),
+    })
+}

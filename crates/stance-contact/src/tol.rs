@@ -1,0 +1,77 @@
+//! Numerical thresholds of `stance-contact`, each with its unit, default and reason. They are
+//! collected in [`ContactTolerances`] and passed through the options of each computation.
+
+/// Rotation check (dimensionless, default `1e-9`): a `rotation` is accepted when
+/// `|R^T R - I|_max` and `|det R - 1|` are below this. Reason: rotations written with 12-16
+/// significant digits pass, a matrix that is not a rotation (a typo, a scale) fails.
+pub const DEFAULT_ROTATION_TOL: f64 = 1e-9;
+
+/// Smallest accepted polygon area (m^2, default `1e-12`, a 1 um square): below it a contact
+/// polygon is degenerate (use a point contact instead).
+pub const DEFAULT_MIN_AREA: f64 = 1e-12;
+
+/// Convexity check (m, default `1e-9`): a vertex may lie at most this far on the wrong side of
+/// the line through its neighbours. Reason: coordinates written with nm precision pass.
+pub const DEFAULT_CONVEXITY_TOL: f64 = 1e-9;
+
+/// Face-form membership band (dimensionless, relative, default `1e-9`): `U w <= tol |w|` counts
+/// as inside (unit rows `U`). Reason: the DD output's rows are accurate to about 1e-12 after
+/// normalization; 1e-9 keeps boundary points on the stable side without blurring the answer.
+pub const DEFAULT_FACE_TOL: f64 = 1e-9;
+
+/// Membership band of the CoM regions (m, default `1e-9`): a CoM this close outside a
+/// static-equilibrium half-space still counts as stable. Same reason as [`DEFAULT_FACE_TOL`].
+pub const DEFAULT_REGION_TOL: f64 = 1e-9;
+
+/// Zero half-space normal (dimensionless, relative to `|g|`, default `1e-12`): a CoM half-space
+/// `a . p <= d` with `|a| <= tol |g|` does not depend on the CoM and is checked as `0 <= d`.
+pub const DEFAULT_ZERO_NORMAL: f64 = 1e-12;
+
+/// Supporting-forces QP: feasibility tolerance of the solver (relative, default `1e-9`), and the
+/// largest accepted residual `|sum of contact wrenches - target| / |target|` (default `1e-6`)
+/// before a solution is called feasible. Reason: interior-point solutions meet the equality to
+/// about 1e-9 relative; 1e-6 leaves room while rejecting a wrong "solved".
+pub const DEFAULT_QP_FEAS_TOL: f64 = 1e-9;
+/// See [`DEFAULT_QP_FEAS_TOL`].
+pub const DEFAULT_QP_MAX_RESIDUAL: f64 = 1e-6;
+
+/// The thresholds of this crate; see the constants of this module for units and reasons.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactTolerances {
+    /// [`DEFAULT_ROTATION_TOL`].
+    pub rotation: f64,
+    /// [`DEFAULT_MIN_AREA`].
+    pub min_area: f64,
+    /// [`DEFAULT_CONVEXITY_TOL`].
+    pub convexity: f64,
+    /// [`DEFAULT_FACE_TOL`].
+    pub face: f64,
+    /// [`DEFAULT_REGION_TOL`].
+    pub region: f64,
+    /// [`DEFAULT_ZERO_NORMAL`].
+    pub zero_normal: f64,
+    /// [`DEFAULT_QP_FEAS_TOL`].
+    pub qp_feas: f64,
+    /// [`DEFAULT_QP_MAX_RESIDUAL`].
+    pub qp_max_residual: f64,
+}
+
+impl Default for ContactTolerances {
+    fn default() -> Self {
+        Self {
+            rotation: DEFAULT_ROTATION_TOL,
+            min_area: DEFAULT_MIN_AREA,
+            convexity: DEFAULT_CONVEXITY_TOL,
+            face: DEFAULT_FACE_TOL,
+            region: DEFAULT_REGION_TOL,
+            zero_normal: DEFAULT_ZERO_NORMAL,
+            qp_feas: DEFAULT_QP_FEAS_TOL,
+            qp_max_residual: DEFAULT_QP_MAX_RESIDUAL,
+        }
+    }
+}
+
+/// Winding check of contact polygons (rad, default `1e-6`): the total turn of a simple convex
+/// polygon is `2 pi`; a self-intersecting order turns by a multiple of `2 pi` at least `4 pi`,
+/// so any value below `pi` separates them. Structural, not an option.
+pub const WINDING_TOL: f64 = 1e-6;
