@@ -4,5 +4,5 @@ pub mod cone;
 pub mod demo;
 #[allow(dead_code)] // shared helpers; each command module uses the ones it needs
 pub mod io;
-pub mod topp;
 pub mod robot;
+pub mod topp;
