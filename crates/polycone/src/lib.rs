@@ -45,8 +45,9 @@
 //!
 //! # Limitations
 //!
-//! - [`Arithmetic::Exact`] is not implemented in this version (it returns
-//!   [`ConeError::Unsupported`]).
+//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: it is one to three
+//!   orders of magnitude slower than the tolerance mode, and its answer is exact for the
+//!   rounded input (near-degenerate stances get many tiny facets).
 //! - The double description runs in `f64` with a tolerance on signs; inputs degenerate at the
 //!   scale of the tolerances may fail certification (an error, never a wrong certified cone).
 //! - The completeness check costs a second double description run (of the result).
@@ -62,6 +63,7 @@ mod certificate;
 mod convert;
 pub mod dd;
 mod error;
+mod exact;
 mod forms;
 mod linalg;
 pub mod precondition;
@@ -85,13 +87,28 @@ pub enum Arithmetic {
 }
 
 /// Options of a conversion.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct DdOptions {
     /// Tolerance (default) or exact semantics.
     pub arithmetic: Arithmetic,
     /// Thresholds, see [`tol::Tolerances`].
     pub tol: tol::Tolerances,
+    /// In tolerance mode, when the floating-point answer cannot be certified, compute the exact
+    /// answer for the input as given instead (slower; its certificate says
+    /// [`Arithmetic::Exact`]). Default `true`.
+    pub exact_fallback: bool,
     /// Return the answer even when its certificate fails (with `certified == false`) instead of
     /// [`ConeError::Uncertified`]. Default `false`.
     pub allow_uncertified: bool,
+}
+
+impl Default for DdOptions {
+    fn default() -> Self {
+        Self {
+            arithmetic: Arithmetic::Tolerance,
+            tol: tol::Tolerances::default(),
+            exact_fallback: true,
+            allow_uncertified: false,
+        }
+    }
 }

@@ -181,11 +181,12 @@ fn stress_corpus_is_certified_and_agrees_with_the_oracle() {
                 assert!(r.certificate.certified, "{name}: {:?}", r.certificate);
                 check_against_oracle(&name, &v, &r, center);
                 eprintln!(
-                    "{name}: {} generators -> {} facets, {} equations, lineality {}",
+                    "{name}: {} generators -> {} facets, {} equations, lineality {} ({:?})",
                     v.nrows(),
                     r.face.facets.nrows(),
                     r.face.equations.nrows(),
-                    r.lineality.nrows()
+                    r.lineality.nrows(),
+                    r.certificate.arithmetic
                 );
             }
             Err(e) => eprintln!("{name}: error (allowed): {e}"),
