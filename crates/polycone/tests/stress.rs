@@ -4,6 +4,8 @@
 //! independent oracle (non-negative least squares distance to the generators' cone), or an
 //! error; never an uncertified or wrong cone.
 
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use common::*;
