@@ -56,7 +56,8 @@ pub struct Certificate {
     /// Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
     pub completeness: bool,
     /// Number of ridges (of claimed facets) not covered by exactly two claimed facets
-    /// (`usize::MAX` when the facet count is impossible for the dimension).
+    /// (`usize::MAX` when the facet count is impossible for the dimension, or when the check
+    /// was not run: [`crate::DdOptions::check_completeness`]).
     pub open_ridges: usize,
 }
 
@@ -102,6 +103,7 @@ pub(crate) fn certify_whitened(
     lin: &[f64],
     tol: &Tolerances,
     arithmetic: Arithmetic,
+    check_completeness: bool,
     check: &mut DdCore,
     scratch: &mut Vec<f64>,
 ) -> (Certificate, Vec<usize>) {
@@ -111,14 +113,17 @@ pub(crate) fn certify_whitened(
     let l = lin.len().checked_div(r).unwrap_or(0);
     let ng = wh.kept.len();
 
+    // Slacks of every generator on every facet (unit vectors): S = F W^T, one matrix product.
+    let slack = if nf > 0 && ng > 0 && r > 0 {
+        let fm = nalgebra::DMatrix::from_row_slice(nf, r, fw);
+        let wm = nalgebra::DMatrix::from_row_slice(ng, r, &wh.w);
+        fm * wm.transpose()
+    } else {
+        nalgebra::DMatrix::zeros(nf, ng)
+    };
+
     // 1. Soundness.
-    let mut max_violation: f64 = 0.0;
-    for f in 0..nf {
-        let u = &fw[f * r..(f + 1) * r];
-        for i in 0..ng {
-            max_violation = max_violation.max(dot(u, wh.gen(i)));
-        }
-    }
+    let max_violation = slack.iter().copied().fold(0.0, f64::max);
     let soundness = max_violation <= tol.certificate && wh.equation_residual <= tol.certificate;
 
     // 2. Support: tight generators, projected on the facet's hyperplane, have rank r - 1.
@@ -129,9 +134,9 @@ pub(crate) fn certify_whitened(
         proj.clear();
         let mut cnt = 0;
         for i in 0..ng {
-            let g = wh.gen(i);
-            let s = dot(u, g);
+            let s = slack[(f, i)];
             if s.abs() <= tol.incidence {
+                let g = wh.gen(i);
                 for c in 0..r {
                     proj.push(g[c] - s * u[c]);
                 }
@@ -177,8 +182,10 @@ pub(crate) fn certify_whitened(
     }
 
     // 4. Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
-    let inc = Incidence::new(wh, fw, perp, t, tol);
-    let open_ridges = if ok_dims(t, nf) {
+    let inc = Incidence::new(wh, fw, perp, t, tol, &slack);
+    let open_ridges = if !check_completeness {
+        usize::MAX
+    } else if ok_dims(t, nf) {
         count_open_ridges(&inc, t, tol, check, scratch)
     } else {
         usize::MAX
@@ -231,10 +238,44 @@ pub(crate) struct Incidence {
 }
 
 impl Incidence {
-    fn new(wh: &Whitened, fw: &[f64], perp: &[f64], t: usize, tol: &Tolerances) -> Self {
+    fn new(
+        wh: &Whitened,
+        fw: &[f64],
+        perp: &[f64],
+        t: usize,
+        tol: &Tolerances,
+        slack: &nalgebra::DMatrix<f64>,
+    ) -> Self {
         let r = wh.r;
         let ng = wh.kept.len();
         let nf = fw.len().checked_div(r).unwrap_or(0);
+        let gw = ng.div_ceil(64).max(1);
+        let fwd = nf.div_ceil(64).max(1);
+        if t == r {
+            // Pointed: L^perp is all of R^r; the whitened coordinates serve as they are.
+            let mut inc = vec![0u64; nf * gw];
+            let mut by_gen = vec![0u64; ng * fwd];
+            for f in 0..nf {
+                for i in 0..ng {
+                    if slack[(f, i)].abs() <= tol.incidence {
+                        inc[f * gw + i / 64] |= 1 << (i % 64);
+                        by_gen[i * fwd + f / 64] |= 1 << (f % 64);
+                    }
+                }
+            }
+            return Self {
+                t,
+                ng,
+                nf,
+                gp: wh.w.clone(),
+                fp: fw.to_vec(),
+                in_l: vec![false; ng],
+                gw,
+                fwd,
+                inc,
+                by_gen,
+            };
+        }
         let mut gp = vec![0.0; ng * t];
         let mut in_l = vec![false; ng];
         for i in 0..ng {
@@ -253,8 +294,6 @@ impl Incidence {
             }
             normalize(&mut fp[f * t..(f + 1) * t]);
         }
-        let gw = ng.div_ceil(64).max(1);
-        let fwd = nf.div_ceil(64).max(1);
         let mut inc = vec![0u64; nf * gw];
         let mut by_gen = vec![0u64; ng * fwd];
         for f in 0..nf {
@@ -335,6 +374,7 @@ fn count_open_ridges(
     let mut acc = vec![0u64; fwd];
     let mut ridge: Vec<usize> = Vec::new();
     let mut vbuf = vec![0.0; t];
+    let mut lambda = vec![0.0; t];
     // Counts the facets containing `ridge` (generator indices); 2 expected.
     let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
         acc.fill(u64::MAX);
@@ -414,6 +454,50 @@ fn count_open_ridges(
             }
             normalize(&mut rows[start..]);
         }
+        if members.len() == t {
+            // One generator more than simplicial: the facet is a cone of k + 1 vectors in R^k
+            // with a single linear dependency `sum lambda_i g_i = 0`. Its facets are
+            // `G \ {i, j}` for `lambda_i > 0 > lambda_j`, and `G \ {i}` for `lambda_i = 0`.
+            match dependency(&rows, k, tol.support_rank, &mut lambda, scratch) {
+                None => open += 1,
+                Some(()) => {
+                    let m = members.len();
+                    let sign = |i: usize| -> i32 {
+                        if lambda[i] > tol.support_rank {
+                            1
+                        } else if lambda[i] < -tol.support_rank {
+                            -1
+                        } else {
+                            0
+                        }
+                    };
+                    let has_pos = (0..m).any(|i| sign(i) > 0);
+                    let has_neg = (0..m).any(|i| sign(i) < 0);
+                    if !(has_pos && has_neg) {
+                        open += 1;
+                        continue;
+                    }
+                    for a in 0..m {
+                        for b in a..m {
+                            let is_ridge = if a == b {
+                                sign(a) == 0
+                            } else {
+                                sign(a) * sign(b) < 0
+                            };
+                            if !is_ridge {
+                                continue;
+                            }
+                            ridge.clear();
+                            ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
+                            if covered(&ridge, &mut acc) != 2 {
+                                open += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            continue;
+        }
         if small
             .run(&rows, members.len(), k, tol.incidence, tol.support_rank)
             .is_err()
@@ -435,4 +519,78 @@ fn count_open_ridges(
         }
     }
     open
+}
+
+/// The linear dependency `lambda` (unit norm) of `k + 1` vectors of `R^k` (`rows`, row-major)
+/// of rank `k`, by Gaussian elimination with partial pivoting on the `k x (k + 1)` matrix whose
+/// columns are the vectors. `None` when the rank is below `k` (pivot at most `eps`).
+fn dependency(
+    rows: &[f64],
+    k: usize,
+    eps: f64,
+    lambda: &mut [f64],
+    m: &mut Vec<f64>,
+) -> Option<()> {
+    let n = k + 1;
+    m.clear();
+    m.resize(k * n, 0.0);
+    for i in 0..n {
+        for r in 0..k {
+            m[r * n + i] = rows[i * k + r];
+        }
+    }
+    // Row echelon with column pivots; the free column is the last non-pivot one.
+    let mut piv_col = vec![usize::MAX; k];
+    let mut row = 0;
+    let mut free = usize::MAX;
+    for c in 0..n {
+        if row == k {
+            if free == usize::MAX {
+                free = c;
+            }
+            continue;
+        }
+        let mut p = row;
+        for r in row + 1..k {
+            if m[r * n + c].abs() > m[p * n + c].abs() {
+                p = r;
+            }
+        }
+        if m[p * n + c].abs() <= eps {
+            if free != usize::MAX {
+                return None;
+            }
+            free = c;
+            continue;
+        }
+        for t in 0..n {
+            m.swap(p * n + t, row * n + t);
+        }
+        let inv = 1.0 / m[row * n + c];
+        for t in 0..n {
+            m[row * n + t] *= inv;
+        }
+        for r in 0..k {
+            if r != row {
+                let f = m[r * n + c];
+                if f != 0.0 {
+                    for t in 0..n {
+                        m[r * n + t] -= f * m[row * n + t];
+                    }
+                }
+            }
+        }
+        piv_col[row] = c;
+        row += 1;
+    }
+    if row < k || free == usize::MAX {
+        return None;
+    }
+    lambda[..n].fill(0.0);
+    lambda[free] = 1.0;
+    for r in 0..k {
+        lambda[piv_col[r]] = -m[r * n + free];
+    }
+    normalize(&mut lambda[..n]);
+    Some(())
 }

@@ -226,10 +226,11 @@ impl Workspace {
             &lin,
             tol,
             opts.arithmetic,
+            opts.check_completeness,
             &mut self.check,
             &mut self.scratch,
         );
-        if !certificate.certified && !opts.allow_uncertified {
+        if !certificate.certified && !opts.allow_uncertified && opts.check_completeness {
             return Err(ConeError::Uncertified(certificate.failure_reason()));
         }
         // Facets in world coordinates, sorted lexicographically.
@@ -386,6 +387,7 @@ pub fn certify_span_to_face(
         &lin,
         tol,
         opts.arithmetic,
+        true,
         &mut check,
         &mut scratch,
     );

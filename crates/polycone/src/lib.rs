@@ -97,6 +97,11 @@ pub struct DdOptions {
     /// answer for the input as given instead (slower; its certificate says
     /// [`Arithmetic::Exact`]). Default `true`.
     pub exact_fallback: bool,
+    /// Run the completeness check of the certificate (the ridge check, about two thirds of the
+    /// time of a conversion). When `false`, soundness and support are still checked but the
+    /// result is never `certified` (and an uncertified result is returned, not an error, as
+    /// if `allow_uncertified` were set). Default `true`.
+    pub check_completeness: bool,
     /// Return the answer even when its certificate fails (with `certified == false`) instead of
     /// [`ConeError::Uncertified`]. Default `false`.
     pub allow_uncertified: bool,
@@ -108,6 +113,7 @@ impl Default for DdOptions {
             arithmetic: Arithmetic::Tolerance,
             tol: tol::Tolerances::default(),
             exact_fallback: true,
+            check_completeness: true,
             allow_uncertified: false,
         }
     }
