@@ -26,7 +26,7 @@
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
 //! is `d - r`.
 
-use crate::dd::DdCore;
+use crate::dd::{DdCore, DdFailure};
 use crate::linalg::{dot, normalize, rank_of};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
@@ -127,9 +127,15 @@ pub(crate) fn certify_whitened(
     let soundness = max_violation <= tol.certificate && wh.equation_residual <= tol.certificate;
 
     // 2. Support: tight generators, projected on the facet's hyperplane, have rank r - 1.
+    // When the ridge check runs (below), it decides support on the way (same projection, in
+    // L^perp), so the loop here only runs without it.
+    let merged_support = check_completeness && t >= 3 && ok_dims(t, nf);
     let mut unsupported_facets = Vec::new();
     let mut proj = Vec::new();
     for f in 0..nf {
+        if merged_support {
+            break;
+        }
         let u = &fw[f * r..(f + 1) * r];
         proj.clear();
         let mut cnt = 0;
@@ -154,7 +160,6 @@ pub(crate) fn certify_whitened(
             unsupported_facets.push(f);
         }
     }
-    let support = unsupported_facets.is_empty();
 
     // 3. Lineality: generators in L positively span L.
     let mut lineality = true;
@@ -186,11 +191,14 @@ pub(crate) fn certify_whitened(
     let open_ridges = if !check_completeness {
         usize::MAX
     } else if ok_dims(t, nf) {
-        count_open_ridges(&inc, t, tol, check, scratch)
+        count_open_ridges(&inc, t, tol, check, scratch, &mut unsupported_facets)
     } else {
         usize::MAX
     };
     let completeness = open_ridges == 0;
+    unsupported_facets.sort_unstable();
+    unsupported_facets.dedup();
+    let support = unsupported_facets.is_empty();
     let extreme = inc.extreme(&wh.distinct);
 
     let cert = Certificate {
@@ -359,6 +367,7 @@ fn count_open_ridges(
     tol: &Tolerances,
     small: &mut DdCore,
     scratch: &mut Vec<f64>,
+    unsupported: &mut Vec<usize>,
 ) -> usize {
     if t < 3 {
         return 0;
@@ -369,7 +378,6 @@ fn count_open_ridges(
     let (gp, fp, inc, by_gen) = (&incd.gp, &incd.fp, &incd.inc, &incd.by_gen);
     let mut open = 0;
     let mut members: Vec<usize> = Vec::new();
-    let mut basis = vec![0.0; t * t];
     let mut rows: Vec<f64> = Vec::new();
     let mut acc = vec![0u64; fwd];
     let mut ridge: Vec<usize> = Vec::new();
@@ -395,11 +403,47 @@ fn count_open_ridges(
             }
         }
         if members.len() < t - 1 {
+            unsupported.push(f);
             open += 1;
             continue;
         }
+        // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
+        // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
+        // are orthonormal coordinates of g in u^perp.
+        let u = &fp[f * t..(f + 1) * t];
+        let j = (0..t)
+            .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+            .unwrap_or(0);
+        let v = &mut vbuf[..];
+        v.copy_from_slice(u);
+        v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
+        let vv = dot(v, v);
+        let k = t - 1;
+        rows.clear();
+        for &i in &members {
+            let g = &gp[i * t..(i + 1) * t];
+            let c = 2.0 * dot(v, g) / vv;
+            let start = rows.len();
+            for q in (0..t).filter(|&q| q != j) {
+                rows.push(g[q] - c * v[q]);
+            }
+            normalize(&mut rows[start..]);
+        }
         if members.len() == t - 1 {
-            // Simplicial facet: its ridges drop one generator each.
+            // Simplicial facet (when its generators are independent: support): its ridges drop
+            // one generator each.
+            if rank_of(
+                (0..k).map(|q| &rows[q * k..(q + 1) * k]),
+                k,
+                k,
+                tol.support_rank,
+                scratch,
+            ) < k
+            {
+                unsupported.push(f);
+                open += 1;
+                continue;
+            }
             for drop in 0..members.len() {
                 ridge.clear();
                 ridge.extend(
@@ -415,51 +459,15 @@ fn count_open_ridges(
             }
             continue;
         }
-        // Orthonormal basis of the hyperplane u^perp in R^t (Gram-Schmidt of u, e_1, ..., e_t).
-        let u = &fp[f * t..(f + 1) * t];
-        let mut nb = 0;
-        scratch.clear();
-        scratch.extend_from_slice(u);
-        let v = &mut vbuf[..];
-        for e in 0..t {
-            if nb == t - 1 {
-                break;
-            }
-            v.fill(0.0);
-            v[e] = 1.0;
-            for _ in 0..2 {
-                let c = dot(v, u);
-                for k in 0..t {
-                    v[k] -= c * u[k];
-                }
-                for q in 0..nb {
-                    let c = dot(v, &basis[q * t..(q + 1) * t]);
-                    for k in 0..t {
-                        v[k] -= c * basis[q * t + k];
-                    }
-                }
-            }
-            if normalize(v) > 0.5 {
-                basis[nb * t..(nb + 1) * t].copy_from_slice(v);
-                nb += 1;
-            }
-        }
-        let k = t - 1;
-        rows.clear();
-        for &i in &members {
-            let g = &gp[i * t..(i + 1) * t];
-            let start = rows.len();
-            for q in 0..k {
-                rows.push(dot(g, &basis[q * t..(q + 1) * t]));
-            }
-            normalize(&mut rows[start..]);
-        }
         if members.len() == t {
             // One generator more than simplicial: the facet is a cone of k + 1 vectors in R^k
             // with a single linear dependency `sum lambda_i g_i = 0`. Its facets are
             // `G \ {i, j}` for `lambda_i > 0 > lambda_j`, and `G \ {i}` for `lambda_i = 0`.
             match dependency(&rows, k, tol.support_rank, &mut lambda, scratch) {
-                None => open += 1,
+                None => {
+                    unsupported.push(f);
+                    open += 1;
+                }
                 Some(()) => {
                     let m = members.len();
                     let sign = |i: usize| -> i32 {
@@ -498,12 +506,17 @@ fn count_open_ridges(
             }
             continue;
         }
-        if small
-            .run(&rows, members.len(), k, tol.incidence, tol.support_rank)
-            .is_err()
-        {
-            open += 1;
-            continue;
+        match small.run(&rows, members.len(), k, tol.incidence, tol.support_rank) {
+            Ok(()) => {}
+            Err(DdFailure::RankDeficient) => {
+                unsupported.push(f);
+                open += 1;
+                continue;
+            }
+            Err(_) => {
+                open += 1;
+                continue;
+            }
         }
         for q in 0..small.n {
             let z = &small.z[q * small.words..(q + 1) * small.words];
