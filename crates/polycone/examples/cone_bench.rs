@@ -5,7 +5,8 @@
 //! also be given bit-exactly as `"generators_hex"`, Python `float.hex` strings). Prints one JSON
 //! object: per case the facet count, equations, lineality dimension, certified flag, the facets
 //! (unit rows) and the median and minimum time per conversion in milliseconds (a warm
-//! [`polycone::Workspace`], `REPEATS` runs, default 200).
+//! [`polycone::Workspace`], `REPEATS` runs, default 200). `--exact` uses exact arithmetic,
+//! `--no-completeness` skips the completeness check of the certificate (to measure its cost).
 
 use std::time::Instant;
 
@@ -37,13 +38,14 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = args
         .get(1)
-        .expect("usage: cone_bench INPUT.json [REPEATS] [--exact]");
+        .expect("usage: cone_bench INPUT.json [REPEATS] [--exact] [--no-completeness]");
     let repeats: usize = args
         .get(2)
         .and_then(|s| s.parse().ok())
         .unwrap_or(200)
         .max(1);
     let exact = args.iter().any(|a| a == "--exact");
+    let no_completeness = args.iter().any(|a| a == "--no-completeness");
     let text = std::fs::read_to_string(path).expect("read input");
     let json: serde_json::Value = serde_json::from_str(&text).expect("parse input");
     let opts = DdOptions {
@@ -52,6 +54,7 @@ fn main() {
         } else {
             Arithmetic::Tolerance
         },
+        check_completeness: !no_completeness,
         ..DdOptions::default()
     };
     let mut ws = Workspace::new();

@@ -26,7 +26,7 @@
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
 //! is `d - r`.
 
-use crate::dd::DdCore;
+use crate::dd::{DdCore, DdFailure};
 use crate::linalg::{dot, normalize, rank_of};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
@@ -56,7 +56,8 @@ pub struct Certificate {
     /// Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
     pub completeness: bool,
     /// Number of ridges (of claimed facets) not covered by exactly two claimed facets
-    /// (`usize::MAX` when the facet count is impossible for the dimension).
+    /// (`usize::MAX` when the facet count is impossible for the dimension, or when the check
+    /// was not run: [`crate::DdOptions::check_completeness`]).
     pub open_ridges: usize,
 }
 
@@ -102,6 +103,7 @@ pub(crate) fn certify_whitened(
     lin: &[f64],
     tol: &Tolerances,
     arithmetic: Arithmetic,
+    check_completeness: bool,
     check: &mut DdCore,
     scratch: &mut Vec<f64>,
 ) -> (Certificate, Vec<usize>) {
@@ -111,27 +113,36 @@ pub(crate) fn certify_whitened(
     let l = lin.len().checked_div(r).unwrap_or(0);
     let ng = wh.kept.len();
 
+    // Slacks of every generator on every facet (unit vectors): S = F W^T, one matrix product.
+    let slack = if nf > 0 && ng > 0 && r > 0 {
+        let fm = nalgebra::DMatrix::from_row_slice(nf, r, fw);
+        let wm = nalgebra::DMatrix::from_row_slice(ng, r, &wh.w);
+        fm * wm.transpose()
+    } else {
+        nalgebra::DMatrix::zeros(nf, ng)
+    };
+
     // 1. Soundness.
-    let mut max_violation: f64 = 0.0;
-    for f in 0..nf {
-        let u = &fw[f * r..(f + 1) * r];
-        for i in 0..ng {
-            max_violation = max_violation.max(dot(u, wh.gen(i)));
-        }
-    }
+    let max_violation = slack.iter().copied().fold(0.0, f64::max);
     let soundness = max_violation <= tol.certificate && wh.equation_residual <= tol.certificate;
 
     // 2. Support: tight generators, projected on the facet's hyperplane, have rank r - 1.
+    // When the ridge check runs (below), it decides support on the way (same projection, in
+    // L^perp), so the loop here only runs without it.
+    let merged_support = check_completeness && t >= 3 && ok_dims(t, nf);
     let mut unsupported_facets = Vec::new();
     let mut proj = Vec::new();
     for f in 0..nf {
+        if merged_support {
+            break;
+        }
         let u = &fw[f * r..(f + 1) * r];
         proj.clear();
         let mut cnt = 0;
         for i in 0..ng {
-            let g = wh.gen(i);
-            let s = dot(u, g);
+            let s = slack[(f, i)];
             if s.abs() <= tol.incidence {
+                let g = wh.gen(i);
                 for c in 0..r {
                     proj.push(g[c] - s * u[c]);
                 }
@@ -149,7 +160,6 @@ pub(crate) fn certify_whitened(
             unsupported_facets.push(f);
         }
     }
-    let support = unsupported_facets.is_empty();
 
     // 3. Lineality: generators in L positively span L.
     let mut lineality = true;
@@ -177,13 +187,18 @@ pub(crate) fn certify_whitened(
     }
 
     // 4. Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
-    let inc = Incidence::new(wh, fw, perp, t, tol);
-    let open_ridges = if ok_dims(t, nf) {
-        count_open_ridges(&inc, t, tol, check, scratch)
+    let inc = Incidence::new(wh, fw, perp, t, tol, &slack);
+    let open_ridges = if !check_completeness {
+        usize::MAX
+    } else if ok_dims(t, nf) {
+        count_open_ridges(&inc, t, tol, check, scratch, &mut unsupported_facets)
     } else {
         usize::MAX
     };
     let completeness = open_ridges == 0;
+    unsupported_facets.sort_unstable();
+    unsupported_facets.dedup();
+    let support = unsupported_facets.is_empty();
     let extreme = inc.extreme(&wh.distinct);
 
     let cert = Certificate {
@@ -231,10 +246,44 @@ pub(crate) struct Incidence {
 }
 
 impl Incidence {
-    fn new(wh: &Whitened, fw: &[f64], perp: &[f64], t: usize, tol: &Tolerances) -> Self {
+    fn new(
+        wh: &Whitened,
+        fw: &[f64],
+        perp: &[f64],
+        t: usize,
+        tol: &Tolerances,
+        slack: &nalgebra::DMatrix<f64>,
+    ) -> Self {
         let r = wh.r;
         let ng = wh.kept.len();
         let nf = fw.len().checked_div(r).unwrap_or(0);
+        let gw = ng.div_ceil(64).max(1);
+        let fwd = nf.div_ceil(64).max(1);
+        if t == r {
+            // Pointed: L^perp is all of R^r; the whitened coordinates serve as they are.
+            let mut inc = vec![0u64; nf * gw];
+            let mut by_gen = vec![0u64; ng * fwd];
+            for f in 0..nf {
+                for i in 0..ng {
+                    if slack[(f, i)].abs() <= tol.incidence {
+                        inc[f * gw + i / 64] |= 1 << (i % 64);
+                        by_gen[i * fwd + f / 64] |= 1 << (f % 64);
+                    }
+                }
+            }
+            return Self {
+                t,
+                ng,
+                nf,
+                gp: wh.w.clone(),
+                fp: fw.to_vec(),
+                in_l: vec![false; ng],
+                gw,
+                fwd,
+                inc,
+                by_gen,
+            };
+        }
         let mut gp = vec![0.0; ng * t];
         let mut in_l = vec![false; ng];
         for i in 0..ng {
@@ -253,8 +302,6 @@ impl Incidence {
             }
             normalize(&mut fp[f * t..(f + 1) * t]);
         }
-        let gw = ng.div_ceil(64).max(1);
-        let fwd = nf.div_ceil(64).max(1);
         let mut inc = vec![0u64; nf * gw];
         let mut by_gen = vec![0u64; ng * fwd];
         for f in 0..nf {
@@ -320,6 +367,7 @@ fn count_open_ridges(
     tol: &Tolerances,
     small: &mut DdCore,
     scratch: &mut Vec<f64>,
+    unsupported: &mut Vec<usize>,
 ) -> usize {
     if t < 3 {
         return 0;
@@ -330,11 +378,11 @@ fn count_open_ridges(
     let (gp, fp, inc, by_gen) = (&incd.gp, &incd.fp, &incd.inc, &incd.by_gen);
     let mut open = 0;
     let mut members: Vec<usize> = Vec::new();
-    let mut basis = vec![0.0; t * t];
     let mut rows: Vec<f64> = Vec::new();
     let mut acc = vec![0u64; fwd];
     let mut ridge: Vec<usize> = Vec::new();
     let mut vbuf = vec![0.0; t];
+    let mut lambda = vec![0.0; t];
     // Counts the facets containing `ridge` (generator indices); 2 expected.
     let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
         acc.fill(u64::MAX);
@@ -355,11 +403,47 @@ fn count_open_ridges(
             }
         }
         if members.len() < t - 1 {
+            unsupported.push(f);
             open += 1;
             continue;
         }
+        // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
+        // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
+        // are orthonormal coordinates of g in u^perp.
+        let u = &fp[f * t..(f + 1) * t];
+        let j = (0..t)
+            .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+            .unwrap_or(0);
+        let v = &mut vbuf[..];
+        v.copy_from_slice(u);
+        v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
+        let vv = dot(v, v);
+        let k = t - 1;
+        rows.clear();
+        for &i in &members {
+            let g = &gp[i * t..(i + 1) * t];
+            let c = 2.0 * dot(v, g) / vv;
+            let start = rows.len();
+            for q in (0..t).filter(|&q| q != j) {
+                rows.push(g[q] - c * v[q]);
+            }
+            normalize(&mut rows[start..]);
+        }
         if members.len() == t - 1 {
-            // Simplicial facet: its ridges drop one generator each.
+            // Simplicial facet (when its generators are independent: support): its ridges drop
+            // one generator each.
+            if rank_of(
+                (0..k).map(|q| &rows[q * k..(q + 1) * k]),
+                k,
+                k,
+                tol.support_rank,
+                scratch,
+            ) < k
+            {
+                unsupported.push(f);
+                open += 1;
+                continue;
+            }
             for drop in 0..members.len() {
                 ridge.clear();
                 ridge.extend(
@@ -375,51 +459,64 @@ fn count_open_ridges(
             }
             continue;
         }
-        // Orthonormal basis of the hyperplane u^perp in R^t (Gram-Schmidt of u, e_1, ..., e_t).
-        let u = &fp[f * t..(f + 1) * t];
-        let mut nb = 0;
-        scratch.clear();
-        scratch.extend_from_slice(u);
-        let v = &mut vbuf[..];
-        for e in 0..t {
-            if nb == t - 1 {
-                break;
-            }
-            v.fill(0.0);
-            v[e] = 1.0;
-            for _ in 0..2 {
-                let c = dot(v, u);
-                for k in 0..t {
-                    v[k] -= c * u[k];
+        if members.len() == t {
+            // One generator more than simplicial: the facet is a cone of k + 1 vectors in R^k
+            // with a single linear dependency `sum lambda_i g_i = 0`. Its facets are
+            // `G \ {i, j}` for `lambda_i > 0 > lambda_j`, and `G \ {i}` for `lambda_i = 0`.
+            match dependency(&rows, k, tol.support_rank, &mut lambda, scratch) {
+                None => {
+                    unsupported.push(f);
+                    open += 1;
                 }
-                for q in 0..nb {
-                    let c = dot(v, &basis[q * t..(q + 1) * t]);
-                    for k in 0..t {
-                        v[k] -= c * basis[q * t + k];
+                Some(()) => {
+                    let m = members.len();
+                    let sign = |i: usize| -> i32 {
+                        if lambda[i] > tol.support_rank {
+                            1
+                        } else if lambda[i] < -tol.support_rank {
+                            -1
+                        } else {
+                            0
+                        }
+                    };
+                    let has_pos = (0..m).any(|i| sign(i) > 0);
+                    let has_neg = (0..m).any(|i| sign(i) < 0);
+                    if !(has_pos && has_neg) {
+                        open += 1;
+                        continue;
+                    }
+                    for a in 0..m {
+                        for b in a..m {
+                            let is_ridge = if a == b {
+                                sign(a) == 0
+                            } else {
+                                sign(a) * sign(b) < 0
+                            };
+                            if !is_ridge {
+                                continue;
+                            }
+                            ridge.clear();
+                            ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
+                            if covered(&ridge, &mut acc) != 2 {
+                                open += 1;
+                            }
+                        }
                     }
                 }
             }
-            if normalize(v) > 0.5 {
-                basis[nb * t..(nb + 1) * t].copy_from_slice(v);
-                nb += 1;
-            }
-        }
-        let k = t - 1;
-        rows.clear();
-        for &i in &members {
-            let g = &gp[i * t..(i + 1) * t];
-            let start = rows.len();
-            for q in 0..k {
-                rows.push(dot(g, &basis[q * t..(q + 1) * t]));
-            }
-            normalize(&mut rows[start..]);
-        }
-        if small
-            .run(&rows, members.len(), k, tol.incidence, tol.support_rank)
-            .is_err()
-        {
-            open += 1;
             continue;
+        }
+        match small.run(&rows, members.len(), k, tol.incidence, tol.support_rank) {
+            Ok(()) => {}
+            Err(DdFailure::RankDeficient) => {
+                unsupported.push(f);
+                open += 1;
+                continue;
+            }
+            Err(_) => {
+                open += 1;
+                continue;
+            }
         }
         for q in 0..small.n {
             let z = &small.z[q * small.words..(q + 1) * small.words];
@@ -435,4 +532,78 @@ fn count_open_ridges(
         }
     }
     open
+}
+
+/// The linear dependency `lambda` (unit norm) of `k + 1` vectors of `R^k` (`rows`, row-major)
+/// of rank `k`, by Gaussian elimination with partial pivoting on the `k x (k + 1)` matrix whose
+/// columns are the vectors. `None` when the rank is below `k` (pivot at most `eps`).
+fn dependency(
+    rows: &[f64],
+    k: usize,
+    eps: f64,
+    lambda: &mut [f64],
+    m: &mut Vec<f64>,
+) -> Option<()> {
+    let n = k + 1;
+    m.clear();
+    m.resize(k * n, 0.0);
+    for i in 0..n {
+        for r in 0..k {
+            m[r * n + i] = rows[i * k + r];
+        }
+    }
+    // Row echelon with column pivots; the free column is the last non-pivot one.
+    let mut piv_col = vec![usize::MAX; k];
+    let mut row = 0;
+    let mut free = usize::MAX;
+    for c in 0..n {
+        if row == k {
+            if free == usize::MAX {
+                free = c;
+            }
+            continue;
+        }
+        let mut p = row;
+        for r in row + 1..k {
+            if m[r * n + c].abs() > m[p * n + c].abs() {
+                p = r;
+            }
+        }
+        if m[p * n + c].abs() <= eps {
+            if free != usize::MAX {
+                return None;
+            }
+            free = c;
+            continue;
+        }
+        for t in 0..n {
+            m.swap(p * n + t, row * n + t);
+        }
+        let inv = 1.0 / m[row * n + c];
+        for t in 0..n {
+            m[row * n + t] *= inv;
+        }
+        for r in 0..k {
+            if r != row {
+                let f = m[r * n + c];
+                if f != 0.0 {
+                    for t in 0..n {
+                        m[r * n + t] -= f * m[row * n + t];
+                    }
+                }
+            }
+        }
+        piv_col[row] = c;
+        row += 1;
+    }
+    if row < k || free == usize::MAX {
+        return None;
+    }
+    lambda[..n].fill(0.0);
+    lambda[free] = 1.0;
+    for r in 0..k {
+        lambda[piv_col[r]] = -m[r * n + free];
+    }
+    normalize(&mut lambda[..n]);
+    Some(())
 }

@@ -18,8 +18,9 @@ use nalgebra::DMatrix;
 
 use crate::certificate::{certify_whitened, Certificate};
 use crate::dd::DdCore;
+use crate::exact::exact_span_to_face;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
-use crate::precondition::{whiten, Whitened};
+use crate::precondition::whiten;
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
 /// The result of [`span_to_face`].
@@ -78,7 +79,7 @@ fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
 
 /// Everything span -> face computes, in whitened and world coordinates.
 struct Polar {
-    wh: Whitened,
+    equations: DMatrix<f64>,
     facets: DMatrix<f64>,
     lineality: DMatrix<f64>,
     extreme: Vec<usize>,
@@ -124,7 +125,7 @@ impl Workspace {
             face: FaceForm {
                 dim: d,
                 facets: p.facets,
-                equations: p.wh.equations.clone(),
+                equations: p.equations,
             },
             lineality: p.lineality,
             extreme_generators: p.extreme,
@@ -167,7 +168,7 @@ impl Workspace {
             span: SpanForm {
                 dim: d,
                 generators: p.facets,
-                lineality: p.wh.equations.clone(),
+                lineality: p.equations,
             },
             irredundant_facets,
             certificate: p.certificate,
@@ -178,11 +179,20 @@ impl Workspace {
     fn polar(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
         opts.tol.validate()?;
         if opts.arithmetic == Arithmetic::Exact {
-            return Err(ConeError::Unsupported(
-                "exact arithmetic is not available in this version; use Arithmetic::Tolerance"
-                    .into(),
-            ));
+            return exact_polar(v, opts);
         }
+        match self.polar_tolerance(v, opts) {
+            Err(ConeError::Uncertified(reason)) if opts.exact_fallback => {
+                // Repair: the exact answer for the input as given.
+                exact_polar(v, opts)
+                    .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))
+            }
+            other => other,
+        }
+    }
+
+    /// The floating-point conversion with the tolerance contract.
+    fn polar_tolerance(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
         let tol = &opts.tol;
         let d = v.ncols();
         let wh = whiten(v, tol);
@@ -216,10 +226,11 @@ impl Workspace {
             &lin,
             tol,
             opts.arithmetic,
+            opts.check_completeness,
             &mut self.check,
             &mut self.scratch,
         );
-        if !certificate.certified && !opts.allow_uncertified {
+        if !certificate.certified && !opts.allow_uncertified && opts.check_completeness {
             return Err(ConeError::Uncertified(certificate.failure_reason()));
         }
         // Facets in world coordinates, sorted lexicographically.
@@ -254,13 +265,31 @@ impl Workspace {
         let mut extreme: Vec<usize> = extreme_kept.iter().map(|&i| wh.kept[i]).collect();
         extreme.sort_unstable();
         Ok(Polar {
-            wh,
+            equations: wh.equations.clone(),
             facets: facets_m,
             lineality,
             extreme,
             certificate,
         })
     }
+}
+
+/// The exact conversion; an uncertified exact answer is an error unless allowed.
+fn exact_polar(v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+    let e = exact_span_to_face(v, &opts.tol)?;
+    if !e.certificate.certified && !opts.allow_uncertified {
+        return Err(ConeError::Uncertified(format!(
+            "exact: {}",
+            e.certificate.failure_reason()
+        )));
+    }
+    Ok(Polar {
+        equations: e.equations,
+        facets: e.facets,
+        lineality: e.lineality,
+        extreme: e.extreme,
+        certificate: e.certificate,
+    })
 }
 
 /// The row space of the facet matrix `fw` (`nf x r`) and its complement, the lineality space,
@@ -272,6 +301,19 @@ fn split_lineality(fw: &[f64], nf: usize, r: usize, rank_tol: f64) -> (Vec<f64>,
         (
             Vec::new(),
             DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+        )
+    } else if crate::linalg::rank_of(
+        (0..nf).map(|f| &fw[f * r..(f + 1) * r]),
+        r,
+        r,
+        rank_tol,
+        &mut Vec::new(),
+    ) == r
+    {
+        // Facets span R^r (a pointed cone): no lineality, any orthonormal basis is L^perp.
+        (
+            DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+            Vec::new(),
         )
     } else {
         let fm = DMatrix::from_row_slice(nf, r, fw);
@@ -358,6 +400,7 @@ pub fn certify_span_to_face(
         &lin,
         tol,
         opts.arithmetic,
+        true,
         &mut check,
         &mut scratch,
     );

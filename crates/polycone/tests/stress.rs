@@ -4,6 +4,8 @@
 //! independent oracle (non-negative least squares distance to the generators' cone), or an
 //! error; never an uncertified or wrong cone.
 
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use common::*;
@@ -181,11 +183,12 @@ fn stress_corpus_is_certified_and_agrees_with_the_oracle() {
                 assert!(r.certificate.certified, "{name}: {:?}", r.certificate);
                 check_against_oracle(&name, &v, &r, center);
                 eprintln!(
-                    "{name}: {} generators -> {} facets, {} equations, lineality {}",
+                    "{name}: {} generators -> {} facets, {} equations, lineality {} ({:?})",
                     v.nrows(),
                     r.face.facets.nrows(),
                     r.face.equations.nrows(),
-                    r.lineality.nrows()
+                    r.lineality.nrows(),
+                    r.certificate.arithmetic
                 );
             }
             Err(e) => eprintln!("{name}: error (allowed): {e}"),
