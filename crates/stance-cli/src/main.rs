@@ -25,6 +25,11 @@ enum Command {
     /// Convert polyhedral cones between span form (generators) and face form (inequalities).
     #[command(subcommand)]
     Cone(cmd::cone::ConeCommand),
+    /// The gravito-inertial wrench cone (GIWC) of a scene, in face and span form.
+    Giwc(cmd::contact::GiwcArgs),
+    /// Static and robust static equilibrium of the CoM: polygon, 3-D region, tests.
+    #[command(subcommand)]
+    Equilibrium(cmd::contact::EquilibriumCommand),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
 }
@@ -34,6 +39,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Giwc(a) => cmd::contact::run_giwc(a),
+        Command::Equilibrium(c) => cmd::contact::run_equilibrium(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
