@@ -122,8 +122,29 @@ pub fn polyhedron_from_halfspaces(
             [lo[0] - margin, lo[1] - margin, lo[2] - margin],
             [hi[0] + margin, hi[1] + margin, hi[2] + margin],
         ];
-        let (second, _) = clip_box(normals, offsets, tight, opts);
+        // Half-spaces with slack above the margin at every corner of the tight box cannot cut
+        // the region (it lies inside the box): skip them in the second pass.
+        let mut keep: Vec<usize> = Vec::with_capacity(normals.len());
+        for (i, (a, &b)) in normals.iter().zip(offsets).enumerate() {
+            let na = norm(*a);
+            if na < opts.zero_normal {
+                keep.push(i);
+                continue;
+            }
+            let worst: f64 = (0..3)
+                .map(|k| (a[k] * tight[0][k]).max(a[k] * tight[1][k]))
+                .sum();
+            if worst - b > -margin * na {
+                keep.push(i);
+            }
+        }
+        let sub_n: Vec<[f64; 3]> = keep.iter().map(|&i| normals[i]).collect();
+        let sub_b: Vec<f64> = keep.iter().map(|&i| offsets[i]).collect();
+        let (mut second, _) = clip_box(&sub_n, &sub_b, tight, opts);
         if second.status == RegionStatus::Bounded && second.dim == 3 {
+            for a in second.active.iter_mut().flatten() {
+                *a = keep[*a];
+            }
             return Ok(second);
         }
         margin *= 4.0;
@@ -182,6 +203,13 @@ fn clip_box(
         cut.clear();
         edge_cache.clear();
         for f in faces.drain(..) {
+            // Faces entirely inside stay as they are (no copy); their on-plane vertices go to
+            // the cap.
+            if f.loop_.iter().all(|&v| dist[v] <= tol) {
+                cut.extend(f.loop_.iter().copied().filter(|&v| dist[v] >= -tol));
+                kept.push(f);
+                continue;
+            }
             loop_idx.clear();
             let m = f.loop_.len();
             for k in 0..m {
