@@ -27,6 +27,11 @@ enum Command {
     Cone(cmd::cone::ConeCommand),
     /// Time-optimal retiming on raw rows a sdd + b sd^2 + c <= 0 (reachability analysis).
     Topp(cmd::topp::ToppArgs),
+    /// The gravito-inertial wrench cone (GIWC) of a scene, in face and span form.
+    Giwc(cmd::contact::GiwcArgs),
+    /// Static and robust static equilibrium of the CoM: polygon, 3-D region, tests.
+    #[command(subcommand)]
+    Equilibrium(cmd::contact::EquilibriumCommand),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
@@ -41,6 +46,8 @@ fn main() -> ExitCode {
         Command::Demo(a) => cmd::demo::run(a),
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
+        Command::Giwc(a) => cmd::contact::run_giwc(a),
+        Command::Equilibrium(c) => cmd::contact::run_equilibrium(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

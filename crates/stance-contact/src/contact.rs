@@ -296,10 +296,10 @@ fn convex_polygon(
         if len == 0.0 {
             return Err(bad(format!("vertices {} and {} coincide", i, (i + 1) % n)));
         }
-        // Signed distance of q from the line p -> r, positive to the right (a reflex vertex
-        // of a counter-clockwise polygon).
-        let right = ((q[0] - p[0]) * dy - (q[1] - p[1]) * dx) / len;
-        if right > tol.convexity {
+        // Signed distance of q from the line p -> r, positive to the left: a reflex vertex
+        // of a counter-clockwise polygon (convex vertices lie to the right).
+        let left = -((q[0] - p[0]) * dy - (q[1] - p[1]) * dx) / len;
+        if left > tol.convexity {
             return Err(bad(format!("the polygon is not convex at vertex {i}")));
         }
     }

@@ -9,8 +9,13 @@
 //!             G f_ij <= 0                                     (friction pyramid, face form)
 //! ```
 //!
-//! solved by Clarabel (an interior-point solver). Infeasibility is Clarabel's certificate
-//! (status `PrimalInfeasible`). It uses the pyramids in **face** form and the forces directly,
+//! solved by Clarabel (an interior-point solver) in two phases. Phase 1 is an always-feasible
+//! LP: minimize `|s|_1` subject to `sum_ij (...) + s = -w_GI` and the pyramids; its optimum is
+//! the L1 distance (in wrench space, relative to `|w_GI|`) from the target to the reachable
+//! cone, and a positive optimum is the certificate that no forces exist (`distance` in the
+//! result). Phase 2, when the distance is zero, finds the minimum-norm forces. (Asking the
+//! solver to detect infeasibility of the QP directly is less reliable: interior-point methods
+//! may stop with "insufficient progress" on infeasible problems.) It uses the pyramids in **face** form and the forces directly,
 //! so it is independent of the span construction and of the double description: it is the
 //! check of every face-form test in the tests. The problem is scaled by `|w_GI|`.
 
@@ -57,7 +62,10 @@ pub struct SupportingForces {
     pub residual: f64,
     /// Largest friction-pyramid violation `max(G f) / |w_GI|` of the returned forces.
     pub friction_violation: f64,
-    /// Clarabel's status, for the record.
+    /// Phase-1 optimum: L1 distance from `-w_GI` to the wrenches the contacts can produce,
+    /// relative to `|w_GI|` (0 when feasible; the infeasibility certificate otherwise).
+    pub distance: f64,
+    /// Clarabel's status of the last phase run, for the record.
     pub solver_status: String,
 }
 
@@ -144,24 +152,77 @@ pub fn supporting_forces(
             }
         }
     }
-    let p_mat = CscMatrix::identity(n);
-    let q = vec![0.0; n];
-    let a_mat = csc_from_dense(m, n, &a);
-    let cones = [
+    let settings = || {
+        DefaultSettingsBuilder::default()
+            .verbose(false)
+            .tol_feas(tol.qp_feas)
+            .build()
+            .map_err(|e| ContactError::BadShape(format!("QP settings: {e:?}")))
+    };
+    // Phase 1: min 1'(s+ + s-)  s.t.  A_eq f + s+ - s- = b,  G f <= 0,  s+, s- >= 0.
+    let n1 = n + 12;
+    let m1 = m + 12;
+    let mut a1 = vec![0.0; m1 * n1];
+    for r in 0..m {
+        a1[r * n1..r * n1 + n].copy_from_slice(&a[r * n..(r + 1) * n]);
+    }
+    for r in 0..6 {
+        a1[r * n1 + n + r] = 1.0;
+        a1[r * n1 + n + 6 + r] = -1.0;
+    }
+    for k in 0..12 {
+        a1[(m + k) * n1 + n + k] = -1.0;
+    }
+    let mut b1 = b.clone();
+    b1.resize(m1, 0.0);
+    let mut q1 = vec![0.0; n1];
+    for x in &mut q1[n..] {
+        *x = 1.0;
+    }
+    let cones1 = [
         SupportedConeT::ZeroConeT(6),
-        SupportedConeT::NonnegativeConeT(k * nv),
+        SupportedConeT::NonnegativeConeT(k * nv + 12),
     ];
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_feas(tol.qp_feas)
-        .build()
-        .map_err(|e| ContactError::BadShape(format!("QP settings: {e:?}")))?;
-    let mut solver = DefaultSolver::new(&p_mat, &q, &a_mat, &b, &cones, settings)
+    let mut phase1 = DefaultSolver::new(
+        &CscMatrix::zeros((n1, n1)),
+        &q1,
+        &csc_from_dense(m1, n1, &a1),
+        &b1,
+        &cones1,
+        settings()?,
+    )
+    .map_err(|e| ContactError::BadShape(format!("LP setup: {e:?}")))?;
+    phase1.solve();
+    let status1 = phase1.solution.status;
+    let distance = phase1.solution.x[n..].iter().map(|x| x.abs()).sum::<f64>();
+    let solved1 = matches!(status1, SolverStatus::Solved | SolverStatus::AlmostSolved);
+    let (x, status) = if solved1 && distance > tol.qp_max_residual {
+        (phase1.solution.x[..n].to_vec(), status1)
+    } else if solved1 {
+        // Phase 2: minimum-norm forces.
+        let mut solver = DefaultSolver::new(
+            &CscMatrix::identity(n),
+            &vec![0.0; n],
+            &csc_from_dense(m, n, &a),
+            &b,
+            &[
+                SupportedConeT::ZeroConeT(6),
+                SupportedConeT::NonnegativeConeT(k * nv),
+            ],
+            settings()?,
+        )
         .map_err(|e| ContactError::BadShape(format!("QP setup: {e:?}")))?;
-    solver.solve();
-    let status = solver.solution.status;
-    let x = &solver.solution.x;
-    // Residuals of the returned forces (whatever the status).
+        solver.solve();
+        let st = solver.solution.status;
+        if matches!(st, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+            (solver.solution.x.clone(), st)
+        } else {
+            (phase1.solution.x[..n].to_vec(), status1)
+        }
+    } else {
+        (phase1.solution.x[..n].to_vec(), status1)
+    };
+    // Residuals of the returned forces.
     let mut residual = 0.0;
     for r in 0..6 {
         let v: f64 = (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>() - b[r];
@@ -171,16 +232,14 @@ pub fn supporting_forces(
     let friction_violation = (6..m)
         .map(|r| (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>())
         .fold(0.0, f64::max);
-    let outcome = match status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved
-            if residual <= tol.qp_max_residual && friction_violation <= tol.qp_max_residual =>
-        {
-            ForcesOutcome::Feasible
-        }
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            ForcesOutcome::Infeasible
-        }
-        _ => ForcesOutcome::Unknown,
+    let outcome = if !solved1 {
+        ForcesOutcome::Unknown
+    } else if distance > tol.qp_max_residual {
+        ForcesOutcome::Infeasible
+    } else if residual <= tol.qp_max_residual && friction_violation <= tol.qp_max_residual {
+        ForcesOutcome::Feasible
+    } else {
+        ForcesOutcome::Unknown
     };
     let mut contacts: Vec<ContactForces> = stance
         .contacts()
@@ -204,6 +263,7 @@ pub fn supporting_forces(
         contacts,
         residual,
         friction_violation,
+        distance,
         solver_status: format!("{status:?}"),
     })
 }

@@ -65,7 +65,7 @@ pub mod stance;
 pub mod tol;
 
 pub use contact::{Contact, Shape};
-pub use equilibrium::{com_halfspaces, EquilibriumOptions};
+pub use equilibrium::{com_halfspaces, ComHalfspaces, EquilibriumOptions};
 pub use error::ContactError;
 pub use forces::{supporting_forces, ContactForces, ForcesOutcome, SupportingForces};
 pub use friction::{Approximation, FrictionModel};

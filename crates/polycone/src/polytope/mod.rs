@@ -31,6 +31,19 @@
 //!
 //! Complexity: `O(n h)` in 2-D and `O(n F)` in 3-D, with `h` (`F`) the size of the running
 //! polygon (the number of running face vertices); fine for the hundreds of rows of a stance.
+//! In 3-D a second pass from a box just around the first result keeps the rounding at the
+//! result's scale (the first pass interpolates along the edges of the far box).
+//!
+//! # Limitations
+//!
+//! - Tolerance-based predicates (no exact arithmetic): structure degenerate within `dist_tol`
+//!   is merged (a face thinner than `dist_tol` may vanish, near-coplanar faces may stay split).
+//! - Regions reaching beyond `far` are reported unbounded even when they are bounded.
+//! - [`hull3`] goes through the polar around the vertex centroid: needle-shaped inputs (aspect
+//!   ratio beyond about 1e3) and clusters of nearly coincident points may lose or split thin
+//!   faces.
+//! - The routines allocate (they are not meant for inner loops; test points against the
+//!   returned half-spaces instead).
 
 mod hull;
 mod polygon;

@@ -122,8 +122,29 @@ pub fn polyhedron_from_halfspaces(
             [lo[0] - margin, lo[1] - margin, lo[2] - margin],
             [hi[0] + margin, hi[1] + margin, hi[2] + margin],
         ];
-        let (second, _) = clip_box(normals, offsets, tight, opts);
+        // Half-spaces with slack above the margin at every corner of the tight box cannot cut
+        // the region (it lies inside the box): skip them in the second pass.
+        let mut keep: Vec<usize> = Vec::with_capacity(normals.len());
+        for (i, (a, &b)) in normals.iter().zip(offsets).enumerate() {
+            let na = norm(*a);
+            if na < opts.zero_normal {
+                keep.push(i);
+                continue;
+            }
+            let worst: f64 = (0..3)
+                .map(|k| (a[k] * tight[0][k]).max(a[k] * tight[1][k]))
+                .sum();
+            if worst - b > -margin * na {
+                keep.push(i);
+            }
+        }
+        let sub_n: Vec<[f64; 3]> = keep.iter().map(|&i| normals[i]).collect();
+        let sub_b: Vec<f64> = keep.iter().map(|&i| offsets[i]).collect();
+        let (mut second, _) = clip_box(&sub_n, &sub_b, tight, opts);
         if second.status == RegionStatus::Bounded && second.dim == 3 {
+            for a in second.active.iter_mut().flatten() {
+                *a = keep[*a];
+            }
             return Ok(second);
         }
         margin *= 4.0;
@@ -182,6 +203,13 @@ fn clip_box(
         cut.clear();
         edge_cache.clear();
         for f in faces.drain(..) {
+            // Faces entirely inside stay as they are (no copy); their on-plane vertices go to
+            // the cap.
+            if f.loop_.iter().all(|&v| dist[v] <= tol) {
+                cut.extend(f.loop_.iter().copied().filter(|&v| dist[v] >= -tol));
+                kept.push(f);
+                continue;
+            }
             loop_idx.clear();
             let m = f.loop_.len();
             for k in 0..m {
@@ -242,7 +270,15 @@ fn clip_box(
             if cut.is_empty() {
                 return (empty, bounds);
             }
-            return (flat(cut.iter().map(|&v| verts[v]).collect(), opts), bounds);
+            // The region is flat: keep clipping its boundary loop by the remaining planes.
+            let pts: Vec<[f64; 3]> = cut.iter().map(|&v| verts[v]).collect();
+            let order = ccw_order(&pts, n);
+            let lp: Vec<[f64; 3]> = order.iter().map(|&k| pts[k]).collect();
+            let rest = i + 1;
+            return match clip_flat(lp, &normals[rest..], &offsets[rest..], opts) {
+                Some(lp) => (flat(lp, opts), bounds),
+                None => (empty, bounds),
+            };
         }
     }
     let mut raw = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
@@ -255,6 +291,51 @@ fn clip_box(
         }
     }
     (finish(verts, faces, opts), raw)
+}
+
+/// Clips a flat convex loop (a polygon in some plane, a segment as a 2-point loop, or a point)
+/// by half-spaces; `None` when nothing is left.
+fn clip_flat(
+    mut lp: Vec<[f64; 3]>,
+    normals: &[[f64; 3]],
+    offsets: &[f64],
+    opts: &PolytopeOptions,
+) -> Option<Vec<[f64; 3]>> {
+    let tol = opts.dist_tol;
+    let mut next = Vec::with_capacity(lp.len() + 2);
+    for (a, &b) in normals.iter().zip(offsets) {
+        let na = norm(*a);
+        if na < opts.zero_normal {
+            if b < -tol {
+                return None;
+            }
+            continue;
+        }
+        let n = [a[0] / na, a[1] / na, a[2] / na];
+        let d = b / na;
+        let m = lp.len();
+        next.clear();
+        for k in 0..m {
+            let (p, q) = (lp[k], lp[(k + 1) % m]);
+            let (sp, sq) = (dot(n, p) - d, dot(n, q) - d);
+            if sp <= tol {
+                next.push(p);
+            }
+            if m > 1 && ((sp < -tol && sq > tol) || (sp > tol && sq < -tol)) {
+                let t = sp / (sp - sq);
+                next.push([
+                    p[0] + t * (q[0] - p[0]),
+                    p[1] + t * (q[1] - p[1]),
+                    p[2] + t * (q[2] - p[2]),
+                ]);
+            }
+        }
+        std::mem::swap(&mut lp, &mut next);
+        if lp.is_empty() {
+            return None;
+        }
+    }
+    Some(lp)
 }
 
 fn far_box(bounds: [[f64; 3]; 2]) -> (Vec<[f64; 3]>, Vec<Face>) {

@@ -279,3 +279,43 @@ fn bad_input_is_an_error() {
     let bad = PolytopeOptions { far: -1.0, ..o };
     assert_eq!(hull2(&[[0.0, 0.0]], &bad), Err(PolytopeError::BadOptions));
 }
+
+/// Regression: once the region became flat, later half-spaces were ignored (found by the
+/// robust-region tests of stance-contact on a single point contact).
+#[test]
+fn regression_flat_region_is_clipped_by_later_planes() {
+    let o = PolytopeOptions::default();
+    let a = [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
+    let b = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.5];
+    let p = polyhedron_from_halfspaces(&a, &b, &o).unwrap();
+    assert_eq!((p.status, p.dim), (RegionStatus::Bounded, 2));
+    assert_eq!(p.vertices.len(), 5);
+    for v in &p.vertices {
+        assert!(v[0] + v[1] <= 0.5 + 1e-12 && v[2].abs() < 1e-12);
+    }
+    // A segment then a point: x = y = 0 (as four half-spaces), then z <= 0 and z >= 0.
+    let a = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let p = polyhedron_from_halfspaces(&a, &[0.0; 6], &o).unwrap();
+    assert_eq!((p.status, p.dim), (RegionStatus::Bounded, 0));
+    assert_eq!(p.vertices.len(), 1);
+    // And empty when a later plane excludes the flat piece.
+    let mut b = [0.0; 6];
+    b[5] = -1.0; // z >= 1
+    let p = polyhedron_from_halfspaces(&a, &b, &o).unwrap();
+    assert_eq!(p.status, RegionStatus::Empty);
+}

@@ -1,6 +1,7 @@
 //! One module per command family; `io` holds what they share (reading inputs, writing outputs).
 
 pub mod cone;
+pub mod contact;
 pub mod demo;
 #[allow(dead_code)] // shared helpers; each command module uses the ones it needs
 pub mod io;

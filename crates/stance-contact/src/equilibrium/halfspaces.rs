@@ -23,7 +23,13 @@ impl ComHalfspaces {
 
     /// Largest residual `max_i (a_i . p - d_i)` (m; `-inf` without rows, `+inf` when
     /// infeasible); `<= 0` inside.
-    pub(crate) fn max_residual(&self, p: [f64; 3]) -> f64 {
+    ///
+    /// ```
+    /// use stance_contact::ComHalfspaces;
+    /// let h = ComHalfspaces { normals: vec![[1.0, 0.0, 0.0]], offsets: vec![0.5], infeasible: false };
+    /// assert_eq!(h.max_residual([1.0, 0.0, 0.0]), 0.5);
+    /// ```
+    pub fn max_residual(&self, p: [f64; 3]) -> f64 {
         if self.infeasible {
             return f64::INFINITY;
         }

@@ -14,6 +14,8 @@ pub struct StaticEquilibrium {
     halfspaces: ComHalfspaces,
     tester: Tester,
     opts: EquilibriumOptions,
+    /// The cross-section at height 0, computed once (reused by [`Self::polygon`]).
+    section0: Option<StaticPolygon>,
 }
 
 /// Cross-section of the static-equilibrium prism by the horizontal plane `z = height`.
@@ -102,10 +104,11 @@ impl StaticEquilibrium {
             tester: Tester::new(&halfspaces, opts.tol.region),
             halfspaces,
             opts: *opts,
+            section0: None,
         };
         // Test loop on the irredundant rows only (the polygon's edges), when they are known.
         if gravity[2] != 0.0 {
-            let poly = out.polygon(0.0)?;
+            let poly = out.section(0.0)?;
             if poly.status == RegionStatus::Bounded && poly.dim == 2 {
                 let keep = out.active_rows(&poly);
                 let reduced = ComHalfspaces {
@@ -115,6 +118,7 @@ impl StaticEquilibrium {
                 };
                 out.tester = Tester::new(&reduced, opts.tol.region);
             }
+            out.section0 = Some(poly);
         }
         Ok(out)
     }
@@ -205,6 +209,19 @@ impl StaticEquilibrium {
     /// assert_eq!(poly.vertices.len(), 4); // the foot rectangle
     /// ```
     pub fn polygon(&self, height: f64) -> Result<StaticPolygon, ContactError> {
+        match &self.section0 {
+            // Vertical gravity: every cross-section is the same polygon.
+            Some(p) if height == 0.0 || (self.gravity[0] == 0.0 && self.gravity[1] == 0.0) => {
+                Ok(StaticPolygon {
+                    height,
+                    ..p.clone()
+                })
+            }
+            _ => self.section(height),
+        }
+    }
+
+    fn section(&self, height: f64) -> Result<StaticPolygon, ContactError> {
         let g = self.gravity;
         let gn = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
         if g[2].abs() <= self.opts.tol.zero_normal * gn {

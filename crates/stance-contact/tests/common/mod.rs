@@ -1,0 +1,97 @@
+//! Shared helpers of the integration tests: fixtures and row-set comparison.
+#![allow(dead_code)]
+
+use nalgebra::DMatrix;
+use stance_contact::{Contact, FrictionModel, Shape, Stance};
+
+pub fn fixture(name: &str) -> serde_json::Value {
+    let path = format!(
+        "{}/../../testdata/contact/{name}.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+pub fn rows(v: &serde_json::Value) -> DMatrix<f64> {
+    let r: Vec<Vec<f64>> = serde_json::from_value(v.clone()).unwrap();
+    if r.is_empty() {
+        return DMatrix::zeros(0, 6);
+    }
+    DMatrix::from_row_iterator(r.len(), r[0].len(), r.into_iter().flatten())
+}
+
+/// The stance of a fixture (rectangles, outer 4-sided pyramids).
+pub fn fixture_stance(v: &serde_json::Value) -> Stance {
+    let contacts = v["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let pos: [f64; 3] = serde_json::from_value(c["pos"].clone()).unwrap();
+            let rot: [[f64; 3]; 3] = serde_json::from_value(c["R"].clone()).unwrap();
+            let hs: [f64; 2] = serde_json::from_value(c["half_size"].clone()).unwrap();
+            Contact::new(
+                c["name"].as_str().unwrap(),
+                pos,
+                rot,
+                Shape::Rectangle {
+                    half_length: hs[0],
+                    half_width: hs[1],
+                },
+                c["mu"].as_f64().unwrap(),
+                &Default::default(),
+            )
+            .unwrap()
+        })
+        .collect();
+    Stance::new(contacts, FrictionModel::default()).unwrap()
+}
+
+/// Rows normalized to unit length (zero rows dropped).
+pub fn normalized(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    m.row_iter()
+        .filter(|r| r.norm() > 0.0)
+        .map(|r| (r / r.norm()).iter().copied().collect())
+        .collect()
+}
+
+/// Same set of unit rows up to `tol` (max-norm), both ways, same count.
+pub fn same_rows(a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64) -> Result<(), String> {
+    let (a, b) = (normalized(a), normalized(b));
+    if a.len() != b.len() {
+        return Err(format!("{} rows vs {} rows", a.len(), b.len()));
+    }
+    let close = |x: &Vec<f64>, y: &Vec<f64>| x.iter().zip(y).all(|(p, q)| (p - q).abs() <= tol);
+    for (i, x) in a.iter().enumerate() {
+        if !b.iter().any(|y| close(x, y)) {
+            return Err(format!(
+                "row {i} {x:?} of the first set is not in the second"
+            ));
+        }
+    }
+    for (i, y) in b.iter().enumerate() {
+        if !a.iter().any(|x| close(x, y)) {
+            return Err(format!(
+                "row {i} {y:?} of the second set is not in the first"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Projector onto the row space of `m` (for comparing subspaces).
+pub fn projector(m: &DMatrix<f64>, dim: usize) -> DMatrix<f64> {
+    if m.nrows() == 0 {
+        return DMatrix::zeros(dim, dim);
+    }
+    let svd = m.clone().svd(false, true);
+    let vt = svd.v_t.unwrap();
+    let mut p = DMatrix::zeros(dim, dim);
+    for (k, s) in svd.singular_values.iter().enumerate() {
+        if *s > 1e-9 * svd.singular_values.max() {
+            let v = vt.row(k).transpose();
+            p += &v * v.transpose();
+        }
+    }
+    p
+}
