@@ -84,6 +84,7 @@ def toppra_run(s, a, b, c, disc, reps):
     sdd, sd, _, _ = solver.compute_parameterization(0.0, 0.0, return_data=True)
     if sd is None:
         return None
+    x_toppra = np.asarray(sd) ** 2
     duration = float(np.sum(2 * np.diff(s) / (sd[:-1] + sd[1:])))
     setup_t, solve_t = [], []
     for _ in range(reps):
@@ -94,8 +95,8 @@ def toppra_run(s, a, b, c, disc, reps):
         t2 = time.perf_counter()
         setup_t.append(t1 - t0)
         solve_t.append(t2 - t1)
-    return {"duration": duration, "setup_us": statistics.median(setup_t) * 1e6,
-            "solve_us": statistics.median(solve_t) * 1e6}
+    return {"duration": duration, "x": x_toppra, "setup_us": statistics.median(setup_t) * 1e6,
+            "solve_us": statistics.median(solve_t) * 1e6, "solve_min_us": min(solve_t) * 1e6}
 
 
 def main():
@@ -149,33 +150,45 @@ def main():
             ref = refs[(inst["name"], disc)]
             rel_toppra = (o["duration"] - t["duration"]) / t["duration"]
             rel_ref = (t["duration"] - ref) / ref
+            x_ours = np.array(o["x"])
+            pos = x_ours > 1e-9
+            ratio = t["x"][pos] / x_ours[pos]
+            t["x_ratio"] = (float(ratio.min()), float(ratio.max()))
             # Ours may be shorter than toppra's (its forward pass aims inside K), never longer.
             agree = -1e-5 <= rel_toppra <= 1e-9 and abs(rel_ref) < 1e-9
             ok &= agree
             rows.append((inst["name"], disc, o, t, rel_toppra, agree))
 
+    print(f"\nmachine load (1-min average): {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs")
     print("\n## Durations (checked first) and solve times, rest to rest\n")
     print("| instance | disc | m | duration ours | duration toppra | rel diff | ours solve (us) "
-          "| ours cold (us) | toppra solve (us) | toppra setup (us) | speed-up (solve) |")
+          "| toppra solve (us) | toppra setup (us) | speed-up (median) | speed-up (min) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, disc, o, t, rel, agree in rows:
         print(f"| {name} | {disc} | {o['rows']} | {o['duration']:.9f} | {t['duration']:.9f} | "
               f"{rel:+.1e}{'' if agree else ' MISMATCH'} | {o['solve_us']:.1f} | "
-              f"{o['solve_cold_us']:.1f} | {t['solve_us']:.0f} | {t['setup_us']:.0f} | "
-              f"{t['solve_us'] / o['solve_us']:.1f}x |")
+              f"{t['solve_us']:.0f} | {t['setup_us']:.0f} | "
+              f"{t['solve_us'] / o['solve_us']:.1f}x | {t['solve_min_us'] / o['solve_min_us']:.1f}x |")
+    print("\n## toppra's states against ours (x = sd^2, grid points where ours > 0)\n")
+    print("| instance | disc | min x_toppra / x_ours | max x_toppra / x_ours |")
+    print("|---|---|---|---|")
+    for name, disc, o, t, _, _ in rows:
+        print(f"| {name} | {disc} | {t['x_ratio'][0]:.8f} | {t['x_ratio'][1]:.8f} |")
     print("\n## Warm start (LP work counters: optimum moves / inner line evaluations)\n")
-    print("| instance | disc | warm moves | warm inner | cold moves | cold inner | warm us | cold us |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| instance | disc | warm moves | warm inner | cold moves | cold inner | warm (us) "
+          "| cold (us) | same duration |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for name, disc, o, _, _, _ in rows:
+        same = abs(o["duration"] - o["duration_cold"]) <= 1e-12 * o["duration"]
         print(f"| {name} | {disc} | {o['moves']} | {o['inner_steps']} | {o['moves_cold']} | "
-              f"{o['inner_steps_cold']} | {o['solve_us']:.1f} | {o['solve_cold_us']:.1f} |")
+              f"{o['inner_steps_cold']} | {o['solve_us']:.1f} | {o['solve_cold_us']:.1f} | {same} |")
     print("\n## Rows from U (eq. 14): fill of a, b, c for all grid points\n")
-    print("| instance | m | grid points | fill (us) | with eq. 14 vectors and setup (us) "
-          "| max rel diff to the file's rows |")
-    print("|---|---|---|---|---|---|")
+    print("| instance | m | grid points | fill median (us) | fill min (us) | eq. 14 vectors and "
+          "setup (us) | max rel diff to the file's rows |")
+    print("|---|---|---|---|---|---|---|")
     for name, r in abc.items():
         print(f"| {name} | {r['rows']} | {r['N'] + 1} | {r['abc_fill_us']:.2f} | "
-              f"{r['abc_setup_us']:.2f} | {r['abc_max_rel_diff']:.1e} |")
+              f"{r['abc_fill_min_us']:.2f} | {r['abc_setup_us']:.2f} | {r['abc_max_rel_diff']:.1e} |")
     print("\n## Between grid points (20 samples per interval) and refinement to 1 % of m|g|\n")
     print("| instance | disc | max violation (N) | % of m g | at s | refine: rounds | "
           "points added | time (ms) | refined duration |")

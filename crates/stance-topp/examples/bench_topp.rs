@@ -133,6 +133,7 @@ fn main() {
                 "moves": sol.stats.moves, "inner_steps": sol.stats.inner_steps,
                 "moves_cold": cold.stats.moves, "inner_steps_cold": cold.stats.inner_steps,
                 "max_residual": res.enforced_max,
+                "x": profile.x(),
                 "between_newton": between.max_violation, "between_fraction": between.fraction,
                 "between_at_s": between.at_s,
                 "refine": refine,

@@ -180,17 +180,42 @@ fn point_scale2(u: f64, x: f64) -> f64 {
 fn first_violated(rows: &[Row], from: usize, td: f64, u: f64, x: f64, feas2: f64) -> Option<usize> {
     let xe = x + td * u;
     let scale2 = point_scale2(u, xe);
-    for (q, r) in rows[from..].iter().enumerate() {
+    let precise = |q: usize, r: &Row| -> Option<usize> {
         let v = r.a * u + r.b * xe + r.c;
         if v > 0.0 {
             let a = r.a + td * r.b;
             if v * v > feas2 * scale2 * (a * a + r.b * r.b).max(1.0) {
-                return Some(from + q);
+                return Some(q);
             }
         }
+        None
+    };
+    // Blocks of rows are first screened without branches (any positive value?); most rows are
+    // strictly satisfied, so the precise test runs on few blocks.
+    let mut q = from;
+    while q + SCREEN_BLOCK <= rows.len() {
+        let block = &rows[q..q + SCREEN_BLOCK];
+        let mut any = false;
+        for r in block {
+            any |= r.a * u + r.b * xe + r.c > 0.0;
+        }
+        if any {
+            for (p, r) in block.iter().enumerate() {
+                if let Some(j) = precise(q + p, r) {
+                    return Some(j);
+                }
+            }
+        }
+        q += SCREEN_BLOCK;
     }
-    None
+    rows[q..]
+        .iter()
+        .enumerate()
+        .find_map(|(p, r)| precise(q + p, r))
 }
+
+/// Rows screened together by the branch-free test of the kernel's scan.
+const SCREEN_BLOCK: usize = 8;
 
 /// Solves `max c . v` (ties: `max t . v`) over `lines` and `bbox`, adding first the lines listed
 /// in `first` (a warm start: global indices; out-of-range ones are ignored, at most 8 used) and
