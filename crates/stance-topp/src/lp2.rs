@@ -177,7 +177,14 @@ fn point_scale2(u: f64, x: f64) -> f64 {
 /// First row of `rows[from..]` violated at `(u, x + td u)` by more than
 /// `feas * max(1, |(a + td b, b)|) * max(1, |(u, x + td u)|)` (the tight loop of the kernel).
 #[inline(always)]
-fn first_violated(rows: &[Row], from: usize, td: f64, u: f64, x: f64, feas2: f64) -> Option<usize> {
+pub(crate) fn first_violated(
+    rows: &[Row],
+    from: usize,
+    td: f64,
+    u: f64,
+    x: f64,
+    feas2: f64,
+) -> Option<usize> {
     let xe = x + td * u;
     let scale2 = point_scale2(u, xe);
     let precise = |q: usize, r: &Row| -> Option<usize> {
@@ -311,6 +318,151 @@ pub fn solve(
     }
 }
 
+/// Two LPs over the same lines and box (for example `max x` and `min x`), solved in one pass
+/// over the rows: each row is read once and tested against both current optima. Same answers
+/// as two calls of [`solve`] with the same warm starts (up to round-off); since the feasible
+/// region is shared, one infeasibility makes both infeasible.
+///
+/// ```
+/// use stance_topp::lp2::{solve_pair, Box2, Lp2, Lp2Stats, StageLines};
+/// use stance_topp::{Row, Tolerances};
+/// // 1 <= x + u <= 2, x - u <= 0: x in [0, 1] (x = 0 at u = 1).
+/// let rows = [
+///     Row { a: 1.0, b: 1.0, c: -2.0 },
+///     Row { a: -1.0, b: -1.0, c: 1.0 },
+///     Row { a: -1.0, b: 1.0, c: 0.0 },
+/// ];
+/// let bbox = Box2 { u_lo: -10.0, u_hi: 10.0, x_lo: 0.0, x_hi: 10.0 };
+/// let objs = [([0.0, 1.0], [1.0, 0.0]), ([0.0, -1.0], [-1.0, 0.0])];
+/// let [hi, lo] = solve_pair(&StageLines::from_rows(&rows), bbox, objs, [&[], &[]],
+///     &Tolerances::default(), &mut Lp2Stats::default());
+/// let (Lp2::Optimal { x: x_hi, .. }, Lp2::Optimal { x: x_lo, .. }) = (hi, lo) else { panic!() };
+/// assert!((x_hi - 1.0).abs() < 1e-12 && x_lo.abs() < 1e-12);
+/// ```
+pub fn solve_pair(
+    lines: &StageLines<'_>,
+    bbox: Box2,
+    objs: [([f64; 2], [f64; 2]); 2],
+    first: [&[usize]; 2],
+    tol: &Tolerances,
+    stats: &mut Lp2Stats,
+) -> [Lp2; 2] {
+    let feas = tol.feasibility;
+    let feas2 = feas * feas;
+    if bbox.u_lo > bbox.u_hi + feas || bbox.x_lo > bbox.x_hi + feas {
+        return [Lp2::Infeasible; 2];
+    }
+    let pick = |lo: f64, hi: f64, ci: f64, ti: f64| {
+        if ci > 0.0 || (ci == 0.0 && ti >= 0.0) {
+            hi
+        } else {
+            lo
+        }
+    };
+    let m = lines.len();
+    let mut warm = [[0usize; 8]; 2];
+    let mut nf = [0usize; 2];
+    let mut v: [Vertex; 2] = std::array::from_fn(|p| {
+        let (c, t) = objs[p];
+        Vertex {
+            u: pick(bbox.u_lo, bbox.u_hi, c[0], t[0]),
+            x: pick(bbox.x_lo, bbox.x_hi, c[1], t[1]),
+            active: [None, None],
+        }
+    });
+    for p in 0..2 {
+        for &j in first[p] {
+            if j < m && nf[p] < 8 && !warm[p][..nf[p]].contains(&j) {
+                warm[p][nf[p]] = j;
+                nf[p] += 1;
+            }
+        }
+    }
+    let ctx: [Ctx; 2] = std::array::from_fn(|p| Ctx {
+        lines,
+        bbox,
+        c: objs[p].0,
+        t: objs[p].1,
+        tol,
+    });
+    for p in 0..2 {
+        let warm_p = &warm[p][..nf[p]];
+        for (q, &j) in warm_p.iter().enumerate() {
+            let r = lines.get(j);
+            let val = r.a * v[p].u + r.b * v[p].x + r.c;
+            if val > 0.0
+                && val * val
+                    > feas2 * point_scale2(v[p].u, v[p].x) * (r.a * r.a + r.b * r.b).max(1.0)
+            {
+                stats.moves += 1;
+                if !ctx[p].move_onto(j, &warm_p[..q], None, &mut v[p], stats) {
+                    return [Lp2::Infeasible; 2];
+                }
+            }
+        }
+    }
+    for (seg, &(rows, td, base)) in lines.segments().iter().enumerate() {
+        let mut from = 0;
+        while let Some(q) = first_violated2(rows, from, td, &v, feas2) {
+            for p in 0..2 {
+                if first_violated(&rows[..q + 1], q, td, v[p].u, v[p].x, feas2).is_some() {
+                    stats.moves += 1;
+                    let warm_p = &warm[p][..nf[p]];
+                    if !ctx[p].move_onto(base + q, warm_p, Some((seg, q)), &mut v[p], stats) {
+                        return [Lp2::Infeasible; 2];
+                    }
+                }
+            }
+            from = q + 1;
+        }
+    }
+    v.map(|v| Lp2::Optimal {
+        u: v.u,
+        x: v.x,
+        active: v.active,
+    })
+}
+
+/// First row of `rows[from..]` violated at either vertex (see [`first_violated`]).
+#[inline(always)]
+fn first_violated2(
+    rows: &[Row],
+    from: usize,
+    td: f64,
+    v: &[Vertex; 2],
+    feas2: f64,
+) -> Option<usize> {
+    let (u0, x0) = (v[0].u, v[0].x + td * v[0].u);
+    let (u1, x1) = (v[1].u, v[1].x + td * v[1].u);
+    let (s0, s1) = (point_scale2(u0, x0), point_scale2(u1, x1));
+    let precise = |r: &Row| -> bool {
+        let a = r.a + td * r.b;
+        let nn = (a * a + r.b * r.b).max(1.0);
+        let v0 = r.a * u0 + r.b * x0 + r.c;
+        let v1 = r.a * u1 + r.b * x1 + r.c;
+        (v0 > 0.0 && v0 * v0 > feas2 * s0 * nn) || (v1 > 0.0 && v1 * v1 > feas2 * s1 * nn)
+    };
+    let mut q = from;
+    while q + SCREEN_BLOCK <= rows.len() {
+        let block = &rows[q..q + SCREEN_BLOCK];
+        let mut any = false;
+        for r in block {
+            let v0 = r.a * u0 + r.b * x0 + r.c;
+            let v1 = r.a * u1 + r.b * x1 + r.c;
+            any |= (v0 > 0.0) | (v1 > 0.0);
+        }
+        if any {
+            for (p, r) in block.iter().enumerate() {
+                if precise(r) {
+                    return Some(q + p);
+                }
+            }
+        }
+        q += SCREEN_BLOCK;
+    }
+    rows[q..].iter().position(precise).map(|p| q + p)
+}
+
 struct Vertex {
     u: f64,
     x: f64,
@@ -325,12 +477,30 @@ struct Ctx<'a, 'b> {
     tol: &'a Tolerances,
 }
 
-/// Running interval `[lo, hi]` of the line parameter, with the rows that set its ends.
+/// Running interval `[lo, hi]` of the line parameter, each end kept as a fraction
+/// `num / den` with `den > 0` (compared by cross-multiplication: no division per row), with the
+/// rows that set its ends.
 struct Interval {
-    lo: f64,
-    hi: f64,
+    lo: (f64, f64),
+    hi: (f64, f64),
     lo_by: Option<usize>,
     hi_by: Option<usize>,
+}
+
+impl Interval {
+    /// Adds `s tau <= r` (`s != 0`) from row `by`.
+    #[inline(always)]
+    fn clip(&mut self, s: f64, r: f64, by: Option<usize>) {
+        if s > 0.0 {
+            if r * self.hi.1 < self.hi.0 * s {
+                self.hi = (r, s);
+                self.hi_by = by;
+            }
+        } else if (-r) * self.lo.1 > self.lo.0 * (-s) {
+            self.lo = (-r, -s);
+            self.lo_by = by;
+        }
+    }
 }
 
 impl Ctx<'_, '_> {
@@ -353,38 +523,34 @@ impl Ctx<'_, '_> {
             // A violated constant row: c > 0.
             return false;
         }
-        let norm = nn.sqrt();
-        let (nu, nx, d) = (lk.a / norm, lk.b / norm, -lk.c / norm);
-        // Points of line k: p(tau) = p0 + tau * dir, |dir| = 1.
-        let (p0u, p0x) = (nu * d, nx * d);
-        let (du, dx) = (-nx, nu);
+        // Points of line k: p(tau) = p0 + tau * dir, with p0 = -c n / |n|^2 and dir = (-b, a)
+        // (|dir| = |n|: tau is not a distance; tolerances are scaled accordingly).
+        let w = -lk.c / nn;
+        let (p0u, p0x) = (lk.a * w, lk.b * w);
+        let (du, dx) = (-lk.b, lk.a);
         // Slack relative to the size of the points involved (the current optimum).
         let feas = tol.feasibility * point_scale2(v.u, v.x).sqrt();
         let feas2 = feas * feas;
         let mut iv = Interval {
-            lo: f64::NEG_INFINITY,
-            hi: f64::INFINITY,
+            lo: (f64::NEG_INFINITY, 1.0),
+            hi: (f64::INFINITY, 1.0),
             lo_by: None,
             hi_by: None,
         };
         // Box sides as unit rows: u <= u_hi, -u <= -u_lo, x <= x_hi, -x <= -x_lo.
         let b = self.bbox;
-        for (su, sx, sd) in [
-            (1.0, 0.0, b.u_hi),
-            (-1.0, 0.0, -b.u_lo),
-            (0.0, 1.0, b.x_hi),
-            (0.0, -1.0, -b.x_lo),
+        for (sj, rj) in [
+            (du, b.u_hi - p0u),
+            (-du, p0u - b.u_lo),
+            (dx, b.x_hi - p0x),
+            (-dx, p0x - b.x_lo),
         ] {
-            let sj = su * du + sx * dx;
-            let rj = sd - (su * p0u + sx * p0x);
-            if sj.abs() <= tol.parallel {
+            if sj * sj <= par2 * nn {
                 if rj < -feas {
                     return false;
                 }
-            } else if sj > 0.0 {
-                iv.hi = iv.hi.min(rj / sj);
             } else {
-                iv.lo = iv.lo.max(rj / sj);
+                iv.clip(sj, rj, None);
             }
         }
         // One row (a, b, c) at (u, x + td u), global index j.
@@ -393,19 +559,10 @@ impl Ctx<'_, '_> {
             let sj = a * du + r.b * dx;
             let rj = -r.c - (a * p0u + r.b * p0x);
             let nj = a * a + r.b * r.b;
-            if sj * sj <= par2 * nj {
+            if sj * sj <= par2 * nj * nn {
                 return !(rj < 0.0 && rj * rj > feas2 * nj.max(1.0));
             }
-            let val = rj / sj;
-            if sj > 0.0 {
-                if val < iv.hi {
-                    iv.hi = val;
-                    iv.hi_by = Some(j);
-                }
-            } else if val > iv.lo {
-                iv.lo = val;
-                iv.lo_by = Some(j);
-            }
+            iv.clip(sj, rj, Some(j));
             true
         };
         for &j in warm_before {
@@ -425,22 +582,24 @@ impl Ctx<'_, '_> {
                 }
             }
         }
-        if iv.lo > iv.hi + feas {
+        let lo = iv.lo.0 / iv.lo.1;
+        let hi = iv.hi.0 / iv.hi.1;
+        if lo > hi && (lo - hi) * (lo - hi) * nn > feas2 {
             return false;
         }
         let cd = self.c[0] * du + self.c[1] * dx;
         let td = self.t[0] * du + self.t[1] * dx;
-        let up = if cd.abs() > tol.parallel {
+        let up = if cd * cd > par2 * nn {
             cd > 0.0
         } else {
             td >= 0.0
         };
-        let (tau, by) = if iv.lo > iv.hi {
-            (0.5 * (iv.lo + iv.hi), if up { iv.hi_by } else { iv.lo_by })
+        let (tau, by) = if lo > hi {
+            (0.5 * (lo + hi), if up { iv.hi_by } else { iv.lo_by })
         } else if up {
-            (iv.hi, iv.hi_by)
+            (hi, iv.hi_by)
         } else {
-            (iv.lo, iv.lo_by)
+            (lo, iv.lo_by)
         };
         v.u = p0u + tau * du;
         v.x = p0x + tau * dx;

@@ -100,3 +100,31 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1000, ..ProptestConfig::default() })]
+    /// Two LPs in one pass give the same optima as two single solves.
+    #[test]
+    fn pair_matches_two_single_solves(
+        here in prop::collection::vec(row(), 0..12),
+        next in prop::collection::vec(row(), 0..6),
+        td in 0.0f64..0.5,
+        warm0 in prop::collection::vec(0usize..20, 0..4),
+        warm1 in prop::collection::vec(0usize..20, 0..4),
+    ) {
+        use stance_topp::lp2::solve_pair;
+        let lines = StageLines { next: &next, two_delta: td, ..StageLines::from_rows(&here) };
+        let bbox = Box2 { u_lo: -5.0, u_hi: 5.0, x_lo: 0.0, x_hi: 5.0 };
+        let tol = Tolerances::default();
+        let objs = [([0.0, 1.0], [1.0, 0.0]), ([0.0, -1.0], [-1.0, 0.0])];
+        let pair = solve_pair(&lines, bbox, objs, [&warm0, &warm1], &tol, &mut Lp2Stats::default());
+        for (p, w) in [&warm0, &warm1].into_iter().enumerate() {
+            let single = solve(&lines, bbox, objs[p].0, objs[p].1, w, &tol, &mut Lp2Stats::default());
+            match (pair[p], single) {
+                (Lp2::Optimal { x: a, .. }, Lp2::Optimal { x: b, .. }) => prop_assert!((a - b).abs() < 1e-9),
+                (Lp2::Infeasible, Lp2::Infeasible) => {}
+                (a, b) => prop_assert!(false, "pair {:?} single {:?}", a, b),
+            }
+        }
+    }
+}

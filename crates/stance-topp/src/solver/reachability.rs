@@ -177,41 +177,16 @@ pub fn solve_with(
     let mut x = vec![0.0; n];
     let mut u = vec![0.0; n - 1];
     x[0] = x_start.clamp(lo0, hi0);
+    let mut fwd_active = None;
     for i in 0..n - 1 {
         let [lo1, hi1] = controllable[i + 1].expect("backward pass succeeded");
         let (lines, bbox) = assemble(k, disc, i, Some([lo1, hi1]), true, &tol);
         let xi = x[i];
-        // The 1-D LP over u at x = x_i: u_hi = min over a > 0 of (-c - b x) / a, u_lo = max
-        // over a < 0; fractions are compared by cross-multiplication (one division at the end).
-        let (mut hi_num, mut hi_den) = (bbox.u_hi, 1.0);
-        let (mut lo_num, mut lo_den) = (bbox.u_lo, 1.0);
-        let mut ok = true;
-        let par2 = tol.parallel * tol.parallel;
-        let state2 = tol.state * tol.state;
-        for (rows, td, _) in lines.segments() {
-            for r in rows {
-                let a = r.a + td * r.b;
-                let rhs = -r.c - r.b * xi;
-                if a * a <= par2 * (a * a + r.b * r.b) {
-                    // A bound on x alone (zero-inertia row) or a constant row.
-                    if rhs < 0.0 && rhs * rhs > state2 * (a * a + r.b * r.b).max(1.0) {
-                        ok = false;
-                    }
-                } else if a > 0.0 {
-                    if rhs * hi_den < hi_num * a {
-                        hi_num = rhs;
-                        hi_den = a;
-                    }
-                } else if (-rhs) * lo_den > lo_num * (-a) {
-                    lo_num = -rhs;
-                    lo_den = -a;
-                }
-            }
-        }
-        let u_hi = hi_num / hi_den;
-        let u_lo = lo_num / lo_den;
-        if !ok || u_lo > u_hi + tol.state {
+        let Some((u_hi, act)) = forward_step(&lines, bbox, xi, fwd_active, &tol) else {
             return Ok(fail(Status::ForwardPassFailed { index: i }));
+        };
+        if opts.warm_start {
+            fwd_active = act;
         }
         let two_delta = 2.0 * (s[i + 1] - s[i]);
         let x_next = (xi + two_delta * u_hi).clamp(lo1, hi1).max(0.0);
@@ -231,6 +206,69 @@ pub fn solve_with(
         hit_box,
         stats,
     })
+}
+
+/// One greedy step: the largest `u` with `(u, x_i)` admissible at the stage (its rows include
+/// `x_i + 2 Delta u <= hi_{i+1}`), by a 1-D version of the incremental algorithm: start from the
+/// box, lower `u` onto every row it violates (the previous step's limiting row first, so that
+/// usually one screening pass over the rows suffices), then check that the rows bounding `u`
+/// from below (and the rows on `x` alone) still hold, within `tol.state`. Returns `u` and the
+/// limiting row, or `None` when no `u` is admissible.
+fn forward_step(
+    lines: &StageLines<'_>,
+    bbox: Box2,
+    xi: f64,
+    warm: Option<usize>,
+    tol: &Tolerances,
+) -> Option<(f64, Option<usize>)> {
+    let feas2 = tol.feasibility * tol.feasibility;
+    let par2 = tol.parallel * tol.parallel;
+    let mut u = bbox.u_hi;
+    let mut active = None;
+    let mut changed = false;
+    // Lowers u onto row r (global index j) if it bounds u from above; else reports whether the
+    // violation is within tol.state.
+    let fix = |r: Row, j: usize, u: &mut f64, active: &mut Option<usize>, changed: &mut bool| {
+        let nn = r.a * r.a + r.b * r.b;
+        let val = r.a * *u + r.b * xi + r.c;
+        if r.a > 0.0 && r.a * r.a > par2 * nn {
+            *u = -(r.b * xi + r.c) / r.a;
+            *active = Some(j);
+            *changed = true;
+            true
+        } else {
+            let scale2 = (*u * *u + xi * xi).max(1.0);
+            val * val <= tol.state * tol.state * scale2 * nn.max(1.0)
+        }
+    };
+    if let Some(j) = warm.filter(|&j| j < lines.len()) {
+        let r = lines.get(j);
+        if r.a * u + r.b * xi + r.c > 0.0 && !fix(r, j, &mut u, &mut active, &mut changed) {
+            return None;
+        }
+    }
+    for _pass in 0..2 {
+        changed = false;
+        for (rows, td, base) in lines.segments() {
+            let mut from = 0;
+            while let Some(q) = lp2::first_violated(rows, from, td, u, xi, feas2) {
+                let r = lines.get(base + q);
+                if !fix(r, base + q, &mut u, &mut active, &mut changed) {
+                    return None;
+                }
+                from = q + 1;
+            }
+        }
+        // Lowering u can only break rows that bound it from below, scanned earlier: one more
+        // pass checks them (it lowers u again only by round-off).
+        if !changed {
+            break;
+        }
+    }
+    if u < bbox.u_lo - tol.state * bbox.u_lo.abs().max(1.0) {
+        return None;
+    }
+    Some((u, active))
 }
 
 fn add_stats(stats: &mut SolveStats, s: &Lp2Stats) {
@@ -294,26 +332,33 @@ fn x_range(
     stats: &mut SolveStats,
     hit_box: &mut bool,
 ) -> Option<([f64; 2], Actives)> {
-    let mut run = |c: [f64; 2], t: [f64; 2], w: Option<[Option<usize>; 2]>| {
-        // Warm start: the K lines (almost always active) and the previous stage's actives.
-        let mut first = [0usize; 2 + K_LINES];
-        let mut nf = 0;
+    // Warm start: the K lines (almost always active) and the previous stage's actives.
+    let mut first = [[0usize; 2 + K_LINES]; 2];
+    let mut nf = [0usize; 2];
+    for p in 0..2 {
         for j in 0..lines.n_head {
-            first[nf] = j;
-            nf += 1;
+            first[p][nf[p]] = j;
+            nf[p] += 1;
         }
-        if let Some(w) = w {
+        if let Some(w) = warm[p] {
             for j in w.into_iter().flatten() {
-                first[nf] = j;
-                nf += 1;
+                first[p][nf[p]] = j;
+                nf[p] += 1;
             }
         }
-        let mut st = Lp2Stats::default();
-        let r = lp2::solve(lines, bbox, c, t, &first[..nf], tol, &mut st);
-        add_stats(stats, &st);
-        r
-    };
-    let hi = run([0.0, 1.0], [1.0, 0.0], warm[0]);
+    }
+    let mut st = Lp2Stats::default();
+    let objs = [([0.0, 1.0], [1.0, 0.0]), ([0.0, -1.0], [-1.0, 0.0])];
+    let [hi, lo] = lp2::solve_pair(
+        lines,
+        bbox,
+        objs,
+        [&first[0][..nf[0]], &first[1][..nf[1]]],
+        tol,
+        &mut st,
+    );
+    add_stats(stats, &st);
+    stats.lps += 1; // two LPs solved in one pass
     let Lp2::Optimal {
         u: u_hi,
         x: x_hi,
@@ -322,7 +367,6 @@ fn x_range(
     else {
         return None;
     };
-    let lo = run([0.0, -1.0], [-1.0, 0.0], warm[1]);
     let Lp2::Optimal {
         u: u_lo,
         x: x_lo,
