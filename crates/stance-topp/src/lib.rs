@@ -45,9 +45,9 @@
 //! - The factored eq. 14 rows against the shared rows to 1e-12 (`tests/factored_between.rs`).
 //!
 //! The warm start (the rows that were active at the previous stage are added first) leaves the
-//! answer unchanged and cuts the solve time 2.4-3.7 times on the shared instances (LP inner work down 9-95
-//! times); see `bench/peers/topp.md` for the measured figures against toppra (26-73x faster
-//! than its Python package on the shared instances at N = 100 and 1000).
+//! answer unchanged and cuts the solve time 2.4-3.7 times on the shared instances (LP inner
+//! work down 9-95 times); see `bench/peers/topp.md` for the measured figures against toppra
+//! (26-73x faster than its Python package on the shared instances at N = 100 and 1000).
 //!
 //! ## Between grid points
 //!
