@@ -90,7 +90,9 @@ fn check_finite6(what: &'static str, v: &[[f64; 6]]) -> Result<(), ToppError> {
 }
 
 impl FactoredRows {
-    /// From `U` (rows of 6) and per grid point `[w_a, w_b, w_c]`.
+    /// From `U` (rows of 6) and per grid point `[w_a, w_b, w_c]`, with `a = U w_a`,
+    /// `b = U w_b`, `c = U w_c` (in the notation `a_i = -U g_a_i`, `b_i = -U g_b_i`,
+    /// `c_i = U g_c_i`: pass `w_a = -g_a`, `w_b = -g_b`, `w_c = g_c`; [`eq14_vectors`] does it).
     ///
     /// ```
     /// use stance_topp::factored::FactoredRows;
