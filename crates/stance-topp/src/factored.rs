@@ -90,7 +90,9 @@ fn check_finite6(what: &'static str, v: &[[f64; 6]]) -> Result<(), ToppError> {
 }
 
 impl FactoredRows {
-    /// From `U` (rows of 6) and per grid point `[w_a, w_b, w_c]`.
+    /// From `U` (rows of 6) and per grid point `[w_a, w_b, w_c]`, with `a = U w_a`,
+    /// `b = U w_b`, `c = U w_c` (in the notation `a_i = -U g_a_i`, `b_i = -U g_b_i`,
+    /// `c_i = U g_c_i`: pass `w_a = -g_a`, `w_b = -g_b`, `w_c = g_c`; [`eq14_vectors`] does it).
     ///
     /// ```
     /// use stance_topp::factored::FactoredRows;
@@ -267,8 +269,19 @@ impl FactoredRows {
     }
 }
 
+/// `a * b + c`, fused when the kernel is compiled with FMA (one rounding, faster), plain
+/// otherwise (a software fused multiply-add would be slow).
 #[inline(always)]
-fn fill_kernel(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
+fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
+#[inline(always)]
+fn fill_kernel<const FMA: bool>(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
     let m = cols[0].len();
     if m == 0 {
         return;
@@ -280,7 +293,11 @@ fn fill_kernel(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
         for j in 0..m {
             let u = [c0[j], c1[j], c2[j], c3[j], c4[j], c5[j]];
             let dot = |v: &[f64; 6]| {
-                u[0] * v[0] + u[1] * v[1] + u[2] * v[2] + u[3] * v[3] + u[4] * v[4] + u[5] * v[5]
+                let s = madd::<FMA>(u[1], v[1], u[0] * v[0]);
+                let s = madd::<FMA>(u[2], v[2], s);
+                let s = madd::<FMA>(u[3], v[3], s);
+                let s = madd::<FMA>(u[4], v[4], s);
+                madd::<FMA>(u[5], v[5], s)
             };
             rows[j] = Row {
                 a: dot(wa),
@@ -292,11 +309,44 @@ fn fill_kernel(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
 }
 
 fn fill_generic(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
-    fill_kernel(cols, w, out)
+    fill_kernel::<false>(cols, w, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn fill_avx2(cols: &[Vec<f64>; 6], w: &[[[f64; 6]; 3]], out: &mut [Row]) {
-    fill_kernel(cols, w, out)
+    fill_kernel::<true>(cols, w, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The dispatched kernel (AVX2 + FMA where available) and the portable one both match
+        /// a naive dot product per row.
+        #[test]
+        fn fill_matches_naive_products(
+            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..40),
+            w in prop::collection::vec(prop::array::uniform3(prop::array::uniform6(-100.0f64..100.0)), 2..6),
+        ) {
+            let s: Vec<f64> = (0..w.len()).map(|i| i as f64).collect();
+            let f = FactoredRows::new(&u, s, w.clone()).unwrap();
+            let k = f.to_constraints();
+            let mut portable = vec![Row::default(); k.rows().len()];
+            fill_generic(&f.cols, &f.w, &mut portable);
+            for (i, wi) in w.iter().enumerate() {
+                for (j, uj) in u.iter().enumerate() {
+                    let dot = |v: &[f64; 6]| (0..6).map(|q| uj[q] * v[q]).sum::<f64>();
+                    let want = [dot(&wi[0]), dot(&wi[1]), dot(&wi[2])];
+                    for got in [k.rows_at(i)[j], portable[i * u.len() + j]] {
+                        for (g, e) in [got.a, got.b, got.c].iter().zip(want) {
+                            prop_assert!((g - e).abs() <= 1e-12 * (1.0 + e.abs()) * 600.0);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -10,7 +10,6 @@
 //! `s(t) = s_i + sd_i tau + u_i tau^2 / 2`, `s'(t) = sd_i + u_i tau`, `s''(t) = u_i`.
 
 use crate::constraints::CanonicalConstraints;
-use crate::lp2::Line;
 use crate::solver::Discretization;
 
 /// A time-parameterized profile on the grid.
@@ -222,10 +221,13 @@ impl Profile {
                 left.extend(k.rows_at(i).iter().map(|r| r.value(ui, self.x[i])));
             }
         }
+        // Scaled to |(a, b)| = 1 (constant rows unscaled).
         let norm = |r: &crate::Row, v: f64| -> f64 {
-            match Line::from_row(r.a, r.b, r.c, 0.0) {
-                Some(_) => v / r.a.hypot(r.b),
-                None => v,
+            let nn = r.a.hypot(r.b);
+            if nn > 0.0 {
+                v / nn
+            } else {
+                v
             }
         };
         let mut max_norm = f64::NEG_INFINITY;

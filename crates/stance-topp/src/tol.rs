@@ -13,10 +13,12 @@ pub struct Tolerances {
     /// Unit: dimensionless (relative). Default `1e-12`: coefficients below that are round-off of
     /// exact zeros (for example a row of a cone that is orthogonal to the path tangent).
     pub zero_row: f64,
-    /// Slack allowed on a normalized row (`|(a, b)| = 1`) when a point is tested against it in
-    /// the 2-variable LP. Unit: `1/time^2`. Default `1e-10`: well above the round-off of the
-    /// products involved (|u|, |x| up to about 1e4 times 1e-16) and far below any physically
-    /// meaningful margin.
+    /// Slack allowed on a row when a point `(u, x)` is tested against it in the 2-variable LP:
+    /// the row value may exceed 0 by `feasibility * max(1, |(a, b)|) * max(1, |(u, x)|)`, i.e.
+    /// a distance of `feasibility` in the `(u, x)` plane, relative to the size of the point.
+    /// Unit: dimensionless (relative). Default `1e-10`: well above the round-off of the
+    /// products involved (about 1e-16 relative per operation, with speeds up to `max_x` where
+    /// rows leave them unbounded) and far below any physically meaningful margin.
     pub feasibility: f64,
     /// Two constraint lines whose normalized normals have a cross product at most this are
     /// treated as parallel in the 1-D sub-problems of the LP kernel. Unit: dimensionless (sine of

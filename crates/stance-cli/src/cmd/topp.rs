@@ -4,8 +4,9 @@
 //! "sd_end", "discretization": "collocation" | "interpolation"}` (`sd_start`, `sd_end` default to
 //! 0, the discretization to collocation). Output: `{"status", "duration", "sd", "sdd", "t",
 //! "controllable_sets"}` plus `"discretization"` (the one that ran), `"index"` (the grid point of
-//! a failure, else null) and `"max_residual"` (largest enforced row residual, rows scaled to unit
-//! norm). Infeasible instances are a status, exit code 0.
+//! a failure, else null), `"max_residual"` (largest enforced row residual, rows scaled to unit
+//! norm) and `"hit_box"` (whether the rows left `sdd` or `sd^2` unbounded somewhere, so that the
+//! solver's bounding box decided). Infeasible instances are a status, exit code 0.
 
 use std::path::PathBuf;
 
@@ -59,6 +60,7 @@ struct ToppOutput {
     t: Option<Vec<f64>>,
     controllable_sets: Vec<Option<[f64; 2]>>,
     max_residual: Option<f64>,
+    hit_box: bool,
 }
 
 pub fn run(args: ToppArgs) -> Result<()> {
@@ -100,6 +102,7 @@ pub fn run(args: ToppArgs) -> Result<()> {
                 .then(|| p.times().to_vec()),
             controllable_sets: sol.controllable.clone(),
             max_residual: Some(p.residuals(&k, disc).max_normalized()),
+            hit_box: sol.hit_box,
         },
         None => ToppOutput {
             status: sol.status.name(),
@@ -111,6 +114,7 @@ pub fn run(args: ToppArgs) -> Result<()> {
             t: None,
             controllable_sets: sol.controllable.clone(),
             max_residual: None,
+            hit_box: sol.hit_box,
         },
     };
     write_output(&args.common, &out)

@@ -2,33 +2,25 @@
 
 use super::options::{Discretization, Solution, SolveOptions, SolveStats, Status};
 use crate::constraints::CanonicalConstraints;
+use crate::constraints::Row;
 use crate::error::ToppError;
-use crate::lp2::{self, Box2, Line, Lp2, Lp2Stats};
+use crate::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use crate::profile::Profile;
 use crate::tol::Tolerances;
 
-/// Reusable buffers of the solver: solving many instances of similar size with the same
-/// workspace allocates only for the returned [`Solution`].
+/// Reusable state of the solver. The passes read the rows in place (a stage is a view of the
+/// rows of one or two grid points, see [`lp2::StageLines`]) and allocate nothing but the
+/// returned [`Solution`]; the workspace keeps the warm-start memory between stages.
 #[derive(Debug, Default, Clone)]
 pub struct Workspace {
-    /// Normalized collocation lines of every grid point (same offsets as the rows).
-    coll: Vec<Line>,
-    /// `true` where a constant row `c > 0` makes grid point `i` infeasible.
-    coll_bad: Vec<bool>,
-    /// Normalized interpolation lines of stage `i` (rows of `i + 1` at `x + 2 Delta_i u`).
-    interp: Vec<Line>,
-    interp_off: Vec<usize>,
-    interp_bad: Vec<bool>,
-    /// Lines of the current stage.
-    stage: Vec<Line>,
-    order: Vec<usize>,
+    _private: (),
 }
 
-/// Index of the two lines `x + 2 Delta u <= hi` and `x + 2 Delta u >= lo` in a stage.
+/// Number of leading rows of a stage: `x + 2 Delta u <= hi` and `x + 2 Delta u >= lo`.
 const K_LINES: usize = 2;
 
 impl Workspace {
-    /// An empty workspace (buffers grow on first use).
+    /// An empty workspace.
     ///
     /// ```
     /// let ws = stance_topp::Workspace::new();
@@ -37,112 +29,58 @@ impl Workspace {
     pub fn new() -> Self {
         Self::default()
     }
+}
 
-    fn prepare(&mut self, k: &CanonicalConstraints, disc: Discretization, tol: &Tolerances) {
-        let n = k.num_points();
-        let s = k.grid();
-        self.coll.clear();
-        self.coll_bad.clear();
-        self.interp.clear();
-        self.interp_off.clear();
-        self.interp_bad.clear();
-        // One line per row, so the collocation lines share the rows' offsets.
-        self.interp_off.push(0);
-        for i in 0..n {
-            let mut bad = false;
-            for r in k.rows_at(i) {
-                match Line::from_row(r.a, r.b, r.c, tol.zero_row) {
-                    Some(l) => self.coll.push(l),
-                    None => {
-                        if r.c > tol.feasibility {
-                            bad = true;
-                        }
-                        // A satisfied constant row adds nothing; keep the slot so that row
-                        // indices (and warm starts) stay aligned across grid points.
-                        self.coll.push(Line {
-                            nu: 0.0,
-                            nx: 0.0,
-                            d: 1.0,
-                        });
-                    }
-                }
-            }
-            self.coll_bad.push(bad);
-        }
-        if disc == Discretization::Interpolation {
-            for i in 0..n - 1 {
-                let two_delta = 2.0 * (s[i + 1] - s[i]);
-                let mut bad = false;
-                for r in k.rows_at(i + 1) {
-                    match Line::from_row(r.a + two_delta * r.b, r.b, r.c, tol.zero_row) {
-                        Some(l) => self.interp.push(l),
-                        None => {
-                            if r.c > tol.feasibility {
-                                bad = true;
-                            }
-                            self.interp.push(Line {
-                                nu: 0.0,
-                                nx: 0.0,
-                                d: 1.0,
-                            });
-                        }
-                    }
-                }
-                self.interp_off.push(self.interp.len());
-                self.interp_bad.push(bad);
-            }
-        }
-    }
-
-    /// Fills `self.stage` for stage `i` (`k_next = Some(K_{i+1})`) or for the end point alone
-    /// (`k_next = None`). Returns the bounding box and whether a constant row is violated.
-    fn assemble(
-        &mut self,
-        k: &CanonicalConstraints,
-        disc: Discretization,
-        i: usize,
-        k_next: Option<[f64; 2]>,
-        with_interp: bool,
-        tol: &Tolerances,
-    ) -> (Box2, bool) {
-        let s = k.grid();
-        let off = k.offsets();
-        self.stage.clear();
-        let mut bad = self.coll_bad[i];
-        if let Some([lo, hi]) = k_next {
-            let two_delta = 2.0 * (s[i + 1] - s[i]);
-            let norm = two_delta.hypot(1.0);
-            let (nu, nx) = (two_delta / norm, 1.0 / norm);
-            let cap = tol.max_x + two_delta * tol.max_u;
-            self.stage.push(Line {
-                nu,
-                nx,
-                d: hi.min(cap) / norm,
-            });
-            self.stage.push(Line {
-                nu: -nu,
-                nx: -nx,
-                d: -lo / norm,
-            });
-        }
-        self.stage.extend_from_slice(&self.coll[off[i]..off[i + 1]]);
-        if with_interp && disc == Discretization::Interpolation && k_next.is_some() {
-            self.stage
-                .extend_from_slice(&self.interp[self.interp_off[i]..self.interp_off[i + 1]]);
-            bad |= self.interp_bad[i];
-        }
-        let [xl, xh] = k.x_bounds_at(i);
-        let [ul, uh] = k.u_bounds_at(i);
-        (
-            Box2 {
-                u_lo: ul.max(-tol.max_u),
-                u_hi: uh.min(tol.max_u),
-                x_lo: xl.max(0.0),
-                x_hi: xh.min(tol.max_x),
+/// The rows of stage `i` (`k_next = Some(K_{i+1})`) or of the end point alone
+/// (`k_next = None`), and the bounding box.
+fn assemble<'a>(
+    k: &'a CanonicalConstraints,
+    disc: Discretization,
+    i: usize,
+    k_next: Option<[f64; 2]>,
+    with_interp: bool,
+    tol: &Tolerances,
+) -> (StageLines<'a>, Box2) {
+    let s = k.grid();
+    let mut lines = StageLines {
+        head: [Row::default(); 2],
+        n_head: 0,
+        here: k.rows_at(i),
+        next: &[],
+        two_delta: 0.0,
+    };
+    if let Some([lo, hi]) = k_next {
+        let two_delta = 2.0 * (s[i + 1] - s[i]);
+        let cap = tol.max_x + two_delta * tol.max_u;
+        lines.two_delta = two_delta;
+        lines.head = [
+            Row {
+                a: two_delta,
+                b: 1.0,
+                c: -hi.min(cap),
             },
-            bad,
-        )
+            Row {
+                a: -two_delta,
+                b: -1.0,
+                c: lo,
+            },
+        ];
+        lines.n_head = K_LINES;
+        if with_interp && disc == Discretization::Interpolation {
+            lines.next = k.rows_at(i + 1);
+        }
     }
+    let [xl, xh] = k.x_bounds_at(i);
+    let [ul, uh] = k.u_bounds_at(i);
+    (
+        lines,
+        Box2 {
+            u_lo: ul.max(-tol.max_u),
+            u_hi: uh.min(tol.max_u),
+            x_lo: xl.max(0.0),
+            x_hi: xh.min(tol.max_x),
+        },
+    )
 }
 
 /// Retimes the path: backward controllable sets, then the greedy forward pass.
@@ -189,7 +127,7 @@ pub fn solve_with(
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
-    ws.prepare(k, disc, &tol);
+    let _ = ws;
     let mut stats = SolveStats::default();
     let mut hit_box = false;
     let mut controllable: Vec<Option<[f64; 2]>> = vec![None; n];
@@ -199,7 +137,6 @@ pub fn solve_with(
         k,
         disc,
         end,
-        ws,
         &tol,
         opts.warm_start,
         &mut controllable,
@@ -207,7 +144,7 @@ pub fn solve_with(
         &mut hit_box,
     );
     if let Err(i_fail) = backward {
-        let status = diagnose(k, disc, ws, &tol, i_fail, &mut stats);
+        let status = diagnose(k, disc, &tol, i_fail, &mut stats);
         return Ok(Solution {
             status,
             discretization: disc,
@@ -240,27 +177,16 @@ pub fn solve_with(
     let mut x = vec![0.0; n];
     let mut u = vec![0.0; n - 1];
     x[0] = x_start.clamp(lo0, hi0);
+    let mut fwd_active = None;
     for i in 0..n - 1 {
         let [lo1, hi1] = controllable[i + 1].expect("backward pass succeeded");
-        let (bbox, _) = ws.assemble(k, disc, i, Some([lo1, hi1]), true, &tol);
+        let (lines, bbox) = assemble(k, disc, i, Some([lo1, hi1]), true, &tol);
         let xi = x[i];
-        let mut u_lo = bbox.u_lo;
-        let mut u_hi = bbox.u_hi;
-        let mut ok = true;
-        for l in &ws.stage {
-            let rhs = l.d - l.nx * xi;
-            if l.nu.abs() <= tol.parallel {
-                if rhs < -tol.state {
-                    ok = false;
-                }
-            } else if l.nu > 0.0 {
-                u_hi = u_hi.min(rhs / l.nu);
-            } else {
-                u_lo = u_lo.max(rhs / l.nu);
-            }
-        }
-        if !ok || u_lo > u_hi + tol.state {
+        let Some((u_hi, act)) = forward_step(&lines, bbox, xi, fwd_active, &tol) else {
             return Ok(fail(Status::ForwardPassFailed { index: i }));
+        };
+        if opts.warm_start {
+            fwd_active = act;
         }
         let two_delta = 2.0 * (s[i + 1] - s[i]);
         let x_next = (xi + two_delta * u_hi).clamp(lo1, hi1).max(0.0);
@@ -282,6 +208,69 @@ pub fn solve_with(
     })
 }
 
+/// One greedy step: the largest `u` with `(u, x_i)` admissible at the stage (its rows include
+/// `x_i + 2 Delta u <= hi_{i+1}`), by a 1-D version of the incremental algorithm: start from the
+/// box, lower `u` onto every row it violates (the previous step's limiting row first, so that
+/// usually one screening pass over the rows suffices), then check that the rows bounding `u`
+/// from below (and the rows on `x` alone) still hold, within `tol.state`. Returns `u` and the
+/// limiting row, or `None` when no `u` is admissible.
+fn forward_step(
+    lines: &StageLines<'_>,
+    bbox: Box2,
+    xi: f64,
+    warm: Option<usize>,
+    tol: &Tolerances,
+) -> Option<(f64, Option<usize>)> {
+    let feas2 = tol.feasibility * tol.feasibility;
+    let par2 = tol.parallel * tol.parallel;
+    let mut u = bbox.u_hi;
+    let mut active = None;
+    let mut changed = false;
+    // Lowers u onto row r (global index j) if it bounds u from above; else reports whether the
+    // violation is within tol.state.
+    let fix = |r: Row, j: usize, u: &mut f64, active: &mut Option<usize>, changed: &mut bool| {
+        let nn = r.a * r.a + r.b * r.b;
+        let val = r.a * *u + r.b * xi + r.c;
+        if r.a > 0.0 && r.a * r.a > par2 * nn {
+            *u = -(r.b * xi + r.c) / r.a;
+            *active = Some(j);
+            *changed = true;
+            true
+        } else {
+            let scale2 = (*u * *u + xi * xi).max(1.0);
+            val * val <= tol.state * tol.state * scale2 * nn.max(1.0)
+        }
+    };
+    if let Some(j) = warm.filter(|&j| j < lines.len()) {
+        let r = lines.get(j);
+        if r.a * u + r.b * xi + r.c > 0.0 && !fix(r, j, &mut u, &mut active, &mut changed) {
+            return None;
+        }
+    }
+    for _pass in 0..2 {
+        changed = false;
+        for (rows, td, base) in lines.segments() {
+            let mut from = 0;
+            while let Some(q) = lp2::first_violated(rows, from, td, u, xi, feas2) {
+                let r = lines.get(base + q);
+                if !fix(r, base + q, &mut u, &mut active, &mut changed) {
+                    return None;
+                }
+                from = q + 1;
+            }
+        }
+        // Lowering u can only break rows that bound it from below, scanned earlier: one more
+        // pass checks them (it lowers u again only by round-off).
+        if !changed {
+            break;
+        }
+    }
+    if u < bbox.u_lo - tol.state * bbox.u_lo.abs().max(1.0) {
+        return None;
+    }
+    Some((u, active))
+}
+
 fn add_stats(stats: &mut SolveStats, s: &Lp2Stats) {
     stats.lps += 1;
     stats.moves += s.moves;
@@ -295,7 +284,6 @@ fn backward_pass(
     k: &CanonicalConstraints,
     disc: Discretization,
     end: [f64; 2],
-    ws: &mut Workspace,
     tol: &Tolerances,
     warm: bool,
     controllable: &mut [Option<[f64; 2]>],
@@ -304,13 +292,10 @@ fn backward_pass(
 ) -> Result<(), usize> {
     let n = k.num_points();
     // K_N: the end interval intersected with the states feasible at s_N.
-    let (mut bbox, bad) = ws.assemble(k, disc, n - 1, None, false, tol);
-    if bad {
-        return Err(n - 1);
-    }
+    let (lines, mut bbox) = assemble(k, disc, n - 1, None, false, tol);
     bbox.x_lo = bbox.x_lo.max(end[0]);
     bbox.x_hi = bbox.x_hi.min(end[1]);
-    let range = x_range(ws, bbox, tol, [None, None], stats, hit_box);
+    let range = x_range(&lines, bbox, tol, [None, None], stats, hit_box);
     let Some((mut kn, _)) = range else {
         return Err(n - 1);
     };
@@ -322,12 +307,9 @@ fn backward_pass(
     let mut active = [None, None];
     for i in (0..n - 1).rev() {
         let k_next = controllable[i + 1].expect("set above");
-        let (bbox, bad) = ws.assemble(k, disc, i, Some(k_next), true, tol);
-        if bad {
-            return Err(i);
-        }
+        let (lines, bbox) = assemble(k, disc, i, Some(k_next), true, tol);
         let warm_idx = if warm { active } else { [None, None] };
-        match x_range(ws, bbox, tol, warm_idx, stats, hit_box) {
+        match x_range(&lines, bbox, tol, warm_idx, stats, hit_box) {
             Some((set, act)) => {
                 controllable[i] = Some(set);
                 active = act;
@@ -343,60 +325,59 @@ type Actives = [Option<[Option<usize>; 2]>; 2];
 
 /// `[min x, max x]` over the current stage lines and `bbox`, or `None` when empty.
 fn x_range(
-    ws: &mut Workspace,
+    lines: &StageLines<'_>,
     bbox: Box2,
     tol: &Tolerances,
     warm: Actives,
     stats: &mut SolveStats,
     hit_box: &mut bool,
 ) -> Option<([f64; 2], Actives)> {
-    let mut first = [0usize; 2 + K_LINES];
-    let mut run = |c: [f64; 2], t: [f64; 2], w: Option<[Option<usize>; 2]>, ws: &mut Workspace| {
-        // Warm start: the K lines (almost always active) and the previous stage's actives.
-        let mut nf = 0;
-        for j in 0..K_LINES.min(ws.stage.len()) {
-            first[nf] = j;
-            nf += 1;
+    // Warm start: the K lines (almost always active) and the previous stage's actives.
+    let mut first = [[0usize; 2 + K_LINES]; 2];
+    let mut nf = [0usize; 2];
+    for p in 0..2 {
+        for j in 0..lines.n_head {
+            first[p][nf[p]] = j;
+            nf[p] += 1;
         }
-        if let Some(w) = w {
+        if let Some(w) = warm[p] {
             for j in w.into_iter().flatten() {
-                first[nf] = j;
-                nf += 1;
+                first[p][nf[p]] = j;
+                nf[p] += 1;
             }
         }
-        let mut st = Lp2Stats::default();
-        let r = lp2::solve(
-            &ws.stage,
-            bbox,
-            c,
-            t,
-            &first[..nf],
-            &mut ws.order,
-            tol,
-            &mut st,
-        );
-        add_stats(stats, &st);
-        r
-    };
-    let hi = run([0.0, 1.0], [1.0, 0.0], warm[0], ws);
+    }
+    let mut st = Lp2Stats::default();
+    let objs = [([0.0, 1.0], [1.0, 0.0]), ([0.0, -1.0], [-1.0, 0.0])];
+    let [hi, lo] = lp2::solve_pair(
+        lines,
+        bbox,
+        objs,
+        [&first[0][..nf[0]], &first[1][..nf[1]]],
+        tol,
+        &mut st,
+    );
+    add_stats(stats, &st);
+    stats.lps += 1; // two LPs solved in one pass
     let Lp2::Optimal {
+        u: u_hi,
         x: x_hi,
         active: a_hi,
-        ..
     } = hi
     else {
         return None;
     };
-    let lo = run([0.0, -1.0], [-1.0, 0.0], warm[1], ws);
     let Lp2::Optimal {
+        u: u_lo,
         x: x_lo,
         active: a_lo,
-        ..
     } = lo
     else {
         return None;
     };
-    if x_hi >= tol.max_x * (1.0 - 1e-12) {
+    // The box side counts as touched when an optimum lies on it (to 1e-12 relative).
+    let near = |v: f64, side: f64| (v.abs() - side).abs() <= 1e-12 * side;
+    if near(x_hi, tol.max_x) || near(u_hi, tol.max_u) || near(u_lo, tol.max_u) {
         *hit_box = true;
     }
     let x_lo = x_lo.max(0.0);
@@ -411,7 +392,6 @@ fn x_range(
 fn diagnose(
     k: &CanonicalConstraints,
     disc: Discretization,
-    ws: &mut Workspace,
     tol: &Tolerances,
     i_fail: usize,
     stats: &mut SolveStats,
@@ -419,14 +399,14 @@ fn diagnose(
     let n = k.num_points();
     let mut hit = false;
     for i in 0..n {
-        let (bbox, bad) = ws.assemble(k, disc, i, None, false, tol);
-        if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
+        let (lines, bbox) = assemble(k, disc, i, None, false, tol);
+        if x_range(&lines, bbox, tol, [None, None], stats, &mut hit).is_none() {
             return Status::FeasibleSetEmpty { index: i };
         }
     }
     for i in 0..n - 1 {
-        let (bbox, bad) = ws.assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
-        if bad || x_range(ws, bbox, tol, [None, None], stats, &mut hit).is_none() {
+        let (lines, bbox) = assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
+        if x_range(&lines, bbox, tol, [None, None], stats, &mut hit).is_none() {
             return Status::FeasibleSetEmpty { index: i };
         }
     }
@@ -458,8 +438,6 @@ pub fn end_speed_range(
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
-    let mut ws = Workspace::new();
-    ws.prepare(k, disc, &tol);
     let mut stats = SolveStats::default();
     let mut hit = false;
     let mut controllable = vec![None; n];
@@ -467,7 +445,6 @@ pub fn end_speed_range(
         k,
         disc,
         [0.0, f64::INFINITY],
-        &mut ws,
         &tol,
         opts.warm_start,
         &mut controllable,
@@ -487,7 +464,7 @@ pub fn end_speed_range(
     let mut reach = [x_start.clamp(lo0, hi0); 2];
     for i in 0..n - 1 {
         let k_next = controllable[i + 1].expect("backward pass succeeded");
-        let (mut bbox, _) = ws.assemble(k, disc, i, Some(k_next), true, &tol);
+        let (lines, mut bbox) = assemble(k, disc, i, Some(k_next), true, &tol);
         bbox.x_lo = bbox.x_lo.max(reach[0]);
         bbox.x_hi = bbox.x_hi.min(reach[1]);
         let two_delta = 2.0 * (s[i + 1] - s[i]);
@@ -495,14 +472,13 @@ pub fn end_speed_range(
         let c = [two_delta / norm, 1.0 / norm];
         let t = [-c[1], c[0]];
         let mut st = Lp2Stats::default();
-        let hi = lp2::solve(&ws.stage, bbox, c, t, &[0, 1], &mut ws.order, &tol, &mut st);
+        let hi = lp2::solve(&lines, bbox, c, t, &[0, 1], &tol, &mut st);
         let lo = lp2::solve(
-            &ws.stage,
+            &lines,
             bbox,
             [-c[0], -c[1]],
             [-t[0], -t[1]],
             &[0, 1],
-            &mut ws.order,
             &tol,
             &mut st,
         );

@@ -1,0 +1,186 @@
+//! Rust side of `bench/peers/topp.py`: times the solver, the factored eq. 14 rows and the
+//! between-grid check on the instances the script writes, and prints JSON.
+//!
+//! `cargo run --release -p stance-topp --example bench_topp -- INPUT.json`
+//!
+//! Input: `{"instances": [{"name", "s", "a", "b", "c", "U", "mass", "gravity",
+//! "bow": {"p0", "p1", "bow"}}]}` (the CoM path `p0 + s (p1 - p0) + sin(pi s) bow`).
+
+use std::time::Instant;
+
+use stance_topp::between::{check_between, refine_until, PathRows};
+use stance_topp::factored::FactoredRows;
+use stance_topp::path::{PathCurve, PathPoint};
+use stance_topp::tol::DEFAULT_BETWEEN_GRID_FRACTION;
+use stance_topp::{solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace};
+
+#[derive(serde::Deserialize, Clone, Copy)]
+struct Bow {
+    p0: [f64; 3],
+    p1: [f64; 3],
+    bow: [f64; 3],
+}
+
+impl PathCurve for Bow {
+    fn domain(&self) -> [f64; 2] {
+        [0.0, 1.0]
+    }
+    fn eval(&self, s: f64) -> PathPoint {
+        let pi = std::f64::consts::PI;
+        let (sn, cs) = (pi * s).sin_cos();
+        let mut q = PathPoint::default();
+        for d in 0..3 {
+            q.p[d] = self.p0[d] + s * (self.p1[d] - self.p0[d]) + sn * self.bow[d];
+            q.ps[d] = (self.p1[d] - self.p0[d]) + pi * cs * self.bow[d];
+            q.pss[d] = -pi * pi * sn * self.bow[d];
+        }
+        q
+    }
+}
+
+#[derive(serde::Deserialize)]
+struct Instance {
+    name: String,
+    s: Vec<f64>,
+    a: Vec<Vec<f64>>,
+    b: Vec<Vec<f64>>,
+    c: Vec<Vec<f64>>,
+    #[serde(rename = "U")]
+    u: Vec<[f64; 6]>,
+    mass: f64,
+    gravity: [f64; 3],
+    bow: Bow,
+}
+
+#[derive(serde::Deserialize)]
+struct Input {
+    instances: Vec<Instance>,
+}
+
+/// `[median, minimum]` of `reps` timed calls of `f`, in microseconds (after `reps / 10 + 1`
+/// warm-up calls). The minimum is the better estimate of the cost on a busy machine.
+fn timed_us(reps: usize, mut f: impl FnMut()) -> [f64; 2] {
+    for _ in 0..reps / 10 + 1 {
+        f();
+    }
+    let mut t: Vec<f64> = (0..reps)
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64() * 1e6
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    [t[reps / 2], t[0]]
+}
+
+fn main() {
+    let path = std::env::args()
+        .nth(1)
+        .expect("usage: bench_topp INPUT.json");
+    let input: Input =
+        serde_json::from_str(&std::fs::read_to_string(path).expect("read input")).expect("JSON");
+    let mut out = Vec::new();
+    for inst in &input.instances {
+        let k = CanonicalConstraints::from_dense(&inst.s, &inst.a, &inst.b, &inst.c).unwrap();
+        let n = inst.s.len() - 1;
+        let reps = if n <= 200 { 400 } else { 60 };
+        let mg = inst.mass * inst.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+        let rows = PathRows::new(inst.u.clone(), inst.bow, inst.mass, inst.gravity).unwrap();
+        for disc in [Discretization::Collocation, Discretization::Interpolation] {
+            let mut ws = Workspace::new();
+            let opts = SolveOptions::new(disc);
+            let sol = solve_with(&k, &opts, &mut ws).unwrap();
+            let warm_us = timed_us(reps, || {
+                std::hint::black_box(solve_with(&k, &opts, &mut ws).unwrap());
+            });
+            let cold_opts = SolveOptions {
+                warm_start: false,
+                ..opts
+            };
+            let cold = solve_with(&k, &cold_opts, &mut ws).unwrap();
+            let cold_us = timed_us(reps, || {
+                std::hint::black_box(solve_with(&k, &cold_opts, &mut ws).unwrap());
+            });
+            let profile = sol.profile.as_ref().unwrap();
+            let res = profile.residuals(&k, disc);
+            let (between, _) = check_between(profile, &rows, 20, mg);
+            let refine = if n <= 200 {
+                let r = refine_until(
+                    &rows,
+                    inst.s.clone(),
+                    &opts,
+                    DEFAULT_BETWEEN_GRID_FRACTION * mg,
+                    mg,
+                    100_000,
+                    20,
+                )
+                .unwrap();
+                serde_json::json!({
+                    "converged": r.converged, "rounds": r.rounds, "points_added": r.points_added,
+                    "ms": r.elapsed.as_secs_f64() * 1e3, "fraction": r.between.fraction,
+                    "duration": r.solution.duration(),
+                })
+            } else {
+                serde_json::Value::Null
+            };
+            out.push(serde_json::json!({
+                "name": inst.name, "N": n, "rows": k.rows_at(0).len(), "discretization": disc.name(),
+                "status": sol.status.name(), "duration": sol.duration(),
+                "duration_cold": cold.duration(),
+                "solve_us": warm_us[0], "solve_cold_us": cold_us[0],
+                "solve_min_us": warm_us[1], "solve_cold_min_us": cold_us[1],
+                "moves": sol.stats.moves, "inner_steps": sol.stats.inner_steps,
+                "moves_cold": cold.stats.moves, "inner_steps_cold": cold.stats.inner_steps,
+                "max_residual": res.enforced_max,
+                "x": profile.x(),
+                "between_newton": between.max_violation, "between_fraction": between.fraction,
+                "between_at_s": between.at_s,
+                "refine": refine,
+            }));
+        }
+        // The rows from U: eq. 14 vectors per grid point, then the product with U.
+        let samples: Vec<PathPoint> = inst.s.iter().map(|&s| inst.bow.eval(s)).collect();
+        let f = FactoredRows::from_samples(
+            &inst.u,
+            inst.s.clone(),
+            &samples,
+            inst.mass,
+            inst.gravity,
+            None,
+        )
+        .unwrap();
+        let mut kf = f.to_constraints();
+        let worst = kf
+            .rows()
+            .iter()
+            .zip(k.rows())
+            .map(|(x, y)| {
+                ((x.a - y.a)
+                    .abs()
+                    .max((x.b - y.b).abs())
+                    .max((x.c - y.c).abs()))
+                    / y.c.abs().max(1.0)
+            })
+            .fold(0.0, f64::max);
+        let fill_us = timed_us(2000, || f.fill(std::hint::black_box(kf.rows_mut())));
+        let build_us = timed_us(2000, || {
+            std::hint::black_box(
+                FactoredRows::from_samples(
+                    &inst.u,
+                    inst.s.clone(),
+                    &samples,
+                    inst.mass,
+                    inst.gravity,
+                    None,
+                )
+                .unwrap(),
+            );
+        });
+        out.push(serde_json::json!({
+            "name": inst.name, "N": n, "rows": inst.u.len(), "abc_fill_us": fill_us[0],
+            "abc_fill_min_us": fill_us[1], "abc_setup_us": build_us[0], "abc_max_rel_diff": worst,
+        }));
+    }
+    println!("{}", serde_json::to_string_pretty(&out).unwrap());
+}

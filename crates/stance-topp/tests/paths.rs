@@ -1,0 +1,107 @@
+//! CoM path helpers: interpolation of the waypoints, derivatives against finite differences.
+#![allow(clippy::needless_range_loop)] // coordinates d = 0..3 index several arrays at once
+
+use proptest::prelude::*;
+use stance_topp::path::{CubicSpline, PathCurve, Polyline, SplineEnds};
+
+fn waypoints() -> impl Strategy<Value = (Vec<f64>, Vec<[f64; 3]>)> {
+    (2usize..8).prop_flat_map(|n| {
+        (
+            prop::collection::vec(0.1f64..1.0, n - 1),
+            prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), n),
+        )
+            .prop_map(|(h, p)| {
+                let mut s = vec![0.0];
+                for d in h {
+                    s.push(s.last().unwrap() + d);
+                }
+                (s, p)
+            })
+    })
+}
+
+proptest! {
+    #[test]
+    fn spline_interpolates_and_derivatives_match_finite_differences(
+        (s, p) in waypoints(),
+        clamped in any::<bool>(),
+        t0 in prop::array::uniform3(-1.0f64..1.0),
+        frac in 0.0f64..1.0,
+    ) {
+        let ends = if clamped { SplineEnds::Clamped { start: t0, end: [0.0; 3] } } else { SplineEnds::Natural };
+        let sp = CubicSpline::new(s.clone(), p.clone(), ends).unwrap();
+        for (si, pi) in s.iter().zip(&p) {
+            let q = sp.eval(*si);
+            for d in 0..3 {
+                prop_assert!((q.p[d] - pi[d]).abs() < 1e-9);
+            }
+        }
+        let [a, b] = sp.domain();
+        if clamped {
+            let (q0, q1) = (sp.eval(a), sp.eval(b));
+            for d in 0..3 {
+                prop_assert!((q0.ps[d] - t0[d]).abs() < 1e-9);
+                prop_assert!(q1.ps[d].abs() < 1e-9);
+            }
+        } else {
+            for d in 0..3 {
+                prop_assert!(sp.eval(a).pss[d].abs() < 1e-9 && sp.eval(b).pss[d].abs() < 1e-9);
+            }
+        }
+        // Derivatives by central differences away from the knots' kinks of p_sss.
+        let h = 1e-6;
+        let x = a + h + (b - a - 2.0 * h) * frac;
+        let (qm, q, qp) = (sp.eval(x - h), sp.eval(x), sp.eval(x + h));
+        for d in 0..3 {
+            prop_assert!((q.ps[d] - (qp.p[d] - qm.p[d]) / (2.0 * h)).abs() < 1e-5 * (1.0 + q.ps[d].abs()));
+            prop_assert!((q.pss[d] - (qp.ps[d] - qm.ps[d]) / (2.0 * h)).abs() < 1e-4 * (1.0 + q.pss[d].abs()));
+        }
+        // C1 and C2 continuity at interior knots.
+        for &k in &s[1..s.len() - 1] {
+            let (l, r) = (sp.eval(k - 1e-9), sp.eval(k + 1e-9));
+            for d in 0..3 {
+                prop_assert!((l.ps[d] - r.ps[d]).abs() < 1e-6);
+                prop_assert!((l.pss[d] - r.pss[d]).abs() < 1e-5 * (1.0 + l.pss[d].abs()));
+            }
+        }
+    }
+
+    #[test]
+    fn polyline_interpolates_with_piecewise_constant_tangent((s, p) in waypoints(), frac in 0.0f64..1.0) {
+        let l = Polyline::new(s.clone(), p.clone()).unwrap();
+        for (si, pi) in s.iter().zip(&p) {
+            let q = l.eval(*si);
+            for d in 0..3 {
+                prop_assert!((q.p[d] - pi[d]).abs() < 1e-12);
+            }
+        }
+        let [a, b] = l.domain();
+        let x = a + (b - a) * frac;
+        let q = l.eval(x);
+        prop_assert_eq!(q.pss, [0.0; 3]);
+        let h = 1e-7;
+        if x - h > a && x + h < b && !s.iter().any(|k| (k - x).abs() < 2.0 * h) {
+            let (qm, qp) = (l.eval(x - h), l.eval(x + h));
+            for d in 0..3 {
+                prop_assert!((q.ps[d] - (qp.p[d] - qm.p[d]) / (2.0 * h)).abs() < 1e-5 * (1.0 + q.ps[d].abs()));
+            }
+        }
+    }
+}
+
+#[test]
+fn path_errors() {
+    assert!(Polyline::new(vec![0.0, 0.0], vec![[0.0; 3]; 2]).is_err());
+    assert!(Polyline::new(vec![0.0, 1.0], vec![[0.0; 3]; 3]).is_err());
+    assert!(CubicSpline::new(
+        vec![0.0, 1.0],
+        vec![[f64::NAN; 3], [0.0; 3]],
+        SplineEnds::Natural
+    )
+    .is_err());
+    let bad = SplineEnds::Clamped {
+        start: [f64::INFINITY, 0.0, 0.0],
+        end: [0.0; 3],
+    };
+    assert!(CubicSpline::new(vec![0.0, 1.0], vec![[0.0; 3]; 2], bad).is_err());
+}

@@ -1,0 +1,146 @@
+//! The exact s(t) of a profile (round trips at the grid points, monotonicity, speeds) and the
+//! errors for bad input.
+
+use proptest::prelude::*;
+use stance_topp::{
+    solve, CanonicalConstraints, Discretization, Profile, Row, SolveOptions, ToppError,
+};
+
+proptest! {
+    /// Random admissible states: s(t_i) = s_i, s'(t_i)^2 = x_i, s(t) non-decreasing, and
+    /// s'(t) continuous across grid points.
+    #[test]
+    fn time_to_path_inverse_is_exact(
+        deltas in prop::collection::vec(0.01f64..1.0, 1..30),
+        xs in prop::collection::vec(0.0f64..4.0, 31),
+    ) {
+        let mut s = vec![0.0];
+        for d in &deltas {
+            s.push(s.last().unwrap() + d);
+        }
+        let n = s.len();
+        let mut x: Vec<f64> = xs[..n].to_vec();
+        // Avoid two consecutive zero states (an infinite interval).
+        for i in 1..n {
+            if x[i] == 0.0 && x[i - 1] == 0.0 {
+                x[i] = 0.5;
+            }
+        }
+        let u: Vec<f64> = (0..n - 1).map(|i| (x[i + 1] - x[i]) / (2.0 * (s[i + 1] - s[i]))).collect();
+        let p = Profile::from_states(s.clone(), x.clone(), u);
+        prop_assert!(p.duration().is_finite());
+        for i in 0..n {
+            let q = p.at(p.times()[i]);
+            prop_assert!((q.s - s[i]).abs() <= 1e-9 * (1.0 + s[i].abs()), "s({}) = {} vs {}", i, q.s, s[i]);
+            prop_assert!((q.sd * q.sd - x[i]).abs() <= 1e-9 * (1.0 + x[i]));
+        }
+        let samples = p.resample(p.duration() / 97.0).unwrap();
+        for w in samples.windows(2) {
+            prop_assert!(w[1].s >= w[0].s - 1e-12);
+            prop_assert!(w[1].t > w[0].t);
+        }
+        let last = samples.last().unwrap();
+        prop_assert!((last.s - s[n - 1]).abs() <= 1e-9 * (1.0 + s[n - 1]));
+    }
+}
+
+#[test]
+fn bad_inputs_are_errors_that_say_what_to_fix() {
+    let r = Row {
+        a: 1.0,
+        b: 0.0,
+        c: -1.0,
+    };
+    let e = CanonicalConstraints::new(vec![0.0], vec![0, 0], vec![]).unwrap_err();
+    assert!(matches!(e, ToppError::GridTooShort { got: 1 }));
+    let e = CanonicalConstraints::new(vec![0.0, 1.0, 0.5], vec![0, 0, 0, 0], vec![]).unwrap_err();
+    assert!(e.to_string().contains("strictly increasing"), "{e}");
+    let e = CanonicalConstraints::new(vec![0.0, f64::NAN], vec![0, 0, 0], vec![]).unwrap_err();
+    assert!(matches!(
+        e,
+        ToppError::NotFinite {
+            what: "s",
+            point: 1,
+            ..
+        }
+    ));
+    let bad = Row {
+        a: f64::INFINITY,
+        ..r
+    };
+    let e = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, bad]).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ToppError::NotFinite {
+                what: "a",
+                point: 1,
+                row: 0,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 2, 1], vec![r, r]).unwrap_err();
+    assert!(e.to_string().contains("offsets"));
+    let e = CanonicalConstraints::from_dense(
+        &[0.0, 1.0],
+        &[vec![1.0], vec![1.0]],
+        &[vec![0.0], vec![]],
+        &[vec![0.0], vec![0.0]],
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("b[1]"), "{e}");
+    let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    assert!(k.clone().with_x_bounds(vec![[1.0, 0.5]; 2]).is_err());
+    assert!(k.clone().with_x_bounds(vec![[0.0, 1.0]]).is_err());
+    assert!(k.clone().with_u_bounds(vec![[0.0, f64::NAN]; 2]).is_err());
+    for opts in [
+        SolveOptions::default().with_start(-1.0),
+        SolveOptions::default().with_start(f64::NAN),
+        SolveOptions::default().with_end_interval(2.0, 1.0),
+        SolveOptions::default().with_end(f64::INFINITY),
+    ] {
+        let e = solve(&k, &opts).unwrap_err();
+        assert!(matches!(e, ToppError::InvalidValue { .. }), "{e}");
+    }
+    let mut opts = SolveOptions::new(Discretization::Interpolation);
+    opts.tol.feasibility = -1.0;
+    assert!(solve(&k, &opts).is_err());
+}
+
+#[test]
+fn bounds_on_x_and_u_are_enforced() {
+    // |u| <= 10 from the rows, u in [-1, 1] and x <= 0.25 from the bounds: speed limit 0.5.
+    let rows = [
+        Row {
+            a: 1.0,
+            b: 0.0,
+            c: -10.0,
+        },
+        Row {
+            a: -1.0,
+            b: 0.0,
+            c: -10.0,
+        },
+    ];
+    // Grid step 1/200 so that the switches at s = 0.125 and 1.875 are grid points.
+    let n = 401;
+    let s: Vec<f64> = (0..n).map(|i| i as f64 / 200.0).collect();
+    let offsets: Vec<usize> = (0..=n).map(|i| 2 * i).collect();
+    let k = CanonicalConstraints::new(s, offsets, rows.repeat(n))
+        .unwrap()
+        .with_u_bounds(vec![[-1.0, 1.0]; n])
+        .unwrap()
+        .with_x_bounds(vec![[0.0, 0.25]; n])
+        .unwrap();
+    let sol = solve(&k, &SolveOptions::default()).unwrap();
+    let p = sol.profile.unwrap();
+    assert!(p.x().iter().all(|&x| x <= 0.25 + 1e-12));
+    assert!(p
+        .u()
+        .iter()
+        .all(|&u| (-1.0 - 1e-12..=1.0 + 1e-12).contains(&u)));
+    // Accelerate over 0.125, cruise at 0.5 over 1.75, brake over 0.125: 0.5 + 3.5 + 0.5.
+    assert!((p.duration() - 4.5).abs() < 1e-9, "{}", p.duration());
+}
