@@ -63,6 +63,16 @@ pub enum RobotError {
         /// The joint.
         joint: String,
     },
+    /// A joint's position limits are reversed or not numbers.
+    #[error("joint '{joint}' has limits lower = {lower} > upper = {upper} (or not numbers); fix the <limit> element")]
+    InvalidLimits {
+        /// The joint.
+        joint: String,
+        /// Lower limit read.
+        lower: f64,
+        /// Upper limit read.
+        upper: f64,
+    },
     /// A link's inertial element is not physical.
     #[error("link '{link}' has an invalid inertia: {reason}")]
     InvalidInertia {

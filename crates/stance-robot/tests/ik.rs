@@ -294,3 +294,59 @@ fn tracked_samples_converge_to_their_path_terms() {
     assert!(a1 / b1 > 3.0 && a2 / b2 > 1.6);
     assert!(b1 < 1e-3 && b2 < 0.05);
 }
+
+/// JVRC-1 (38 degrees of freedom, fingers locked): shifting the CoM over the feet keeps the
+/// soles in place and the joints within limits. Needs the URDF from the virtualenv; skips
+/// without it.
+#[test]
+fn jvrc1_com_shift_over_the_feet() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let urdf = match jvrc1::locate_urdf(Some(&root)) {
+        Ok(p) => p,
+        Err(why) => {
+            eprintln!("SKIPPED jvrc1_com_shift_over_the_feet: {why}");
+            return;
+        }
+    };
+    let m = Model::from_urdf_file(urdf, &jvrc1::urdf_options()).unwrap();
+    let mut q0 = m.neutral();
+    q0[2] = 0.8;
+    for side in ["R", "L"] {
+        for (joint, x) in [("HIP_P", -0.3), ("KNEE", 0.6), ("ANKLE_P", -0.3)] {
+            q0[m.joints[m.joint_id(&format!("{side}_{joint}")).unwrap()].idx_q] = x;
+        }
+    }
+    let feet = jvrc1::SOLE_PARENT_FRAMES.map(|f| m.frame_id(f).unwrap());
+    let c0 = center_of_mass(&m, &mut Data::new(&m), &q0).unwrap();
+    let c1 = c0 + Vector3::new(0.0, 0.05, -0.03);
+    let grid: Vec<f64> = (0..=100).map(|i| i as f64 / 100.0).collect();
+    let path = track_path(
+        &m,
+        &q0,
+        &vec![0.0; m.nv],
+        &feet,
+        &grid,
+        &|s| (PointReference::segment(c0, c1, s), vec![]),
+        &IkOptions::default(),
+    )
+    .unwrap();
+    eprintln!(
+        "JVRC-1: contact drift {:.2e} m, rotation {:.2e} rad, CoM error {:.2e} m",
+        path.max_contact_drift, path.max_contact_rotation, path.max_com_error
+    );
+    assert_eq!(path.status, IkStatus::Solved);
+    assert!(path.max_contact_drift < 1e-4 && path.max_contact_rotation < 1e-3);
+    let last = path.samples.last().unwrap();
+    let c_end = center_of_mass(&m, &mut Data::new(&m), &last.q).unwrap();
+    assert!((c_end - c1).norm() < 0.01);
+    for s in &path.samples {
+        for j in &m.joints[2..] {
+            let x = s.q[j.idx_q];
+            assert!(
+                x <= j.upper + 1e-9 && x >= j.lower - 1e-9,
+                "{} = {x}",
+                j.name
+            );
+        }
+    }
+}

@@ -295,3 +295,21 @@ fn small_humanoid_mass_is_the_sum_of_the_urdf_masses() {
     let expected = 8.0 + 2.0 * 8.0 + 13.0 + 2.0 * 3.1;
     assert!((m.total_mass() - expected).abs() < 1e-12);
 }
+
+#[test]
+fn limits_reversed_are_rejected_and_missing_limits_mean_none() {
+    let text = robot(&format!(
+        r#"{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="1" upper="-1" effort="1" velocity="1"/></joint>"#,
+        link("a"),
+        link("b")
+    ));
+    assert!(matches!(err(&text), RobotError::InvalidLimits { .. }));
+    let text = robot(&format!(
+        r#"{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>"#,
+        link("a"),
+        link("b")
+    ));
+    let m = build(&text).unwrap();
+    let j = &m.joints[m.joint_id("j").unwrap()];
+    assert_eq!((j.lower, j.upper), (f64::NEG_INFINITY, f64::INFINITY));
+}
