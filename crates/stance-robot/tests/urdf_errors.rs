@@ -313,3 +313,24 @@ fn limits_reversed_are_rejected_and_missing_limits_mean_none() {
     let j = &m.joints[m.joint_id("j").unwrap()];
     assert_eq!((j.lower, j.upper), (f64::NEG_INFINITY, f64::INFINITY));
 }
+
+#[test]
+fn a_workspace_of_another_model_is_an_error_not_a_panic() {
+    let m = build(SMALL_HUMANOID_URDF).unwrap();
+    let m2 = Model::from_urdf_str(
+        SMALL_HUMANOID_URDF,
+        &UrdfOptions {
+            locked: vec![("r_knee".into(), 0.3)],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let mut wrong = Data::new(&m2);
+    let q = m.neutral();
+    assert!(forward_kinematics(&m, &mut wrong, &q).is_err());
+    assert!(centroidal_map(&m, &mut wrong, &q).is_err());
+    assert!(centroidal_map_dot_v(&m, &mut wrong, &q, &vec![0.0; m.nv]).is_err());
+    assert!(frame_placement(&m, &wrong, 1).is_err());
+    let mut jac = nalgebra::Matrix6xX::zeros(m.nv);
+    assert!(frame_jacobian(&m, &wrong, 1, ReferenceFrame::World, &mut jac).is_err());
+}
