@@ -12,6 +12,7 @@
 //!             + eps |x|^2
 //! subject to  J_c x = -Jd_c q_s - gamma J_c q_s                   (every contact frame, 6 rows)
 //!             2 (lower - q - q_s ds) / ds^2 <= x <= 2 (upper - q - q_s ds) / ds^2   (bounded joints)
+//!             -r_max <= q_s + x ds <= r_max             (revolute and prismatic joints, optional)
 //! ```
 //!
 //! where `J` are Jacobians (the CoM Jacobian, `LocalWorldAligned` frame Jacobians), `Jd q_s`
@@ -19,7 +20,8 @@
 //! accelerations track a reference `(p*, p*_s, p*_ss)` with the paper's gains:
 //! `pdd* = p*_ss + K_d (p*_s - J q_s) + K_p (p* - p)`. The contact rows keep the contact frames'
 //! velocities at zero (`gamma` damps any residual velocity). The joint bounds keep each bounded
-//! joint within its limits over the next path step `ds`. Weights `w_com = 1`, `w_link = 0.1`,
+//! joint within its limits over the next path step `ds`, and the optional rate bound `r_max`
+//! ([`IkOptions::max_path_rate`]) bounds the joint rates along the path. Weights `w_com = 1`, `w_link = 0.1`,
 //! gains `K_p = K_d = gamma = 10` are the paper's defaults; `eps` is
 //! [`crate::tol::IK_REGULARIZATION`].
 //!
@@ -63,6 +65,10 @@ pub struct IkOptions {
     pub regularization: f64,
     /// QP solver tolerance (default [`crate::tol::IK_QP_TOL`]).
     pub qp_tol: f64,
+    /// Largest joint rate along the path, `|dq_j/ds|` for every revolute and prismatic joint
+    /// (rad or m per unit of `s`; default `+inf`, no bound). Enforced at the end of each step:
+    /// `|q_s + q_ss ds| <= max_path_rate`.
+    pub max_path_rate: f64,
 }
 
 impl Default for IkOptions {
@@ -81,6 +87,7 @@ impl Default for IkOptions {
             gamma: 10.0,
             regularization: crate::tol::IK_REGULARIZATION,
             qp_tol: crate::tol::IK_QP_TOL,
+            max_path_rate: f64::INFINITY,
         }
     }
 }
@@ -183,6 +190,12 @@ fn check_options(o: &IkOptions) -> Result<(), RobotError> {
                 reason: format!("{x} must be finite and >= 0"),
             });
         }
+    }
+    if o.max_path_rate.is_nan() || o.max_path_rate <= 0.0 {
+        return Err(RobotError::InvalidOption {
+            name: "max_path_rate",
+            reason: format!("{} must be > 0 (+inf for no bound)", o.max_path_rate),
+        });
     }
     if o.regularization <= 0.0 || o.qp_tol <= 0.0 {
         return Err(RobotError::InvalidOption {
@@ -315,6 +328,10 @@ pub fn ik_qp(
             }
             if j.lower.is_finite() {
                 rows.push((j.idx_v, -1.0, -scale * (j.lower - qj - vj * ds)));
+            }
+            if options.max_path_rate.is_finite() {
+                rows.push((j.idx_v, 1.0, (options.max_path_rate - vj) / ds));
+                rows.push((j.idx_v, -1.0, (options.max_path_rate + vj) / ds));
             }
         }
     }

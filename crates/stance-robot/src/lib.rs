@@ -65,9 +65,12 @@
 //!   the squared distance.
 //! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics).
 //! - The acceleration-level IK ([`ik`]) tracks CoM and link *positions* (no orientation tasks
-//!   for free links), holds contacts as fixed 6-D frames, bounds joint positions (not joint
-//!   velocities) over each path step, and builds dense QPs (it allocates; it is not meant for
-//!   kHz control loops).
+//!   for free links), holds contacts as fixed 6-D frames, bounds joint positions over the next
+//!   path step only (a joint that arrives fast at its limit is stopped within one step, which can
+//!   make the next QP infeasible: reported as a status) and optionally the joint rates along the
+//!   path; a target out of reach drives the limbs to singular configurations and ends as an
+//!   infeasible or failed status. It builds dense QPs and allocates: it is meant for planning
+//!   paths, not for kHz control loops.
 
 pub mod centroidal;
 pub mod data;

@@ -350,3 +350,54 @@ fn jvrc1_com_shift_over_the_feet() {
         }
     }
 }
+
+/// The optional joint-rate bound holds at every sample and slows the tracking down.
+#[test]
+fn joint_rate_bound_holds() {
+    let m = model();
+    let q0 = standing(&m);
+    let c0 = center_of_mass(&m, &mut Data::new(&m), &q0).unwrap();
+    let c1 = c0 + Vector3::new(0.02, 0.05, -0.03);
+    let grid: Vec<f64> = (0..=100).map(|i| i as f64 / 100.0).collect();
+    let run = |max_path_rate: f64| {
+        track_path(
+            &m,
+            &q0,
+            &vec![0.0; m.nv],
+            &feet(&m),
+            &grid,
+            &|s| (PointReference::segment(c0, c1, s), vec![]),
+            &IkOptions {
+                max_path_rate,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let free = run(f64::INFINITY);
+    let rate_of = |p: &IkPath| {
+        p.samples
+            .iter()
+            .flat_map(|s| m.joints[2..].iter().map(move |j| s.q_s[j.idx_v].abs()))
+            .fold(0.0f64, f64::max)
+    };
+    let free_rate = rate_of(&free);
+    let bound = 0.5 * free_rate;
+    let slow = run(bound);
+    assert_eq!(slow.status, IkStatus::Solved);
+    // the bound is met by the QP to its tolerance (1e-8) times ds
+    assert!(
+        rate_of(&slow) <= bound + 1e-9,
+        "{} > {bound}",
+        rate_of(&slow)
+    );
+    assert!(slow.max_com_error > free.max_com_error);
+    assert!(slow.max_contact_drift < 1e-4);
+    let bad = IkOptions {
+        max_path_rate: 0.0,
+        ..Default::default()
+    };
+    let mut d = Data::new(&m);
+    let z = PointReference::segment(c0, c0, 0.0);
+    assert!(ik_step(&m, &mut d, &q0, &vec![0.0; m.nv], &[], &z, &[], 0.1, &bad).is_err());
+}
