@@ -9,6 +9,7 @@
 //!
 //! ```text
 //! minimize    w_com |J_com x + Jd_com q_s - pdd_com*|^2 + sum_links w_link |J_l x + Jd_l q_s - pdd_l*|^2
+//!             (+ w_link |J_l,ang x + Jd_l,ang q_s - alpha_l*|^2 for links with an orientation task)
 //!             + eps |x|^2
 //! subject to  J_c x = -Jd_c q_s - gamma J_c q_s                   (every contact frame, 6 rows)
 //!             2 (lower - q - q_s ds) / ds^2 <= x <= 2 (upper - q - q_s ds) / ds^2   (bounded joints)
@@ -128,6 +129,37 @@ pub struct LinkTarget {
     pub frame: usize,
     /// Its reference at the current `s`.
     pub reference: PointReference,
+    /// Optional orientation task for the same frame (same weight).
+    pub orientation: Option<OrientationReference>,
+}
+
+/// A reference orientation path at one value of `s`: `world_from_frame*` and its angular rates
+/// in world axes (`[w_s] = dR*/ds R*^T`, `w_ss = dw_s/ds`). Tracked with the same gains as
+/// positions: `alpha* = w_ss + K_d (w_s - w) + K_p log(R* R^T)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrientationReference {
+    /// `world_from_frame*` (a rotation matrix).
+    pub rotation: nalgebra::Matrix3<f64>,
+    /// Angular rate along the path (world axes, rad per unit s).
+    pub w_s: Vector3<f64>,
+    /// Its derivative along the path.
+    pub w_ss: Vector3<f64>,
+}
+
+impl OrientationReference {
+    /// Hold the orientation `rotation` (zero rates).
+    ///
+    /// ```
+    /// let o = stance_robot::OrientationReference::hold(nalgebra::Matrix3::identity());
+    /// assert_eq!(o.w_s.norm(), 0.0);
+    /// ```
+    pub fn hold(rotation: nalgebra::Matrix3<f64>) -> Self {
+        Self {
+            rotation,
+            w_s: Vector3::zeros(),
+            w_ss: Vector3::zeros(),
+        }
+    }
 }
 
 /// The outcome of an IK QP (a value, not an error).
@@ -297,6 +329,28 @@ pub fn ik_qp(
             + (r.p_s - Vector3::new(vel[0], vel[1], vel[2])) * options.k_d
             + (r.p - pos) * options.k_p;
         add_task(&mut p, &mut c, &j, &(desired - drift), options.w_link);
+        if let Some(o) = &l.orientation {
+            let j_ang = DMatrix::from_fn(3, nv, |r, k| jac[(r + 3, k)]);
+            let w = &j_ang * &qs;
+            let w = Vector3::new(w[0], w[1], w[2]);
+            let (_, alpha_drift) = frame_classical_acceleration(
+                model,
+                data,
+                l.frame,
+                ReferenceFrame::LocalWorldAligned,
+            )?;
+            let rotation = frame_placement(model, data, l.frame)?.rotation;
+            let error = nalgebra::Rotation3::from_matrix(&(o.rotation * rotation.transpose()))
+                .scaled_axis();
+            let desired = o.w_ss + (o.w_s - w) * options.k_d + error * options.k_p;
+            add_task(
+                &mut p,
+                &mut c,
+                &j_ang,
+                &(desired - alpha_drift),
+                options.w_link,
+            );
+        }
     }
     // contacts
     let mut a_eq = DMatrix::zeros(6 * contacts.len(), nv);

@@ -64,8 +64,8 @@
 //!   with the robot kilometres away from the origin, round-off in `A_g`'s angular rows grows with
 //!   the squared distance.
 //! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics).
-//! - The acceleration-level IK ([`ik`]) tracks CoM and link *positions* (no orientation tasks
-//!   for free links), holds contacts as fixed 6-D frames, bounds joint positions over the next
+//! - The acceleration-level IK ([`ik`]) tracks CoM and link positions and orientations, holds
+//!   contacts as fixed 6-D frames, bounds joint positions over the next
 //!   path step only (a joint that arrives fast at its limit is stopped within one step, which can
 //!   make the next QP infeasible: reported as a status) and optionally the joint rates along the
 //!   path; a target out of reach drives the limbs to singular configurations and ends as an
@@ -88,7 +88,7 @@ pub use data::Data;
 pub use error::RobotError;
 pub use ik::{
     ik_qp, ik_step, solve_ik_qp, track_path, IkOptions, IkPath, IkQp, IkStatus, IkStep, LinkTarget,
-    PathSample, PointReference,
+    OrientationReference, PathSample, PointReference,
 };
 pub use kinematics::{
     check_configuration, check_velocity, forward_kinematics, forward_kinematics_velocity,
