@@ -107,6 +107,7 @@ def main():
     data = model.createData()
     rng = np.random.default_rng(args.seed)
     qs = [random_configuration(model, rng) for _ in range(args.configs)]
+    vs = [rng.normal(size=model.nv) for _ in range(args.configs)]
     v0 = np.zeros(model.nv)
     print(f"JVRC-1 (jvrc-description {jvrc_description.__version__}), fingers locked: "
           f"nq={model.nq}, nv={model.nv}; {args.configs} configurations, {args.repeat} rounds in "
@@ -121,7 +122,8 @@ def main():
         inp, outp = os.path.join(work, "in.json"), os.path.join(work, "out.json")
         with open(inp, "w") as f:
             json.dump({"urdf": urdf, "locked": [[n, 0.0] for n in FINGERS],
-                       "configurations": [q.tolist() for q in qs], "repeat": args.repeat,
+                       "configurations": [q.tolist() for q in qs],
+                       "velocities": [v.tolist() for v in vs], "repeat": args.repeat,
                        "chunk": args.chunk}, f)
         subprocess.run([runner, inp, outp], check=True)
         with open(outp) as f:
@@ -132,9 +134,14 @@ def main():
         for q, res in zip(qs, rust["results"]):
             ag = pin.ccrba(model, data, q, v0)
             worst = max(worst, rel_diff(res["com"], data.com[0]), rel_diff(res["centroidal_map"], ag))
+        for q, v, dh in zip(qs, vs, rust["centroidal_map_dot_v"]):
+            pin.computeCentroidalMomentumTimeVariation(model, data, q, v, v0)
+            ref = np.concatenate([data.dhg.linear, data.dhg.angular])
+            worst = max(worst, rel_diff(dh, ref))
         if worst > REL_TOL:
             sys.exit(f"answers differ: max relative difference {worst:.2e} > {REL_TOL}")
-        print(f"values agree on all {args.configs} configurations: max relative difference {worst:.1e}")
+        print(f"values (CoM, A_g, dA_g/dt v) agree on all {args.configs} configurations: "
+              f"max relative difference {worst:.1e}")
 
         # Pinocchio from Python: one ccrba call per configuration (forward kinematics, CoM, A_g)
         def py_ccrba(part):
@@ -151,13 +158,21 @@ def main():
             for q in part:
                 pin.isNormalized(model, q)
 
+        pairs = list(zip(qs, vs))
+
+        def py_dot_v(part):
+            for q, v in part:
+                pin.ccrba(model, data, q, v)
+                pin.computeCentroidalMomentumTimeVariation(model, data, q, v, v0)
+
         t_py = per_config_times(py_ccrba, qs, args.repeat, args.chunk)
+        t_py_dot = per_config_times(py_dot_v, pairs, args.repeat, args.chunk)
         t_py3 = per_config_times(py_three_calls, qs, args.repeat, args.chunk)
         t_trivial = per_config_times(py_trivial, qs, args.repeat, args.chunk)
 
         # Pinocchio's own C++ on the same model (saved from Python) and configurations
         cpp, why = build_cpp(work)
-        t_cpp = None
+        t_cpp = t_cpp_dot = None
         if cpp:
             model_bin = os.path.join(work, "model.bin")
             model.saveToBinary(model_bin)
@@ -166,14 +181,22 @@ def main():
                 f.write(f"{len(qs)} {model.nq}\n")
                 for q in qs:
                     f.write(" ".join(repr(float(x)) for x in q) + "\n")
-            r = subprocess.run([cpp, model_bin, cfg, str(args.repeat), str(args.chunk)], capture_output=True,
-                               text=True, check=True)
+            vel = os.path.join(work, "velocities.txt")
+            with open(vel, "w") as f:
+                f.write(f"{len(vs)} {model.nv}\n")
+                for v in vs:
+                    f.write(" ".join(repr(float(x)) for x in v) + "\n")
+            r = subprocess.run([cpp, model_bin, cfg, vel, str(args.repeat), str(args.chunk)],
+                               capture_output=True, text=True, check=True)
             lines = r.stdout.strip().splitlines()
             t_cpp = [float(x) for x in lines[0].split()[:2]]
-            com0 = [float(x) for x in lines[1].split()]
-            ag0 = [[float(x) for x in line.split()] for line in lines[2:8]]
+            t_cpp_dot = [float(x) for x in lines[1].split()[:2]]
+            com0 = [float(x) for x in lines[2].split()]
+            ag0 = [[float(x) for x in line.split()] for line in lines[3:9]]
+            dh0 = [float(x) for x in lines[9].split()]
             d = max(rel_diff(com0, rust["results"][0]["com"]),
-                    rel_diff(ag0, rust["results"][0]["centroidal_map"]))
+                    rel_diff(ag0, rust["results"][0]["centroidal_map"]),
+                    rel_diff(dh0, rust["centroidal_map_dot_v"][0]))
             if d > REL_TOL:
                 sys.exit(f"C++ answer differs: {d:.2e}")
         else:
@@ -188,10 +211,21 @@ def main():
         rows.append(("Pinocchio from Python (ccrba per configuration)", t_py))
         rows.append(("Pinocchio from Python (forwardKinematics + centerOfMass + ccrba)", t_py3))
         rows.append(("  trivial binding call (isNormalized(model, q)), for the estimate", t_trivial))
-        print("\nns per configuration (median and minimum over the timed chunks); ratio = side / stance")
+        print("\nFK + CoM + A_g: ns per configuration (median and minimum over the timed chunks); "
+              "ratio = side / stance")
         print(f"{'side':<68} {'median':>7} {'ratio':>6} {'min':>7} {'ratio':>6}")
         for name, t in rows:
             print(f"{name:<68} {t[0]:>7.0f} {t[0] / t_rs[0]:>5.2f}x {t[1]:>7.0f} {t[1] / t_rs[1]:>5.2f}x")
+        t_rs_dot = [rust["dot_v_median_ns"], rust["dot_v_min_ns"]]
+        rows = [("stance-robot (Rust, centroidal_map_dot_v: A_g, J_com, dA_g/dt v)", t_rs_dot)]
+        if t_cpp_dot is not None:
+            rows.append(("Pinocchio C++ (ccrba + computeCentroidalMomentumTimeVariation)", t_cpp_dot))
+        rows.append(("Pinocchio from Python (the same two calls)", t_py_dot))
+        print("\nA_g and dA_g/dt v at (q, v), the path terms' kernel: ns per configuration")
+        print(f"{'side':<68} {'median':>7} {'ratio':>6} {'min':>7} {'ratio':>6}")
+        for name, t in rows:
+            print(f"{name:<68} {t[0]:>7.0f} {t[0] / t_rs_dot[0]:>5.2f}x {t[1]:>7.0f} "
+                  f"{t[1] / t_rs_dot[1]:>5.2f}x")
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

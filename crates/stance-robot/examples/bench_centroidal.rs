@@ -2,17 +2,18 @@
 //!
 //! Usage: `bench_centroidal INPUT.json OUTPUT.json` with INPUT
 //! `{"urdf": path, "locked": [[name, value], ...], "configurations": [[q...], ...],
-//! "repeat": R, "chunk": C}`. It computes `centroidal_map` (forward kinematics, CoM, CoM Jacobian
-//! and A_g in one pass) for every configuration, writes the CoMs and A_g's (for the peer
-//! comparison), then times R rounds over all configurations, each round in chunks of C
-//! configurations (short timed sections, so that the scheduler's preemptions on a shared machine
-//! spoil few of them), and reports the median and minimum over all chunks of the time per
-//! configuration in nanoseconds.
+//! "velocities": [[v...], ...], "repeat": R, "chunk": C}`. It computes `centroidal_map`
+//! (forward kinematics, CoM, CoM Jacobian and A_g in one pass) for every configuration, and
+//! `centroidal_map_dot_v` (the same plus velocities and dA_g/dt v) for every (q, v), writes the
+//! answers (for the peer comparison), then times R rounds over all configurations, each round in
+//! chunks of C configurations (short timed sections, so that the scheduler's preemptions on a
+//! shared machine spoil few of them), and reports the median and minimum over all chunks of the
+//! time per configuration in nanoseconds, for both.
 
 use std::time::Instant;
 
 use serde_json::{json, Value};
-use stance_robot::{centroidal_map, Data, Model, UrdfOptions};
+use stance_robot::{centroidal_map, centroidal_map_dot_v, Data, Model, UrdfOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -33,6 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let configurations: Vec<Vec<f64>> = serde_json::from_value(input["configurations"].clone())?;
+    let velocities: Vec<Vec<f64>> = serde_json::from_value(input["velocities"].clone())?;
+    if velocities.len() != configurations.len() {
+        return Err("as many velocities as configurations are needed".into());
+    }
     let repeat = input["repeat"].as_u64().unwrap_or(10).max(1) as usize;
     let chunk = input["chunk"].as_u64().unwrap_or(100).max(1) as usize;
     let model = Model::from_urdf_file(
@@ -52,6 +57,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         results.push(json!({"com": data.com.as_slice(), "centroidal_map": ag}));
     }
+    let mut drifts = Vec::with_capacity(configurations.len());
+    for (q, v) in configurations.iter().zip(&velocities) {
+        let dh = centroidal_map_dot_v(&model, &mut data, q, v)?;
+        drifts.push(dh.as_slice().to_vec());
+    }
 
     let mut per_config_ns = Vec::with_capacity(repeat);
     let mut sink = 0.0;
@@ -66,12 +76,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     per_config_ns.sort_by(f64::total_cmp);
+    let pairs: Vec<(&Vec<f64>, &Vec<f64>)> = configurations.iter().zip(&velocities).collect();
+    let mut drift_ns = Vec::with_capacity(repeat);
+    for _ in 0..repeat {
+        for part in pairs.chunks(chunk) {
+            let start = Instant::now();
+            for (q, v) in part {
+                let dh = centroidal_map_dot_v(&model, &mut data, q, v)?;
+                sink += std::hint::black_box(data.centroidal_map[(3, 7)] + dh[4]);
+            }
+            drift_ns.push(start.elapsed().as_nanos() as f64 / part.len() as f64);
+        }
+    }
+    drift_ns.sort_by(f64::total_cmp);
     let out = json!({
         "nq": model.nq,
         "nv": model.nv,
         "results": results,
         "median_ns": per_config_ns[per_config_ns.len() / 2],
         "min_ns": per_config_ns[0],
+        "centroidal_map_dot_v": drifts,
+        "dot_v_median_ns": drift_ns[drift_ns.len() / 2],
+        "dot_v_min_ns": drift_ns[0],
         "checksum": sink,
     });
     std::fs::write(&args[2], serde_json::to_string(&out)?)?;
