@@ -7,7 +7,10 @@ finger joints locked at 0), at random configurations and velocities (fixed seed)
 mass, CoM, CoM Jacobian, A_g (`ccrba`), dA_g/dt v (`computeCentroidalMomentumTimeVariation`
 with a = 0), and for a few frames (feet, hands, ...) the placement, the frame Jacobians in WORLD,
 LOCAL and LOCAL_WORLD_ALIGNED, and the classical acceleration with a = 0 (`J_dot v`) in the same
-three frames.
+three frames; and the path terms of MATH.md section 6 at (q, q_s = v, q_ss = a random vector):
+p_s and p_ss are Pinocchio's CoM velocity and acceleration (`centerOfMass(q, v, a)`), l1 and l2
+the angular parts of the centroidal momentum and of its rate
+(`computeCentroidalMomentumTimeVariation(q, v, a)`).
 
 Regenerate (from the project root, with the virtualenv of scripts/setup-venv.sh --peers):
 
@@ -92,6 +95,19 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
         ag = np.array(ag)
         pin.computeCentroidalMomentumTimeVariation(model, data, q, v, a)
         dhg = np.concatenate([data.dhg.linear, data.dhg.angular])
+        # path terms (MATH.md section 6) at (q, q_s = v, q_ss = a_path): Pinocchio's CoM
+        # velocity and acceleration, centroidal momentum and its rate with that acceleration
+        a_path = rng.normal(size=model.nv)
+        pin.centerOfMass(model, data, q, v, a_path)
+        vcom, acom = data.vcom[0].copy(), data.acom[0].copy()
+        pin.computeCentroidalMomentumTimeVariation(model, data, q, v, a_path)
+        path = {
+            "q_ss": a_path.tolist(),
+            "p_s": vcom.tolist(),
+            "p_ss": acom.tolist(),
+            "l1": np.asarray(data.hg.angular).tolist(),
+            "l2": np.asarray(data.dhg.angular).tolist(),
+        }
         # recompute kinematics for the frame quantities (ccrba/CMTV leave data consistent, but
         # be explicit)
         pin.forwardKinematics(model, data, q, v, a)
@@ -120,6 +136,7 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
             "com_jacobian": rows(jcom),
             "centroidal_map": rows(ag),
             "centroidal_map_dot_v": dhg.tolist(),
+            "path_terms": path,
             "frames": frame_out,
         })
     out = {

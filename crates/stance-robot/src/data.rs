@@ -39,6 +39,38 @@ pub struct Data {
 }
 
 impl Data {
+    /// Checks that this workspace was made for `model` (sizes match), so that no algorithm
+    /// indexes out of bounds.
+    ///
+    /// ```
+    /// use stance_robot::{Data, Model, UrdfOptions};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &UrdfOptions::default()).unwrap();
+    /// let locked = UrdfOptions { locked: vec![("neck".into(), 0.0)], ..Default::default() };
+    /// let m2 = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &locked).unwrap();
+    /// assert!(Data::new(&m).check(&m).is_ok());
+    /// assert!(Data::new(&m2).check(&m).is_err());
+    /// ```
+    pub fn check(&self, model: &Model) -> Result<(), crate::RobotError> {
+        let n = model.joints.len();
+        let ok = self.world_from_joint.len() == n
+            && self.velocity.len() == n
+            && self.drift.len() == n
+            && self.body_world.len() == n
+            && self.composite.len() == n
+            && self.s_world.len() == model.nv
+            && self.centroidal_map.ncols() == model.nv
+            && self.com_jacobian.ncols() == model.nv;
+        if ok {
+            Ok(())
+        } else {
+            Err(crate::RobotError::Dimension {
+                what: "workspace Data (made for another model: use Data::new(&model))",
+                expected: model.nv,
+                got: self.s_world.len(),
+            })
+        }
+    }
+
     /// A workspace sized for `model`.
     ///
     /// ```

@@ -63,6 +63,16 @@ pub enum RobotError {
         /// The joint.
         joint: String,
     },
+    /// A joint's position limits are reversed or not numbers.
+    #[error("joint '{joint}' has limits lower = {lower} > upper = {upper} (or not numbers); fix the <limit> element")]
+    InvalidLimits {
+        /// The joint.
+        joint: String,
+        /// Lower limit read.
+        lower: f64,
+        /// Upper limit read.
+        upper: f64,
+    },
     /// A link's inertial element is not physical.
     #[error("link '{link}' has an invalid inertia: {reason}")]
     InvalidInertia {
@@ -118,6 +128,14 @@ pub enum RobotError {
     /// An acceleration was asked from a workspace without velocities.
     #[error("the workspace holds no velocity: call forward_kinematics_velocity(q, v) (or centroidal_map_dot_v) first")]
     NoVelocity,
+    /// An option or argument of the IK is out of range.
+    #[error("invalid {name}: {reason}")]
+    InvalidOption {
+        /// Which option.
+        name: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
     /// A frame name the model does not know.
     #[error("no frame named '{0}' in the model (frames are the URDF's link and joint names)")]
     UnknownFrame(String),

@@ -29,6 +29,10 @@
 //! CoM (`L_G = L_O - c x h_lin`). `J_com = A_g,lin / m`. `(dA_g/dt) v` is the rate of change of
 //! `h_G` when `v` is constant.
 //!
+//! **Whole-body path** ([`ik`], MATH.md section 6): an acceleration-level IK QP tracks a CoM path
+//! and free-link paths with the contacts held, and is integrated along a grid into `q(s)`,
+//! `q_s(s)`, `q_ss(s)`.
+//!
 //! **Path terms** ([`path`], MATH.md section 6): `p = c(q)`, `p_s = J_com q_s`,
 //! `p_ss = J_com q_ss + (dJ_com/ds) q_s`, `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`.
 //!
@@ -59,12 +63,19 @@
 //! - Quantities are computed about the world origin and transported to the CoM, like Pinocchio:
 //!   with the robot kilometres away from the origin, round-off in `A_g`'s angular rows grows with
 //!   the squared distance.
-//! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics) and no
-//!   acceleration-level IK yet.
+//! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics).
+//! - The acceleration-level IK ([`ik`]) tracks CoM and link positions and orientations, holds
+//!   contacts as fixed 6-D frames, bounds joint positions over the next
+//!   path step only (a joint that arrives fast at its limit is stopped within one step, which can
+//!   make the next QP infeasible: reported as a status) and optionally the joint rates along the
+//!   path; a target out of reach drives the limbs to singular configurations and ends as an
+//!   infeasible or failed status. It builds dense QPs and allocates: it is meant for planning
+//!   paths, not for kHz control loops.
 
 pub mod centroidal;
 pub mod data;
 pub mod error;
+pub mod ik;
 pub mod jvrc1;
 pub mod kinematics;
 pub mod model;
@@ -75,6 +86,10 @@ pub mod tol;
 pub use centroidal::{center_of_mass, centroidal_map, centroidal_map_dot_v, com_jacobian};
 pub use data::Data;
 pub use error::RobotError;
+pub use ik::{
+    ik_qp, ik_step, solve_ik_qp, track_path, IkOptions, IkPath, IkQp, IkStatus, IkStep, LinkTarget,
+    OrientationReference, PathSample, PointReference,
+};
 pub use kinematics::{
     check_configuration, check_velocity, forward_kinematics, forward_kinematics_velocity,
     frame_classical_acceleration, frame_jacobian, frame_placement, integrate, ReferenceFrame,

@@ -48,6 +48,10 @@ pub struct Tolerances {
     pub min_axis_norm: f64,
     /// See [`INERTIA_PSD_REL_TOL`].
     pub inertia_psd_rel: f64,
+    /// See [`IK_REGULARIZATION`].
+    pub ik_regularization: f64,
+    /// See [`IK_QP_TOL`].
+    pub ik_qp: f64,
 }
 
 impl Default for Tolerances {
@@ -64,6 +68,24 @@ impl Default for Tolerances {
             min_total_mass: MIN_TOTAL_MASS,
             min_axis_norm: MIN_AXIS_NORM,
             inertia_psd_rel: INERTIA_PSD_REL_TOL,
+            ik_regularization: IK_REGULARIZATION,
+            ik_qp: IK_QP_TOL,
         }
     }
 }
+
+/// Weight of the regularization `|q_ss|^2` in the acceleration-level IK objective, relative to
+/// the task weights (dimensionless).
+///
+/// Default `1e-6`: the tasks and contacts do not determine every joint acceleration (an arm not
+/// in any task), so the QP needs a strictly convex term to pick one answer (the least-norm
+/// acceleration); at `1e-6` it biases the tracked task accelerations by about `1e-6` relative.
+pub const IK_REGULARIZATION: f64 = 1e-6;
+
+/// Feasibility and optimality tolerance asked of the QP solver in the IK (its own units: the
+/// residuals of the acceleration equations, 1/s^2 per unit of path).
+///
+/// Default `1e-8` (Clarabel's own default): the contact equations are then met to far below what
+/// the integration error of one path step adds to the contact drift, while tighter values make
+/// the interior-point solver stall ("insufficient progress") on badly scaled steps.
+pub const IK_QP_TOL: f64 = 1e-8;

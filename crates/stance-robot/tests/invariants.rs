@@ -6,7 +6,9 @@
 //!   the CoM Jacobian and the frame Jacobians (all three reference frames);
 //! - `(dA_g/dt) v` matches a finite difference of `A_g v` along the motion `q (+) t v`;
 //! - frame classical accelerations match finite differences of `J v` along the motion;
-//! - the path terms `p_s, p_ss, l1, l2` match finite differences along `q(s) = q0 (+) (s a + s^2 b / 2)`.
+//! - the path terms `p_s, p_ss, l1, l2` match finite differences along `q(s) = q0 (+) (s a + s^2 b / 2)`;
+//! - locking any subset of joints at their values in `q` leaves mass, CoM, frame placements and
+//!   the remaining columns of `A_g` unchanged.
 //!
 //! Finite-difference step `H = 1e-5` (central differences: truncation `~H^2 = 1e-10`, round-off
 //! `~1e-16 / H = 1e-11`), second differences with `H2 = 1e-4`; tolerances are set from these
@@ -230,5 +232,51 @@ proptest! {
         let l2_want = (l_at(H2) - l_at(-H2)) / (2.0 * H2);
         assert_rel("l1", t.l1.as_slice(), l1_want.as_slice(), 1e-12);
         assert_rel("l2", t.l2.as_slice(), l2_want.as_slice(), FD2_TOL);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// Locking joints at their values in `q` changes nothing but the variables: same mass, CoM,
+    /// frame placements, and A_g restricted to the remaining velocity entries.
+    #[test]
+    fn locking_joints_at_their_values_is_invisible((u, _v, _b) in sample(), mask in prop::collection::vec(any::<bool>(), 26)) {
+        let full = model();
+        let q = config_from(&full, &u);
+        let mut locked = Vec::new();
+        let mut keep_q = Vec::new();
+        let mut keep_v = Vec::new();
+        for (i, j) in full.joints.iter().enumerate().skip(2) {
+            let (nq, nv) = j.dims();
+            if mask[i - 2] {
+                let value = match j.kind {
+                    JointKind::Continuous { .. } => q[j.idx_q + 1].atan2(q[j.idx_q]),
+                    _ => q[j.idx_q],
+                };
+                locked.push((j.name.clone(), value));
+            } else {
+                keep_q.extend(j.idx_q..j.idx_q + nq);
+                keep_v.extend(j.idx_v..j.idx_v + nv);
+            }
+        }
+        let reduced = Model::from_urdf_str(SMALL_HUMANOID_URDF, &UrdfOptions { locked, ..Default::default() }).unwrap();
+        let q_red: Vec<f64> = (0..7).chain(keep_q).map(|k| q[k]).collect();
+        let v_idx: Vec<usize> = (0..6).chain(keep_v).collect();
+        prop_assert_eq!(reduced.nq, q_red.len());
+        let (mut df, mut dr) = (Data::new(&full), Data::new(&reduced));
+        centroidal_map(&full, &mut df, &q).unwrap();
+        centroidal_map(&reduced, &mut dr, &q_red).unwrap();
+        prop_assert!((df.mass - dr.mass).abs() < 1e-12);
+        prop_assert!((df.com - dr.com).norm() < 1e-12);
+        for (kr, &kf) in v_idx.iter().enumerate() {
+            prop_assert!((df.centroidal_map.column(kf) - dr.centroidal_map.column(kr)).norm() < 1e-11);
+        }
+        for name in ["r_sole", "l_hand", "imu", "head", "neck", "torso"] {
+            let a = frame_placement(&full, &df, full.frame_id(name).unwrap()).unwrap();
+            let b = frame_placement(&reduced, &dr, reduced.frame_id(name).unwrap()).unwrap();
+            prop_assert!((a.translation - b.translation).norm() < 1e-12);
+            prop_assert!((a.rotation - b.rotation).norm() < 1e-12);
+        }
     }
 }

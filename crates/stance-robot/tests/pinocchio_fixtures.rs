@@ -1,7 +1,7 @@
 //! Golden tests against Pinocchio 4.1.0 (fixtures made by `testdata/robot/make_fixtures.py`):
-//! joint order, nq/nv, mass, CoM, CoM Jacobian, A_g, dA_g/dt v, frame placements, frame
-//! Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical accelerations, at random
-//! configurations and velocities.
+//! joint order, nq/nv, mass, CoM, CoM Jacobian, A_g, dA_g/dt v, the path terms p_s, p_ss, l1,
+//! l2, frame placements, frame Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical
+//! accelerations, at random configurations and velocities.
 //!
 //! Tolerance: every entry within `1e-9 * max(1, max |reference entry|)` of the same quantity.
 //! The JVRC-1 test needs the URDF from PyPI `jvrc-description` (see
@@ -111,6 +111,13 @@ fn run_fixture(model: &Model, fx: &Value) {
             dh.as_slice(),
             &vecf(&case["centroidal_map_dot_v"]),
         ));
+        let pt = &case["path_terms"];
+        let q_ss = vecf(&pt["q_ss"]);
+        let t = path_terms(model, &mut data, &q, &v, &q_ss).unwrap();
+        for (key, got) in [("p_s", t.p_s), ("p_ss", t.p_ss), ("l1", t.l1), ("l2", t.l2)] {
+            worst = worst.max(check_vec(&tag(key), got.as_slice(), &vecf(&pt[key])));
+        }
+        // path_terms recomputed the kinematics at the same (q, v): the frame checks below hold
         for (fname, fref) in case["frames"].as_object().unwrap() {
             let fid = model.frame_id(fname).unwrap();
             let pose = frame_placement(model, &data, fid).unwrap();

@@ -295,3 +295,42 @@ fn small_humanoid_mass_is_the_sum_of_the_urdf_masses() {
     let expected = 8.0 + 2.0 * 8.0 + 13.0 + 2.0 * 3.1;
     assert!((m.total_mass() - expected).abs() < 1e-12);
 }
+
+#[test]
+fn limits_reversed_are_rejected_and_missing_limits_mean_none() {
+    let text = robot(&format!(
+        r#"{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="1" upper="-1" effort="1" velocity="1"/></joint>"#,
+        link("a"),
+        link("b")
+    ));
+    assert!(matches!(err(&text), RobotError::InvalidLimits { .. }));
+    let text = robot(&format!(
+        r#"{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>"#,
+        link("a"),
+        link("b")
+    ));
+    let m = build(&text).unwrap();
+    let j = &m.joints[m.joint_id("j").unwrap()];
+    assert_eq!((j.lower, j.upper), (f64::NEG_INFINITY, f64::INFINITY));
+}
+
+#[test]
+fn a_workspace_of_another_model_is_an_error_not_a_panic() {
+    let m = build(SMALL_HUMANOID_URDF).unwrap();
+    let m2 = Model::from_urdf_str(
+        SMALL_HUMANOID_URDF,
+        &UrdfOptions {
+            locked: vec![("r_knee".into(), 0.3)],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let mut wrong = Data::new(&m2);
+    let q = m.neutral();
+    assert!(forward_kinematics(&m, &mut wrong, &q).is_err());
+    assert!(centroidal_map(&m, &mut wrong, &q).is_err());
+    assert!(centroidal_map_dot_v(&m, &mut wrong, &q, &vec![0.0; m.nv]).is_err());
+    assert!(frame_placement(&m, &wrong, 1).is_err());
+    let mut jac = nalgebra::Matrix6xX::zeros(m.nv);
+    assert!(frame_jacobian(&m, &wrong, 1, ReferenceFrame::World, &mut jac).is_err());
+}

@@ -19,7 +19,8 @@ pub enum ReferenceFrame {
     LocalWorldAligned,
 }
 
-fn check_frame(model: &Model, frame: usize) -> Result<(), RobotError> {
+fn check_frame(model: &Model, data: &Data, frame: usize) -> Result<(), RobotError> {
+    data.check(model)?;
     if frame >= model.frames.len() {
         return Err(RobotError::UnknownFrame(format!("#{frame}")));
     }
@@ -37,7 +38,7 @@ fn check_frame(model: &Model, frame: usize) -> Result<(), RobotError> {
 /// assert!(sole.translation.z < -0.5); // the soles are below the pelvis
 /// ```
 pub fn frame_placement(model: &Model, data: &Data, frame: usize) -> Result<Pose, RobotError> {
-    check_frame(model, frame)?;
+    check_frame(model, data, frame)?;
     let f = &model.frames[frame];
     Ok(data.world_from_joint[f.parent_joint].compose(&f.joint_from_frame))
 }
@@ -62,7 +63,7 @@ pub fn frame_jacobian(
     reference: ReferenceFrame,
     out: &mut Matrix6xX<f64>,
 ) -> Result<(), RobotError> {
-    check_frame(model, frame)?;
+    check_frame(model, data, frame)?;
     if out.ncols() != model.nv {
         out.resize_horizontally_mut(model.nv, 0.0);
     }
@@ -114,7 +115,7 @@ pub fn frame_classical_acceleration(
     frame: usize,
     reference: ReferenceFrame,
 ) -> Result<(Vector3<f64>, Vector3<f64>), RobotError> {
-    check_frame(model, frame)?;
+    check_frame(model, data, frame)?;
     if !data.has_velocity {
         return Err(RobotError::NoVelocity);
     }

@@ -54,6 +54,7 @@ use crate::spatial::{axis_cos_sin, quaternion_matrix, Pose};
 /// ```
 pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) -> Result<(), RobotError> {
     check_configuration(model, q)?;
+    data.check(model)?;
     data.has_velocity = false;
     for i in 1..model.joints.len() {
         let j = &model.joints[i];

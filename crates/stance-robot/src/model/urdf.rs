@@ -230,6 +230,13 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
             .joint_from_link
             .compose(&Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy));
         let kind = joint_kind(j, tol.min_axis_norm)?;
+        if j.limit.lower.is_nan() || j.limit.upper.is_nan() || j.limit.lower > j.limit.upper {
+            return Err(RobotError::InvalidLimits {
+                joint: j.name.clone(),
+                lower: j.limit.lower,
+                upper: j.limit.upper,
+            });
+        }
         let attach = match (kind, locked.get(j.name.as_str())) {
             (Some(kind), None) => {
                 let k = model.add_joint(
@@ -311,6 +318,11 @@ impl Model {
             f64::INFINITY,
             f64::INFINITY,
         );
+        // urdf-rs reads a missing <limit> as all zeros; no joint is built with such limits, so
+        // they mean "no limits" (as in Pinocchio, which leaves such joints unbounded).
+        let limit = limit.filter(|l| {
+            !(l.lower == 0.0 && l.upper == 0.0 && l.effort == 0.0 && l.velocity == 0.0)
+        });
         if let Some(l) = limit {
             if matches!(
                 kind,
