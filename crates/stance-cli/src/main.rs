@@ -32,6 +32,8 @@ enum Command {
     /// Static and robust static equilibrium of the CoM: polygon, 3-D region, tests.
     #[command(subcommand)]
     Equilibrium(cmd::contact::EquilibriumCommand),
+    /// Retime a CoM motion under contact stability (GIWC -> TOPP), with a phase-plane plot.
+    Retime(cmd::retime::RetimeArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
@@ -44,6 +46,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Retime(a) => cmd::retime::run(a),
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
         Command::Giwc(a) => cmd::contact::run_giwc(a),

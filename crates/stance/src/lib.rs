@@ -14,3 +14,9 @@ pub use polycone;
 pub use stance_contact;
 pub use stance_robot;
 pub use stance_topp;
+
+pub mod error;
+pub mod retime;
+pub mod tol;
+
+pub use error::StanceError;

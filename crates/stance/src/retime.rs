@@ -1,0 +1,467 @@
+//! Retiming a CoM motion under contact stability (paper Section V, eq. 13-14).
+//!
+//! # Math
+//!
+//! A stance gives, once, the face form `U_stance` of its gravito-inertial wrench cone
+//! (`U_stance w_GI <= 0`, wrench at the world origin; [`stance_contact::Stance::u_stance`]). Along
+//! a CoM path `p(s)` (point-mass model, `L' = 0`), `p'' = p_s s'' + p_ss s'^2`, so the contact
+//! stability condition becomes, with `u = s''` and `x = s'^2`, the rows
+//!
+//! ```text
+//!     a(s) u + b(s) x + c(s) <= 0                                      (13)
+//!     a = -U (m p_s, m p x p_s),  b = -U (m p_ss, m p x p_ss),  c = U (m g, m p x g)   (14)
+//! ```
+//!
+//! produced by [`stance_topp::factored`] and solved by reachability analysis
+//! ([`stance_topp::solve_with`]). The rows of unit-norm `U` are in newtons, so the largest row
+//! value between grid points ([`stance_topp::between`]) is a violation in newtons, reported also
+//! as a fraction of the weight `m |g|`; optionally the grid is refined until it is below a bound.
+//!
+//! The three timings of the paper's Tables I and II are reported: `t_u` (the GIWC face form),
+//! `t_abc` (the rows) and `t_topp` (the solve).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+use stance_contact::{GiwcOptions, Scene};
+use stance_topp::between::{check_between, refine_until, PathRows};
+use stance_topp::factored::FactoredRows;
+use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
+use stance_topp::path::{CubicSpline, PathCurve, Polyline, SplineEnds};
+use stance_topp::{
+    solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Tolerances, Workspace,
+};
+
+use crate::StanceError;
+
+/// Where the scene of a motion comes from: a built-in example by name
+/// (`stance_contact::examples::NAMES`) or a full scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SceneRef {
+    /// A built-in example scene, e.g. `"box-climbing"`.
+    Named(String),
+    /// A scene given in full (the scene-file format).
+    Inline(Box<Scene>),
+}
+
+impl SceneRef {
+    /// The scene, or an error naming the known examples.
+    ///
+    /// ```
+    /// use stance::retime::SceneRef;
+    /// assert!(SceneRef::Named("stairs".into()).scene().is_ok());
+    /// assert!(SceneRef::Named("moon".into()).scene().is_err());
+    /// ```
+    pub fn scene(&self) -> Result<Scene, StanceError> {
+        match self {
+            SceneRef::Named(n) => {
+                stance_contact::examples::by_name(n).ok_or_else(|| StanceError::UnknownExample {
+                    name: n.clone(),
+                    known: stance_contact::examples::NAMES.join(", "),
+                })
+            }
+            SceneRef::Inline(s) => Ok((**s).clone()),
+        }
+    }
+}
+
+/// How the CoM path interpolates its waypoints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Interpolation {
+    /// Straight segments (the paper's choice; `p_ss = 0` inside segments).
+    Polyline,
+    /// The C2 cubic spline through the waypoints, with zero end tangents (rest to rest).
+    #[default]
+    Spline,
+}
+
+/// The CoM path: waypoints at knots `s_k` (default `0, 1, .., K-1` scaled to `[0, 1]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PathSpec {
+    /// CoM waypoints in world coordinates (m), at least two.
+    pub waypoints: Vec<[f64; 3]>,
+    /// Path parameter at each waypoint (strictly increasing); default evenly spaced on `[0, 1]`.
+    #[serde(default)]
+    pub knots: Option<Vec<f64>>,
+    /// Interpolation between waypoints (default: spline).
+    #[serde(default)]
+    pub interpolation: Interpolation,
+}
+
+/// Discretization of the reachability analysis (as in `stance topp`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DiscretizationName {
+    /// Rows of grid point `i` on `(u_i, x_i)` only.
+    Collocation,
+    /// Also the rows of grid point `i + 1` at `x_i + 2 Delta u_i` (default: tighter between
+    /// grid points).
+    #[default]
+    Interpolation,
+}
+
+fn default_grid_points() -> usize {
+    101
+}
+fn default_samples() -> usize {
+    10
+}
+
+/// A motion to retime: scene, CoM path, grid and boundary speeds (the `stance retime` file).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// The stance (held during the whole motion).
+    pub scene: SceneRef,
+    /// The CoM path.
+    pub path: PathSpec,
+    /// Number of grid points `N + 1` (default 101).
+    #[serde(default = "default_grid_points")]
+    pub grid_points: usize,
+    /// Path speed `s'` at the start (default 0).
+    #[serde(default)]
+    pub sd_start: f64,
+    /// Path speed `s'` at the end (default 0).
+    #[serde(default)]
+    pub sd_end: f64,
+    /// Discretization (default interpolation).
+    #[serde(default)]
+    pub discretization: DiscretizationName,
+    /// Refine the grid until the violation between grid points is below this fraction of the
+    /// weight `m |g|` (e.g. 0.01); none by default (only measured).
+    #[serde(default)]
+    pub max_violation_fraction: Option<f64>,
+    /// Samples per interval for the check between grid points (default 10).
+    #[serde(default = "default_samples")]
+    pub samples_per_interval: usize,
+    /// Resample the retimed trajectory at this time step (s); none by default.
+    #[serde(default)]
+    pub dt: Option<f64>,
+}
+
+/// A curve built from a [`PathSpec`].
+#[derive(Debug, Clone)]
+pub enum ComPath {
+    /// Straight segments.
+    Polyline(Polyline),
+    /// Cubic spline.
+    Spline(CubicSpline),
+}
+
+impl PathCurve for ComPath {
+    fn domain(&self) -> [f64; 2] {
+        match self {
+            ComPath::Polyline(p) => p.domain(),
+            ComPath::Spline(p) => p.domain(),
+        }
+    }
+    fn eval(&self, s: f64) -> stance_topp::path::PathPoint {
+        match self {
+            ComPath::Polyline(p) => p.eval(s),
+            ComPath::Spline(p) => p.eval(s),
+        }
+    }
+}
+
+impl PathSpec {
+    /// The path curve (validates waypoints and knots).
+    ///
+    /// ```
+    /// use stance::retime::{Interpolation, PathSpec};
+    /// use stance_topp::path::PathCurve;
+    /// let spec = PathSpec { waypoints: vec![[0.0; 3], [0.1, 0.0, 0.0]], knots: None,
+    ///     interpolation: Interpolation::Polyline };
+    /// assert_eq!(spec.curve().unwrap().domain(), [0.0, 1.0]);
+    /// ```
+    pub fn curve(&self) -> Result<ComPath, StanceError> {
+        let n = self.waypoints.len();
+        let knots = match &self.knots {
+            Some(k) => k.clone(),
+            None => (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect(),
+        };
+        Ok(match self.interpolation {
+            Interpolation::Polyline => {
+                ComPath::Polyline(Polyline::new(knots, self.waypoints.clone())?)
+            }
+            Interpolation::Spline => ComPath::Spline(CubicSpline::new(
+                knots,
+                self.waypoints.clone(),
+                SplineEnds::Clamped {
+                    start: [0.0; 3],
+                    end: [0.0; 3],
+                },
+            )?),
+        })
+    }
+}
+
+/// The largest violation of the contact-stability rows between grid points.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Between {
+    /// Largest row value (N; <= 0 means satisfied) over the finer grid.
+    pub max_violation_newtons: f64,
+    /// The same as a fraction of the weight `m |g|`.
+    pub fraction_of_weight: f64,
+    /// Path parameter where it occurs.
+    pub at_s: f64,
+}
+
+/// What the optional refinement did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Refinement {
+    /// The violation is below the requested bound.
+    pub converged: bool,
+    /// Rounds of refine-and-resolve.
+    pub rounds: usize,
+    /// Grid points added.
+    pub points_added: usize,
+    /// Wall time of the refinement (ms).
+    pub elapsed_ms: f64,
+}
+
+/// Timings of the three stages (ms), as in the paper's Tables I and II.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Timings {
+    /// GIWC face form (`U_stance`).
+    pub t_u_ms: f64,
+    /// Rows `a, b, c` on the grid.
+    pub t_abc_ms: f64,
+    /// Reachability analysis.
+    pub t_topp_ms: f64,
+}
+
+/// The retimed motion.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Retiming {
+    /// `"optimal"` or the reason there is no profile (see [`stance_topp::Status`]).
+    pub status: &'static str,
+    /// The grid point of a failure.
+    pub index: Option<usize>,
+    /// The discretization that ran.
+    pub discretization: &'static str,
+    /// Duration (s) when optimal.
+    pub duration: Option<f64>,
+    /// Grid `s_i`.
+    pub s: Vec<f64>,
+    /// Path speed `s'` at the grid points (empty without a profile).
+    pub sd: Vec<f64>,
+    /// Path acceleration `s''` on each interval (empty without a profile).
+    pub sdd: Vec<f64>,
+    /// Time at the grid points (empty without a profile).
+    pub t: Vec<f64>,
+    /// CoM at the grid points.
+    pub com: Vec<[f64; 3]>,
+    /// Controllable sets `[lo, hi]` of `x = s'^2` (null where empty).
+    pub controllable_sets: Vec<Option<[f64; 2]>>,
+    /// Feasible sets `[lo, hi]` of `x = s'^2` at each grid point (null where empty): the `x` for
+    /// which some `s''` satisfies the rows of that point.
+    pub feasible_sets: Vec<Option<[f64; 2]>>,
+    /// Rows per grid point (facets of `U_stance`).
+    pub rows_per_point: usize,
+    /// Whether the GIWC conversion certified its face form.
+    pub giwc_certified: bool,
+    /// Violation between grid points (of the final grid).
+    pub between: Option<Between>,
+    /// What the refinement did, when asked.
+    pub refinement: Option<Refinement>,
+    /// Resampled trajectory `[t, s, s', s'']` at the requested time step.
+    pub samples: Vec<[f64; 4]>,
+    /// Stage timings.
+    pub timings: Timings,
+}
+
+/// The feasible set of `x` at one grid point: min and max `x` over `{(u, x) : rows <= 0}`
+/// within the solver's bounding box (two exact 2-variable LPs).
+fn feasible_set(k: &CanonicalConstraints, i: usize, tol: &Tolerances) -> Option<[f64; 2]> {
+    let lines = StageLines::from_rows(k.rows_at(i));
+    let bbox = Box2 {
+        u_lo: -tol.max_u,
+        u_hi: tol.max_u,
+        x_lo: 0.0,
+        x_hi: tol.max_x,
+    };
+    let mut stats = Lp2Stats::default();
+    let mut extreme =
+        |dir: f64| match lp2::solve(&lines, bbox, [0.0, dir], [1.0, 0.0], &[], tol, &mut stats) {
+            Lp2::Optimal { x, .. } => Some(x),
+            Lp2::Infeasible => None,
+        };
+    Some([extreme(-1.0)?, extreme(1.0)?])
+}
+
+/// Retimes a motion: `U_stance` once, the rows of eq. 14 on the grid, reachability analysis,
+/// the violation between grid points, and optionally a refinement of the grid.
+///
+/// ```
+/// use stance::retime::{retime, MotionSpec};
+/// let spec: MotionSpec = serde_json::from_str(r#"{"scene": "double-support",
+///     "path": {"waypoints": [[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]]}}"#).unwrap();
+/// let r = retime(&spec).unwrap();
+/// assert_eq!(r.status, "optimal");
+/// assert!(r.duration.unwrap() > 0.0);
+/// ```
+pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
+    if spec.grid_points < 2 {
+        return Err(StanceError::BadMotion(format!(
+            "grid_points is {}; give at least 2",
+            spec.grid_points
+        )));
+    }
+    for (what, v) in [("sd_start", spec.sd_start), ("sd_end", spec.sd_end)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "{what} is {v}; give a finite path speed >= 0"
+            )));
+        }
+    }
+    let scene = spec.scene.scene()?;
+    let curve = spec.path.curve()?;
+    let [s0, s1] = curve.domain();
+    let n = spec.grid_points - 1;
+    let grid: Vec<f64> = (0..=n)
+        .map(|i| {
+            if i == n {
+                s1
+            } else {
+                s0 + (s1 - s0) * i as f64 / n as f64
+            }
+        })
+        .collect();
+
+    let t0 = Instant::now();
+    let giwc = scene.stance()?.u_stance(&GiwcOptions::default())?;
+    let t_u = t0.elapsed();
+    if giwc.equations.nrows() > 0 {
+        return Err(StanceError::BadMotion(format!(
+            "the stance's GIWC is lower-dimensional ({} equation(s)); retiming needs a \
+             full-dimensional GIWC (use surface contacts or more contacts)",
+            giwc.equations.nrows()
+        )));
+    }
+    let u: Vec<[f64; 6]> = giwc
+        .facets
+        .row_iter()
+        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
+        .collect();
+
+    let t1 = Instant::now();
+    let factored = FactoredRows::from_path(&u, grid.clone(), &curve, scene.mass, scene.gravity)?;
+    let k = factored.to_constraints();
+    let t_abc = t1.elapsed();
+
+    let disc = match spec.discretization {
+        DiscretizationName::Collocation => Discretization::Collocation,
+        DiscretizationName::Interpolation => Discretization::Interpolation,
+    };
+    let opts = SolveOptions::new(disc)
+        .with_start(spec.sd_start)
+        .with_end(spec.sd_end);
+    let mut ws = Workspace::new();
+    let t2 = Instant::now();
+    let mut sol = solve_with(&k, &opts, &mut ws)?;
+    let t_topp = t2.elapsed();
+
+    let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    let rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
+    let mut k_final = k;
+    let mut refinement = None;
+    if let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) {
+        if !(bound.is_finite() && bound > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "max_violation_fraction is {bound}; give a finite fraction > 0 (e.g. 0.01)"
+            )));
+        }
+        let rep = refine_until(
+            &rows,
+            grid,
+            &opts,
+            bound * weight,
+            weight,
+            crate::tol::MAX_REFINED_GRID_POINTS,
+            spec.samples_per_interval,
+        )?;
+        refinement = Some(Refinement {
+            converged: rep.converged,
+            rounds: rep.rounds,
+            points_added: rep.points_added,
+            elapsed_ms: rep.elapsed.as_secs_f64() * 1e3,
+        });
+        k_final = rows.on_grid(rep.grid)?;
+        sol = rep.solution;
+    }
+
+    let index = match sol.status {
+        Status::FeasibleSetEmpty { index }
+        | Status::ControllableSetEmpty { index }
+        | Status::ForwardPassFailed { index }
+        | Status::Stalled { index } => Some(index),
+        Status::StartOutsideControllable { .. } => Some(0),
+        Status::Optimal => None,
+    };
+    let s_final = k_final.grid().to_vec();
+    let com = s_final.iter().map(|&s| curve.eval(s).p).collect();
+    let feasible_sets = (0..s_final.len())
+        .map(|i| feasible_set(&k_final, i, &opts.tol))
+        .collect();
+    let (between, sd, sdd, t, samples) = match &sol.profile {
+        Some(p) => {
+            let (rep, _) = check_between(p, &rows, spec.samples_per_interval, weight);
+            let samples = match spec.dt {
+                Some(dt) if dt.is_finite() && dt > 0.0 => p
+                    .resample(dt)
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|q| [q.t, q.s, q.sd, q.sdd])
+                    .collect(),
+                Some(dt) => {
+                    return Err(StanceError::BadMotion(format!(
+                        "dt is {dt}; give a finite time step > 0"
+                    )))
+                }
+                None => Vec::new(),
+            };
+            (
+                Some(Between {
+                    max_violation_newtons: rep.max_violation,
+                    fraction_of_weight: rep.fraction,
+                    at_s: rep.at_s,
+                }),
+                p.sd(),
+                p.u().to_vec(),
+                p.times()
+                    .iter()
+                    .copied()
+                    .filter(|t| t.is_finite())
+                    .collect(),
+                samples,
+            )
+        }
+        None => (None, Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+    };
+    Ok(Retiming {
+        status: sol.status.name(),
+        index,
+        discretization: disc.name(),
+        duration: sol.duration().filter(|d| d.is_finite()),
+        s: s_final,
+        sd,
+        sdd,
+        t,
+        com,
+        controllable_sets: sol.controllable.clone(),
+        feasible_sets,
+        rows_per_point: u.len(),
+        giwc_certified: giwc.certified,
+        between,
+        refinement,
+        samples,
+        timings: Timings {
+            t_u_ms: t_u.as_secs_f64() * 1e3,
+            t_abc_ms: t_abc.as_secs_f64() * 1e3,
+            t_topp_ms: t_topp.as_secs_f64() * 1e3,
+        },
+    })
+}
