@@ -87,8 +87,9 @@
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
 //! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes about 16 us for 101
-//!   grid points and 172 rows on the test machine (AVX2 + FMA kernel, portable fallback):
-//!   above the 10 us the issue asked for; it is bound by writing the 24-byte rows.
+//!   grid points and 172 rows (11 us for 105 rows) on the test machine with the AVX2 + FMA
+//!   kernel (portable fallback elsewhere): above the 10 us the issue asked for; 18
+//!   multiply-adds per row at 4 lanes leave little room without AVX-512.
 //! - The greedy forward pass is time-optimal for the continuous problem as the grid is refined,
 //!   not exactly for the discretized one: when rows couple `u` and `x` (`b != 0`), a lower `x_i`
 //!   can allow a larger `u_i`. Measured against a one-shot LP (clarabel, maximizing

@@ -171,6 +171,29 @@ proptest! {
         prop_assert!(res.enforced_max <= 1e-9);
     }
 
+    /// Every forward step takes the largest admissible u (checked by the 2-variable LP kernel
+    /// with x fixed, an independent code path from the solver's 1-D forward step).
+    #[test]
+    fn forward_steps_are_maximal(seed in any::<u64>(), n in 4usize..25, m in 1usize..6, interp in any::<bool>()) {
+        use stance_topp::lp2::{solve as lp2_solve, Box2, Lp2, Lp2Stats, StageLines};
+        let k = random_instance(seed, n, m, false);
+        let disc = if interp { Discretization::Interpolation } else { Discretization::Collocation };
+        let sol = solve(&k, &SolveOptions::new(disc)).unwrap();
+        let p = sol.profile.as_ref().unwrap();
+        let (x, u, s) = (p.x(), p.u(), k.grid());
+        for i in 0..x.len() - 1 {
+            let kk = sol.controllable[i + 1].unwrap();
+            let td = 2.0 * (s[i + 1] - s[i]);
+            let head = [Row { a: td, b: 1.0, c: -kk[1] }, Row { a: -td, b: -1.0, c: kk[0] }];
+            let next = if interp { k.rows_at(i + 1) } else { &[] };
+            let lines = StageLines { head, n_head: 2, here: k.rows_at(i), next, two_delta: td };
+            let bbox = Box2 { u_lo: -1e8, u_hi: 1e8, x_lo: x[i], x_hi: x[i] };
+            let r = lp2_solve(&lines, bbox, [1.0, 0.0], [0.0, 1.0], &[], &Default::default(), &mut Lp2Stats::default());
+            let Lp2::Optimal { u: u_max, .. } = r else { panic!("stage {i}: no admissible u at x_i") };
+            prop_assert!((u_max - u[i]).abs() <= 1e-9 * u_max.abs().max(1.0), "stage {}: {} vs {}", i, u[i], u_max);
+        }
+    }
+
     /// Rows that bound u or x alone (the reachable sets are then monotone): the greedy profile
     /// is the pointwise-largest one, so it IS the one-shot LP optimum.
     #[test]
