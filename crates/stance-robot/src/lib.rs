@@ -96,7 +96,7 @@ pub use kinematics::{
 };
 pub use model::{Frame, FrameKind, Joint, JointKind, Model, RootJoint, UrdfOptions};
 pub use nalgebra;
-pub use path::{path_terms, PathTerms};
+pub use path::{path_terms, path_terms_along, PathTerms};
 pub use spatial::{Inertia, Pose};
 pub use tol::Tolerances;
 
