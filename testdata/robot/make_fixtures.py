@@ -10,7 +10,7 @@ LOCAL and LOCAL_WORLD_ALIGNED, and the classical acceleration with a = 0 (`J_dot
 three frames; and the path terms of MATH.md section 6 at (q, q_s = v, q_ss = a random vector):
 p_s and p_ss are Pinocchio's CoM velocity and acceleration (`centerOfMass(q, v, a)`), l1 and l2
 the angular parts of the centroidal momentum and of its rate
-(`computeCentroidalMomentumTimeVariation(q, v, a)`).
+(`computeCentroidalMomentumTimeVariation(q, v, a)`); and `integrate(q, 0.3 v)`.
 
 Regenerate (from the project root, with the virtualenv of scripts/setup-venv.sh --peers):
 
@@ -137,6 +137,7 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
             "centroidal_map": rows(ag),
             "centroidal_map_dot_v": dhg.tolist(),
             "path_terms": path,
+            "integrate_0_3_v": pin.integrate(model, q, 0.3 * v).tolist(),
             "frames": frame_out,
         })
     out = {

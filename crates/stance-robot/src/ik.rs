@@ -49,7 +49,10 @@ use crate::kinematics::{
 };
 use crate::model::{JointKind, Model};
 
-/// Weights and gains of the IK (the paper's defaults).
+/// Weights and gains of the IK (the paper's defaults). MATH.md names the two task gains
+/// `K_s = K_ss = 10` without saying which multiplies which error; here they are named by role,
+/// `k_p` on the position error and `k_d` on the rate error, both 10 by default, so the choice
+/// does not matter at the defaults.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IkOptions {
     /// Weight of the CoM task (default 1).

@@ -64,9 +64,12 @@
 //!   with the robot kilometres away from the origin, round-off in `A_g`'s angular rows grows with
 //!   the squared distance.
 //! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics).
+//! - [`SMALL_HUMANOID_URDF`] is included from the project's `models/` folder, outside the crate:
+//!   the crate builds inside the project workspace only (not as a stand-alone package).
+//! - JVRC-1's URDF is not shipped: [`jvrc1::locate_urdf`] finds it in the project virtualenv
+//!   (PyPI `jvrc-description`), and the JVRC-1 tests skip, saying why, when it is absent.
 //! - The acceleration-level IK ([`ik`]) tracks CoM and link positions and orientations, holds
-//!   contacts as fixed 6-D frames, bounds joint positions over the next
-//!   path step only (a joint that arrives fast at its limit is stopped within one step, which can
+//!   contacts as fixed 6-D frames, bounds joint positions over the next path step only (a joint that arrives fast at its limit is stopped within one step, which can
 //!   make the next QP infeasible: reported as a status) and optionally the joint rates along the
 //!   path; a target out of reach drives the limbs to singular configurations and ends as an
 //!   infeasible or failed status. It builds dense QPs and allocates: it is meant for planning
@@ -96,7 +99,7 @@ pub use kinematics::{
 };
 pub use model::{Frame, FrameKind, Joint, JointKind, Model, RootJoint, UrdfOptions};
 pub use nalgebra;
-pub use path::{path_terms, PathTerms};
+pub use path::{path_terms, path_terms_along, PathTerms};
 pub use spatial::{Inertia, Pose};
 pub use tol::Tolerances;
 

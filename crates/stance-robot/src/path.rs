@@ -74,3 +74,33 @@ pub fn path_terms(
         l2: h_ss.fixed_rows::<3>(3).into(),
     })
 }
+
+/// [`path_terms`] at every sample of a tracked path (see [`crate::track_path`]), with one
+/// workspace.
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use stance_robot::{center_of_mass, path_terms_along, track_path, Data, IkOptions, Model,
+///     PointReference};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let q0 = m.neutral();
+/// let c0 = center_of_mass(&m, &mut Data::new(&m), &q0).unwrap();
+/// let feet = [m.frame_id("r_sole").unwrap(), m.frame_id("l_sole").unwrap()];
+/// let grid: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+/// let path = track_path(&m, &q0, &vec![0.0; m.nv], &feet, &grid,
+///     &|s| (PointReference::segment(c0, c0 + Vector3::new(0.0, 0.0, -0.01), s), vec![]),
+///     &IkOptions::default()).unwrap();
+/// let terms = path_terms_along(&m, &path.samples).unwrap();
+/// assert_eq!(terms.len(), grid.len());
+/// assert!((terms[0].p - c0).norm() < 1e-12);
+/// ```
+pub fn path_terms_along(
+    model: &Model,
+    samples: &[crate::ik::PathSample],
+) -> Result<Vec<PathTerms>, RobotError> {
+    let mut data = Data::new(model);
+    samples
+        .iter()
+        .map(|s| path_terms(model, &mut data, &s.q, &s.q_s, &s.q_ss))
+        .collect()
+}

@@ -147,15 +147,21 @@ pub(crate) fn exp6(v: &Vector3<f64>, w: &Vector3<f64>) -> Pose {
     let theta = w.norm();
     let k = skew(w);
     let k2 = k * k;
-    // Series below a small angle: the closed forms lose all digits near 0.
-    let (a, b, c) = if theta < SMALL_ANGLE_SERIES {
+    // Below a small angle, the Taylor series (the closed forms divide by powers of theta and
+    // `theta - sin theta` cancels); `1 - cos` is computed as `2 sin^2(theta / 2)`, exact to
+    // round-off at every angle.
+    let (a, b, c) = if theta < crate::tol::EXP_SERIES_ANGLE {
         let t2 = theta * theta;
-        (1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+        (
+            1.0 - t2 / 6.0 * (1.0 - t2 / 20.0),
+            0.5 - t2 / 24.0 * (1.0 - t2 / 30.0),
+            1.0 / 6.0 - t2 / 120.0 * (1.0 - t2 / 42.0),
+        )
     } else {
-        let (s, co) = theta.sin_cos();
+        let (s, half) = (theta.sin(), (0.5 * theta).sin());
         (
             s / theta,
-            (1.0 - co) / (theta * theta),
+            2.0 * half * half / (theta * theta),
             (theta - s) / (theta * theta * theta),
         )
     };
@@ -166,11 +172,6 @@ pub(crate) fn exp6(v: &Vector3<f64>, w: &Vector3<f64>) -> Pose {
         translation: left_jacobian * v,
     }
 }
-
-/// Angle (rad) below which [`exp6`] uses the Taylor series of `sin t / t`, `(1 - cos t) / t^2`,
-/// `(t - sin t) / t^3` (truncation error below `t^4 / 5040 < 1e-17` there), because the closed
-/// forms cancel catastrophically near 0.
-const SMALL_ANGLE_SERIES: f64 = 1e-4;
 
 /// A rigid body's inertia in its own frame: mass, CoM lever and rotational inertia about the CoM.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -299,5 +300,40 @@ impl WorldInertia {
             v * self.mass + w.cross(&self.first_moment),
             self.first_moment.cross(v) + self.rot_origin * w,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The SE(3) exponential agrees with nalgebra's rotation exponential and with a fine
+    /// integration of the constant twist, on both sides of the series switch.
+    #[test]
+    fn exp6_is_continuous_across_the_series_switch() {
+        let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
+        let v = Vector3::new(0.2, 0.1, -0.4);
+        for angle in [1e-7, 1e-4, 0.9e-2, 1.1e-2, 0.3, 1.0, 3.0] {
+            let w = axis * angle;
+            let e = exp6(&v, &w);
+            let r = Rotation3::from_scaled_axis(w);
+            assert!((e.rotation - r.matrix()).norm() < 1e-15);
+            // translation: integral of R(t) v over [0, 1], by Simpson's rule with 2000 intervals
+            let n = 2000;
+            let mut t = Vector3::zeros();
+            for k in 0..=n {
+                let weight = if k == 0 || k == n {
+                    1.0
+                } else if k % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                let rk = Rotation3::from_scaled_axis(w * (k as f64 / n as f64));
+                t += rk * v * weight;
+            }
+            t /= 3.0 * n as f64;
+            assert!((e.translation - t).norm() < 1e-13, "angle {angle}");
+        }
     }
 }

@@ -34,6 +34,15 @@ pub const MIN_AXIS_NORM: f64 = 1e-12;
 /// Default `1e-9`.
 pub const INERTIA_PSD_REL_TOL: f64 = 1e-9;
 
+/// Angle (rad) below which the SE(3) exponential used by [`crate::integrate`] switches to the
+/// Taylor series (to `t^4`) of `sin t / t`, `(1 - cos t) / t^2` and `(t - sin t) / t^3`.
+///
+/// Default `1e-2`: there the series' truncation error is below `t^6 / 5040 < 1e-15` relative,
+/// while above it the closed form of `(t - sin t) / t^3` loses at most `1e-11` relatively to
+/// cancellation (multiplied by `t^2` in the exponential). A numerical-method switch, not a
+/// tolerance on input: not an option.
+pub const EXP_SERIES_ANGLE: f64 = 1e-2;
+
 /// The thresholds above, passed as options to [`crate::Model::from_urdf_str`] and to the
 /// configuration checks.
 #[derive(Debug, Clone, Copy, PartialEq)]

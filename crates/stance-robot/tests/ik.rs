@@ -28,6 +28,48 @@ fn feet(m: &Model) -> [usize; 2] {
     [m.frame_id("r_sole").unwrap(), m.frame_id("l_sole").unwrap()]
 }
 
+/// The QP's minimizer under its equality constraints only, by a dense KKT solve:
+/// `[P A^T; A 0] [x; y] = [-c; b]`.
+fn kkt_solution(qp: &IkQp) -> DVector<f64> {
+    let (n, me) = (qp.p.nrows(), qp.a_eq.nrows());
+    let mut kkt = DMatrix::zeros(n + me, n + me);
+    kkt.view_mut((0, 0), (n, n)).copy_from(&qp.p);
+    kkt.view_mut((0, n), (n, me))
+        .copy_from(&qp.a_eq.transpose());
+    kkt.view_mut((n, 0), (me, n)).copy_from(&qp.a_eq);
+    let mut rhs = DVector::zeros(n + me);
+    rhs.rows_mut(0, n).copy_from(&(-&qp.c));
+    rhs.rows_mut(n, me).copy_from(&qp.b_eq);
+    let sol = kkt.lu().solve(&rhs).expect("KKT matrix is regular");
+    sol.rows(0, n).into_owned()
+}
+
+fn objective(qp: &IkQp, x: &DVector<f64>) -> f64 {
+    0.5 * x.dot(&(&qp.p * x)) + qp.c.dot(x)
+}
+
+/// Checks Clarabel's answer against the KKT solution when no bound is active: the contact
+/// equations hold to 1e-7 (relative to their right-hand side) and the objective matches to
+/// 1e-7 relative. Clarabel stops when its duality gap and residuals are below 1e-8 (absolute and
+/// relative, on its internally scaled problem): the objective is what that guarantees, not x
+/// itself, since the regularization (1e-6) leaves directions along which the objective is
+/// nearly flat; 10x margin for the scaling.
+fn assert_matches_kkt(qp: &IkQp, step: &IkStep) -> Result<(), String> {
+    let x = DVector::from_column_slice(&step.q_ss);
+    let x_kkt = kkt_solution(qp);
+    let (f, f_kkt) = (objective(qp, &x), objective(qp, &x_kkt));
+    let gap = (f - f_kkt).abs() / f_kkt.abs().max(1.0);
+    let residual = step.contact_residual / qp.b_eq.amax().max(1.0);
+    let dx = (&x - &x_kkt).amax() / x_kkt.amax().max(1.0);
+    if gap < 1e-7 && residual < 1e-7 {
+        Ok(())
+    } else {
+        Err(format!(
+            "objective gap {gap:.2e}, contact residual {residual:.2e} (x differs by {dx:.2e})"
+        ))
+    }
+}
+
 #[test]
 fn qp_solution_matches_a_dense_kkt_solve_when_no_bound_is_active() {
     let m = model();
@@ -60,27 +102,7 @@ fn qp_solution_matches_a_dense_kkt_solve_when_no_bound_is_active() {
     let x = DVector::from_column_slice(&step.q_ss);
     let slack = &qp.h - &qp.g * &x;
     assert!(slack.min() > 1.0, "a bound is active: this test needs none");
-    // KKT: [P A^T; A 0] [x; y] = [-c; b]
-    let (n, me) = (qp.p.nrows(), qp.a_eq.nrows());
-    let mut kkt = DMatrix::zeros(n + me, n + me);
-    kkt.view_mut((0, 0), (n, n)).copy_from(&qp.p);
-    kkt.view_mut((0, n), (n, me))
-        .copy_from(&qp.a_eq.transpose());
-    kkt.view_mut((n, 0), (me, n)).copy_from(&qp.a_eq);
-    let mut rhs = DVector::zeros(n + me);
-    rhs.rows_mut(0, n).copy_from(&(-&qp.c));
-    rhs.rows_mut(n, me).copy_from(&qp.b_eq);
-    let sol = kkt.lu().solve(&rhs).expect("KKT matrix is regular");
-    let x_kkt = sol.rows(0, n);
-    let scale = x_kkt.amax().max(1.0);
-    // Clarabel stops at relative gaps of 1e-8; the answers agree to about that (times the
-    // conditioning of the regularized problem): 1e-6 relative leaves margin.
-    let err = (&x - x_kkt).amax() / scale;
-    assert!(
-        err < 1e-6,
-        "Clarabel and KKT differ by {err:.2e} (relative)"
-    );
-    assert!(step.contact_residual < 1e-7 * qp.b_eq.amax().max(1.0));
+    assert_matches_kkt(&qp, &step).unwrap();
 }
 
 #[test]
@@ -481,4 +503,41 @@ fn hand_pose_task_holds_the_hand() {
     );
     assert!(r_held < 0.01);
     assert!(p_free < 1e-3);
+}
+
+mod property {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+        /// At random path states and references near the standing configuration, whenever no
+        /// joint bound is active, Clarabel's answer is the dense KKT solution.
+        #[test]
+        fn qp_matches_kkt_at_random_states(
+            dq in prop::collection::vec(-0.2..0.2f64, 27),
+            q_s in prop::collection::vec(-0.05..0.05f64, 27),
+            dc in prop::collection::vec(-0.05..0.05f64, 9),
+        ) {
+            let m = model();
+            let mut q = standing(&m);
+            q = integrate(&m, &q, &dq).unwrap();
+            let mut d = Data::new(&m);
+            let c0 = center_of_mass(&m, &mut d, &q).unwrap();
+            let com = PointReference {
+                p: c0 + Vector3::new(dc[0], dc[1], dc[2]),
+                p_s: Vector3::new(dc[3], dc[4], dc[5]),
+                p_ss: Vector3::new(dc[6], dc[7], dc[8]),
+            };
+            let opts = IkOptions::default();
+            let qp = ik_qp(&m, &mut d, &q, &q_s, &feet(&m), &com, &[], 0.01, &opts).unwrap();
+            let step = solve_ik_qp(&qp, opts.qp_tol).unwrap();
+            prop_assert_eq!(&step.status, &IkStatus::Solved);
+            let x = DVector::from_column_slice(&step.q_ss);
+            prop_assume!((&qp.h - &qp.g * &x).min() > 1.0); // no bound active
+            let check = assert_matches_kkt(&qp, &step);
+            prop_assert!(check.is_ok(), "{}", check.unwrap_err());
+        }
+    }
 }

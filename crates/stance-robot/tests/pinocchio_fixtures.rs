@@ -1,6 +1,6 @@
 //! Golden tests against Pinocchio 4.1.0 (fixtures made by `testdata/robot/make_fixtures.py`):
 //! joint order, nq/nv, mass, CoM, CoM Jacobian, A_g, dA_g/dt v, the path terms p_s, p_ss, l1,
-//! l2, frame placements, frame Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical
+//! l2, `integrate`, frame placements, frame Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical
 //! accelerations, at random configurations and velocities.
 //!
 //! Tolerance: every entry within `1e-9 * max(1, max |reference entry|)` of the same quantity.
@@ -117,6 +117,13 @@ fn run_fixture(model: &Model, fx: &Value) {
         for (key, got) in [("p_s", t.p_s), ("p_ss", t.p_ss), ("l1", t.l1), ("l2", t.l2)] {
             worst = worst.max(check_vec(&tag(key), got.as_slice(), &vecf(&pt[key])));
         }
+        let v3: Vec<f64> = v.iter().map(|x| 0.3 * x).collect();
+        let q_next = integrate(model, &q, &v3).unwrap();
+        worst = worst.max(check_vec(
+            &tag("integrate(q, 0.3 v)"),
+            &q_next,
+            &vecf(&case["integrate_0_3_v"]),
+        ));
         // path_terms recomputed the kinematics at the same (q, v): the frame checks below hold
         for (fname, fref) in case["frames"].as_object().unwrap() {
             let fid = model.frame_id(fname).unwrap();
