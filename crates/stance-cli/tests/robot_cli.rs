@@ -132,9 +132,9 @@ fn negative_values_work_with_and_without_equals_sign_and_output_file_and_repeat(
     q.extend(["0", "0", "0", "1"].map(String::from));
     // 12 leg joints, torso_lift, chest_p, 3 left arm joints, the neck (cos, sin), 3 right arm
     // joints (Pinocchio's order: siblings by joint name)
-    q.extend(std::iter::repeat("-0.1".to_string()).take(17));
+    q.extend(std::iter::repeat_n("-0.1".to_string(), 17));
     q.extend(["1", "0"].map(String::from));
-    q.extend(std::iter::repeat("-0.1".to_string()).take(3));
+    q.extend(std::iter::repeat_n("-0.1".to_string(), 3));
     let q = q.join(",");
     let dir = std::env::temp_dir().join(format!("stance-robot-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -331,7 +331,7 @@ impl DdCore {
                 self.acc[p / 64] &= !(1u64 << (p % 64));
                 self.acc[q / 64] &= !(1u64 << (q % 64));
                 // Only rays 0..n exist: clear the bits past them.
-                if self.n % 64 != 0 {
+                if !self.n.is_multiple_of(64) {
                     self.acc[rw - 1] &= (1u64 << (self.n % 64)) - 1;
                 }
                 if self.acc.iter().any(|&w| w != 0) {

@@ -11,9 +11,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use stance::retime::{
-    retime, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef,
-};
+use stance::retime::{retime, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
 use stance::stance_contact::{examples, GiwcOptions};
 use stance::stance_robot::{Data, Model, UrdfOptions, SMALL_HUMANOID_URDF};
@@ -72,7 +70,10 @@ pub fn run(args: DemoArgs) -> Result<()> {
     }
 
     println!("\n2. Static-equilibrium polygon (vertical gravity; paper Section IV)");
-    println!("   {:<16} {:>9} {:>10} {:>9}", "scene", "vertices", "area m^2", "time ms");
+    println!(
+        "   {:<16} {:>9} {:>10} {:>9}",
+        "scene", "vertices", "area m^2", "time ms"
+    );
     for (name, scene, giwc) in &giwcs {
         let t = Instant::now();
         let eq = StaticEquilibrium::new(giwc, scene.gravity, &Default::default())?;
@@ -98,14 +99,20 @@ pub fn run(args: DemoArgs) -> Result<()> {
         .map(|i| {
             // A deterministic low-discrepancy cloud over a 1 m box around the stance.
             let f = |k: f64| (i as f64 * k).fract();
-            [f(0.754_877_666) - 0.2, f(0.569_840_29) - 0.6, 0.4 + f(0.438_579_32)]
+            [
+                f(0.754_877_666) - 0.2,
+                f(0.569_840_29) - 0.6,
+                0.4 + f(0.438_579_32),
+            ]
         })
         .collect();
     let mut stable = vec![false; n];
     let t = Instant::now();
     region.contains_batch(&points, &mut stable);
     let batch = t.elapsed();
-    println!("\n3. Robust static equilibrium, box climbing, 4 gravity vectors (+-0.15 m/s^2 tilts)");
+    println!(
+        "\n3. Robust static equilibrium, box climbing, 4 gravity vectors (+-0.15 m/s^2 tilts)"
+    );
     println!(
         "   3-D region M: {} vertices, {} faces ({:?}) in {:.3} ms",
         region.polyhedron.vertices.len(),
@@ -152,8 +159,10 @@ pub fn run(args: DemoArgs) -> Result<()> {
             r.rows_per_point,
             r.status,
             r.duration.map_or("-".into(), |d| format!("{d:.4}")),
-            r.between
-                .map_or("-".into(), |b| format!("{:.3}", 100.0 * b.fraction_of_weight.max(0.0))),
+            r.between.map_or("-".into(), |b| format!(
+                "{:.3}",
+                100.0 * b.fraction_of_weight.max(0.0)
+            )),
             r.timings.t_u_ms,
             r.timings.t_abc_ms,
             r.timings.t_topp_ms
@@ -175,6 +184,9 @@ pub fn run(args: DemoArgs) -> Result<()> {
         data.com.map(|c| (c * 1e4).round() / 1e4),
         us
     );
-    println!("\nPhase-plane plots (x = s'^2 against s): {}", args.out.display());
+    println!(
+        "\nPhase-plane plots (x = s'^2 against s): {}",
+        args.out.display()
+    );
     Ok(())
 }

@@ -347,7 +347,7 @@ impl Model {
             effort_limit,
         });
         self.inertias.push(Inertia::zero());
-        self.dof_joint.extend(std::iter::repeat(k).take(nv));
+        self.dof_joint.extend(std::iter::repeat_n(k, nv));
         self.nq += nq;
         self.nv += nv;
         k

@@ -1,0 +1,105 @@
+//! `stance retime` and `stance demo` through the binary.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stance-retime-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn stance() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stance"))
+}
+
+#[test]
+fn retime_writes_the_trajectory_and_the_phase_plane() {
+    let motion = tmp("motion.json");
+    std::fs::write(
+        &motion,
+        r#"{"scene": "double-support",
+            "path": {"waypoints": [[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]]},
+            "max_violation_fraction": 0.01, "dt": 0.05}"#,
+    )
+    .unwrap();
+    let (out, svg, png) = (tmp("out.json"), tmp("phase.svg"), tmp("phase.png"));
+    for plot in [&svg, &png] {
+        let st = stance()
+            .arg("retime")
+            .arg(&motion)
+            .arg("--plot")
+            .arg(plot)
+            .arg("-o")
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(st.success());
+        assert!(std::fs::metadata(plot).unwrap().len() > 1000);
+    }
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(v["status"], "optimal");
+    let duration = v["duration"].as_f64().unwrap();
+    assert!(duration > 0.1 && duration < 10.0, "{duration}");
+    let samples = v["samples"].as_array().unwrap();
+    // Resampled at 0.05 s: about duration / 0.05 samples, the last at the end of the motion.
+    assert!(samples.len() as f64 >= duration / 0.05);
+    assert!(v["between"]["fraction_of_weight"].as_f64().unwrap() <= 0.01);
+    assert_eq!(
+        v["s"].as_array().unwrap().len(),
+        v["sd"].as_array().unwrap().len()
+    );
+}
+
+#[test]
+fn retime_rejects_bad_motion_files_with_one_line_and_exit_code_2() {
+    for (name, text, needle) in [
+        (
+            "unknown-key.json",
+            r#"{"scene": "stairs", "path": {"waypoints": [[0,0,0.8],[0.1,0,0.8]]}, "speed": 3}"#,
+            "speed",
+        ),
+        (
+            "unknown-scene.json",
+            r#"{"scene": "moon", "path": {"waypoints": [[0,0,0.8],[0.1,0,0.8]]}}"#,
+            "box-climbing",
+        ),
+        (
+            "one-waypoint.json",
+            r#"{"scene": "stairs", "path": {"waypoints": [[0,0,0.8]]}}"#,
+            "error",
+        ),
+    ] {
+        let f = tmp(name);
+        std::fs::write(&f, text).unwrap();
+        let out = stance().arg("retime").arg(&f).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{name}: {err}");
+    }
+}
+
+#[test]
+fn demo_runs_the_built_in_examples() {
+    let dir = tmp("demo");
+    let out = stance()
+        .arg("demo")
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    for scene in ["single-support", "double-support", "stairs", "box-climbing"] {
+        assert!(text.contains(scene), "{text}");
+        assert!(dir.join(format!("phase-{scene}.svg")).exists());
+    }
+    assert!(!text.contains("false"), "every GIWC certified:\n{text}");
+    assert!(text.contains("optimal"));
+}
