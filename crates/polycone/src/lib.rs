@@ -66,9 +66,9 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is only x1.4 (16 generators) to x4 (32 generators,
-//!   median) faster than cddlib's float mode on the paper's 6-D wrench cones (x14 to x26 at 48
-//!   and 64 generators), short of the x10 / x30 aimed at; about half of the time is the
+//! - Speed: the certified tolerance mode is only x1.9 (16 generators) to x4.8 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x26 at 48 and 64
+//!   generators), short of the x10 / x30 aimed at; about half of the time is the
 //!   completeness check (small double descriptions per facet, see
 //!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table.
 //! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders

@@ -181,3 +181,26 @@ fn face_to_span_with_equations_and_redundant_facets() {
     assert_eq!(r.span.generators.nrows(), 0);
     assert_eq!(r.span.lineality.nrows(), 0);
 }
+
+#[test]
+fn results_and_workspace_are_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<polycone::Workspace>();
+    check::<polycone::SpanToFace>();
+    check::<polycone::FaceToSpan>();
+    check::<polycone::Certificate>();
+    check::<ConeError>();
+    check::<DdOptions>();
+}
+
+#[test]
+fn output_order_is_deterministic_and_workspace_reuse_is_stable() {
+    let j = load("tilted_foot_hand_ledge");
+    let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+    let mut ws = polycone::Workspace::new();
+    let a = ws.span_to_face(&v, &opts()).unwrap();
+    let b = ws.span_to_face(&v, &opts()).unwrap();
+    let c = span_to_face(&v, &opts()).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+}
