@@ -105,6 +105,7 @@ proptest! {
     fn random_cones_agree_with_the_oracle(v in cone_strategy(), seed in any::<u64>()) {
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);
+        prop_assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
         check_membership(&v, &r, seed);
         // Dimensions add up: d = dim span + equations, and lineality <= dim span.
         prop_assert!(r.lineality.nrows() + r.face.equations.nrows() <= v.ncols());
@@ -199,6 +200,7 @@ proptest! {
         let v = giwc_generators(&[a, b]);
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);
+        prop_assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
         check_membership(&v, &r, seed);
     }
 }
