@@ -66,8 +66,8 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is only x1.9 (16 generators) to x4.8 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x26 at 48 and 64
+//! - Speed: the certified tolerance mode is only x2 (16 generators) to x5 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x28 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at; about half of the time is the
 //!   completeness check (small double descriptions per facet, see
 //!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table.
