@@ -229,3 +229,22 @@ fn regression_adjacency_mask_past_last_ray_2d() {
         assert!(r.certificate.certified);
     }
 }
+
+/// Regression: row norms of generators with entries near 1e300 overflowed to infinity and the
+/// generators were dropped as "zero"; huge and tiny inputs now give the same cone.
+#[test]
+fn regression_huge_and_tiny_generators() {
+    let j = load("double_support_stairs");
+    let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+    let r = span_to_face(&v, &opts()).unwrap();
+    for s in [1e300, 1e-300, 1e-310] {
+        let vs = &v * s;
+        let rs = span_to_face(&vs, &opts()).unwrap();
+        assert!(rs.certificate.certified);
+        assert!(
+            same_rows_up_to_scaling(&r.face.facets, &rs.face.facets, 1e-9).is_some(),
+            "scale {s}: {} facets",
+            rs.face.facets.nrows()
+        );
+    }
+}
