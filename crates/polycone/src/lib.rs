@@ -131,7 +131,8 @@ pub struct DdOptions {
     /// if `allow_uncertified` were set). Default `true`.
     pub check_completeness: bool,
     /// Return the answer even when its certificate fails (with `certified == false`) instead of
-    /// [`ConeError::Uncertified`]. Default `false`.
+    /// [`ConeError::Uncertified`]; the exact fallback is then not attempted. For diagnosis
+    /// only: such an answer may be a wrong cone. Default `false`.
     pub allow_uncertified: bool,
 }
 
