@@ -261,16 +261,8 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
             }
             continue;
         }
-        let mut next: Vec<Ray> = Vec::new();
-        for (i, r) in rays.iter().enumerate() {
-            if !s[i].is_positive() {
-                let mut z = r.z.clone();
-                if s[i].is_zero() {
-                    bitset::set(&mut z, j);
-                }
-                next.push(Ray { x: r.x.clone(), z });
-            }
-        }
+        // New rays first (they need their parents), then the survivors are moved, not cloned.
+        let mut created: Vec<Ray> = Vec::new();
         for p in (0..rays.len()).filter(|&i| s[i].is_positive()) {
             for q in (0..rays.len()).filter(|&i| s[i].is_negative()) {
                 let mut c = 0;
@@ -297,9 +289,19 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
                 }
                 let mut z = tmp.clone();
                 bitset::set(&mut z, j);
-                next.push(Ray { x, z });
+                created.push(Ray { x, z });
             }
         }
+        let mut next: Vec<Ray> = Vec::with_capacity(rays.len() + created.len());
+        for (i, mut r) in rays.into_iter().enumerate() {
+            if !s[i].is_positive() {
+                if s[i].is_zero() {
+                    bitset::set(&mut r.z, j);
+                }
+                next.push(r);
+            }
+        }
+        next.extend(created);
         rays = next;
         if rays.is_empty() {
             break;
