@@ -51,7 +51,10 @@ pub struct FaceToSpan {
 }
 
 /// Reusable buffers of the conversions. Repeated conversions through the same workspace reuse
-/// its arenas: the double description loop does not allocate once they are large enough.
+/// its arenas: the double description loop (the hot loop: one iteration per generator, pairs
+/// of rays inside) does not allocate once they are large enough. The steps around it
+/// (preconditioning SVD, certificate bookkeeping, the returned matrices) still allocate a few
+/// small buffers per conversion.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     core: DdCore,
