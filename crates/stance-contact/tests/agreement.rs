@@ -10,7 +10,8 @@ use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
 use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
 use stance_contact::{
-    supporting_forces, w_gi_static, Contact, ForcesOutcome, FrictionModel, Shape, Stance,
+    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Shape,
+    Stance,
 };
 
 /// Band (relative, on `max(U w) / |w|`) inside which face test and QP may disagree.
@@ -66,9 +67,29 @@ fn contact_strategy() -> impl Strategy<Value = Contact> {
         })
 }
 
+/// Mostly the paper's pyramid; sometimes k-sided outer or inner pyramids (the QP uses their
+/// face form, the GIWC their edges: a consistency check of the two).
 fn stance_strategy() -> impl Strategy<Value = Stance> {
-    prop::collection::vec(contact_strategy(), 1..5)
-        .prop_map(|c| Stance::new(c, FrictionModel::default()).unwrap())
+    (
+        prop::collection::vec(contact_strategy(), 1..5),
+        prop_oneof![3 => Just(4usize), 1 => 3usize..9],
+        proptest::bool::ANY,
+    )
+        .prop_map(|(c, sides, outer)| {
+            let approximation = if outer || sides == 4 {
+                Approximation::Outer
+            } else {
+                Approximation::Inner
+            };
+            Stance::new(
+                c,
+                FrictionModel {
+                    sides,
+                    approximation,
+                },
+            )
+            .unwrap()
+        })
 }
 
 fn coms() -> impl Strategy<Value = Vec<[f64; 3]>> {

@@ -189,6 +189,41 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Oblique gravity: the polygon at height h is the cross-section of the prism along g,
+    /// checked against the face test of the 3-D CoM, and it translates with the height.
+    #[test]
+    fn oblique_gravity_polygon_is_the_prism_cross_section(gx in -3.0f64..3.0, gy in -3.0f64..3.0, h in 0.0f64..1.5) {
+        let giwc = fixture_stance(&fixture("tilted_foot_hand_ledge")).u_stance(&Default::default()).unwrap();
+        let g = [gx, gy, -9.81];
+        let eq = StaticEquilibrium::new(&giwc, g, &Default::default()).unwrap();
+        let poly = eq.polygon(h).unwrap();
+        prop_assume!(poly.status == RegionStatus::Bounded && poly.dim == 2);
+        let n = poly.vertices.len() as f64;
+        let c = poly.vertices.iter().fold([0.0, 0.0], |a, v| [a[0] + v[0] / n, a[1] + v[1] / n]);
+        let face = |p: [f64; 3]| {
+            let w = w_gi_static(1.0, g, p);
+            giwc.max_violation(&w) / w.iter().map(|x| x * x).sum::<f64>().sqrt()
+        };
+        prop_assert!(face([c[0], c[1], h]) <= 1e-9);
+        for v in &poly.vertices {
+            prop_assert!(face([v[0], v[1], h]).abs() <= 1e-7);
+            // 1 cm outward from the centroid through a vertex: unstable.
+            let d = ((v[0] - c[0]).powi(2) + (v[1] - c[1]).powi(2)).sqrt();
+            let out = [v[0] + 0.01 * (v[0] - c[0]) / d, v[1] + 0.01 * (v[1] - c[1]) / d, h];
+            prop_assert!(face(out) > 0.0);
+        }
+        // Moving up by dz shifts the section by (gx, gy) / gz * dz.
+        let up = eq.polygon(h + 0.5).unwrap();
+        let shift = [g[0] / g[2] * 0.5, g[1] / g[2] * 0.5];
+        for v in &poly.vertices {
+            prop_assert!(up.vertices.iter().any(|u| (u[0] - v[0] - shift[0]).abs() < 1e-7 && (u[1] - v[1] - shift[1]).abs() < 1e-7));
+        }
+    }
+}
+
 #[test]
 fn robust_region_sign_sanity_of_eq_12() {
     // MATH.md section 4: one flat foot at the origin, CoM (0, 0, 0.8) stable, (0.2, 0, 0.8) not.

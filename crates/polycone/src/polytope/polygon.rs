@@ -67,6 +67,11 @@ impl Polygon {
     }
 }
 
+/// Largest move of a vertex by the polish step, relative to `1 + |p|_inf` (dimensionless,
+/// 1e-6): clipping from the far box leaves errors of about `far * 1e-16 = 1e-10`, so a larger
+/// move means the polish used the wrong lines and is rejected.
+const POLISH_MAX_MOVE: f64 = 1e-6;
+
 /// A running vertex and the label of its outgoing edge.
 #[derive(Debug, Clone, Copy)]
 struct Vx {
@@ -204,6 +209,14 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 0.0
             };
             if off <= opts.dist_tol {
+                // The merged edge p -> q keeps the line of the longer of the two edges it
+                // replaces (a tiny edge's line is ill-determined).
+                let kp = (k + n - 1) % n;
+                let lin = (v[0] - p[0]).hypot(v[1] - p[1]);
+                let lout = (q[0] - v[0]).hypot(q[1] - v[1]);
+                if lout > lin {
+                    poly[kp].edge = poly[k].edge;
+                }
                 poly.remove(k);
                 changed = true;
                 break;
@@ -224,10 +237,19 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 if det.abs() <= opts.rank_tol {
                     return poly[k].p;
                 }
-                [
+                let x = [
                     (ai.1 * aj.0[1] - ai.0[1] * aj.1) / det,
                     (ai.0[0] * aj.1 - ai.1 * aj.0[0]) / det,
-                ]
+                ];
+                // Safety net: a polish that moves the vertex by more than the clipping error
+                // means the edge labels do not describe this corner; keep the clipped point.
+                let p = poly[k].p;
+                let scale = 1.0 + p[0].abs().max(p[1].abs());
+                if (x[0] - p[0]).hypot(x[1] - p[1]) > POLISH_MAX_MOVE * scale {
+                    p
+                } else {
+                    x
+                }
             })
             .collect();
         for (v, p) in poly.iter_mut().zip(fixed) {

@@ -152,6 +152,10 @@ pub fn polyhedron_from_halfspaces(
     Ok(first)
 }
 
+/// Largest move of a corner by the polish step, relative to `1 + |p|_inf` (dimensionless,
+/// 1e-6; same reason as in the 2-D routine).
+const POLISH_MAX_MOVE: f64 = 1e-6;
+
 /// How many times the refinement box may grow (by 4x each) before the first pass is kept.
 const REFINE_TRIES: usize = 4;
 
@@ -513,7 +517,12 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
             r += nv * faces[f].d;
         }
         if let Some(p) = m.cholesky().map(|c| c.solve(&r)) {
-            if p.iter().all(|x| x.is_finite()) {
+            // Safety net as in 2-D: reject a polish that moves the corner by more than the
+            // clipping error (wrong incident planes).
+            let old = vertices[v];
+            let scale = 1.0 + old.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let moved = norm(sub([p[0], p[1], p[2]], old));
+            if p.iter().all(|x| x.is_finite()) && moved <= POLISH_MAX_MOVE * scale {
                 vertices[v] = [p[0], p[1], p[2]];
             }
         }

@@ -319,3 +319,29 @@ fn regression_flat_region_is_clipped_by_later_planes() {
     let p = polyhedron_from_halfspaces(&a, &b, &o).unwrap();
     assert_eq!(p.status, RegionStatus::Empty);
 }
+
+/// Regression: a chain of three vertices about 1e-9 apart (just above the merge distance) lost
+/// the label of the long edge leaving it, and the polish then intersected the wrong lines,
+/// returning a vertex 5 cm outside the region (found by stance-contact's oblique-gravity test).
+#[test]
+fn regression_chain_of_close_vertices_keeps_the_long_edge() {
+    let text =
+        include_str!("../../../../testdata/polytope/regression_chain_of_close_vertices.json");
+    let v: serde_json::Value = serde_json::from_str(text).unwrap();
+    let rows: Vec<[f64; 3]> = serde_json::from_value(v["halfplanes"].clone()).unwrap();
+    let a: Vec<[f64; 2]> = rows.iter().map(|r| [r[0], r[1]]).collect();
+    let b: Vec<f64> = rows.iter().map(|r| r[2]).collect();
+    let poly = polygon_from_halfplanes(&a, &b, &PolytopeOptions::default()).unwrap();
+    assert_eq!(poly.status, RegionStatus::Bounded);
+    let brute = brute2(&a, &b);
+    for v in &poly.vertices {
+        assert!(
+            near2(*v, &brute),
+            "vertex {v:?} is not a vertex of the region"
+        );
+        for (r, c) in a.iter().zip(&b) {
+            assert!(r[0] * v[0] + r[1] * v[1] - c <= 1e-9);
+        }
+    }
+    assert_eq!(poly.vertices.len(), 14); // as the brute force (pairs of lines) finds
+}
