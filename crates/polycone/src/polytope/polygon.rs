@@ -67,9 +67,10 @@ impl Polygon {
     }
 }
 
-/// Largest move of a vertex by the polish step, relative to `1 + |p|_inf` (dimensionless,
-/// 1e-6): clipping from the far box leaves errors of about `far * 1e-16 = 1e-10`, so a larger
-/// move means the polish used the wrong lines and is rejected.
+/// Largest move of a vertex by the polish step, relative to `(1 + |p|_inf) / |det|` with `det`
+/// the determinant of the two unit normals (dimensionless, 1e-6): clipping from the far box
+/// leaves errors of about `far * 1e-16 / |det| = 1e-10 / |det|`, so a larger move means the
+/// polish used the wrong lines and is rejected.
 const POLISH_MAX_MOVE: f64 = 1e-6;
 
 /// A running vertex and the label of its outgoing edge.
@@ -243,8 +244,9 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 ];
                 // Safety net: a polish that moves the vertex by more than the clipping error
                 // means the edge labels do not describe this corner; keep the clipped point.
+                // The clipping error grows as 1 / |det| for nearly parallel lines.
                 let p = poly[k].p;
-                let scale = 1.0 + p[0].abs().max(p[1].abs());
+                let scale = (1.0 + p[0].abs().max(p[1].abs())) / det.abs().min(1.0);
                 if (x[0] - p[0]).hypot(x[1] - p[1]) > POLISH_MAX_MOVE * scale {
                     p
                 } else {

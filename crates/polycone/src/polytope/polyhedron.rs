@@ -152,8 +152,9 @@ pub fn polyhedron_from_halfspaces(
     Ok(first)
 }
 
-/// Largest move of a corner by the polish step, relative to `1 + |p|_inf` (dimensionless,
-/// 1e-6; same reason as in the 2-D routine).
+/// Largest move of a corner by the polish step, relative to `(1 + |p|_inf) / sqrt(l_min)`
+/// with `l_min` the smallest eigenvalue of `N^T N` over the incident unit normals
+/// (dimensionless, 1e-6; same reason as in the 2-D routine).
 const POLISH_MAX_MOVE: f64 = 1e-6;
 
 /// How many times the refinement box may grow (by 4x each) before the first pass is kept.
@@ -519,8 +520,10 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
         if let Some(p) = m.cholesky().map(|c| c.solve(&r)) {
             // Safety net as in 2-D: reject a polish that moves the corner by more than the
             // clipping error (wrong incident planes).
+            // The clipping error grows as 1 / sqrt(smallest eigenvalue of N^T N).
             let old = vertices[v];
-            let scale = 1.0 + old.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let lmin = m.symmetric_eigenvalues().min().max(0.0).sqrt();
+            let scale = (1.0 + old.iter().fold(0.0f64, |a, x| a.max(x.abs()))) / lmin.min(1.0);
             let moved = norm(sub([p[0], p[1], p[2]], old));
             if p.iter().all(|x| x.is_finite()) && moved <= POLISH_MAX_MOVE * scale {
                 vertices[v] = [p[0], p[1], p[2]];

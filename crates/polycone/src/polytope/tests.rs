@@ -345,3 +345,83 @@ fn regression_chain_of_close_vertices_keeps_the_long_edge() {
     }
     assert_eq!(poly.vertices.len(), 14); // as the brute force (pairs of lines) finds
 }
+
+/// Many lines tangent to an ellipse (dense, nearly parallel neighbours, tiny edges): the kind of
+/// input the static-equilibrium prisms produce.
+fn dense2() -> impl Strategy<Value = (Vec<[f64; 2]>, Vec<f64>)> {
+    (
+        prop::collection::vec(0.0..std::f64::consts::TAU, 20..120),
+        0.05f64..1.0,
+        0.05f64..1.0,
+        -1.0f64..1.0,
+    )
+        .prop_map(|(ts, ra, rb, c)| {
+            let a: Vec<[f64; 2]> = ts.iter().map(|t| [t.cos(), t.sin()]).collect();
+            // Support function of the ellipse (ra cos, rb sin) shifted by (c, 0).
+            let b = a
+                .iter()
+                .map(|n| ((ra * n[0]).powi(2) + (rb * n[1]).powi(2)).sqrt() + c * n[0])
+                .collect();
+            (a, b)
+        })
+}
+
+fn dense3() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
+    prop::collection::vec((-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0), 30..70).prop_filter_map(
+        "zero normal",
+        |rows| {
+            let mut a = vec![];
+            let mut b = vec![];
+            for (x, y, z) in rows {
+                let n = (x * x + y * y + z * z).sqrt();
+                if n < 0.1 {
+                    return None;
+                }
+                let u = [x / n, y / n, z / n];
+                // Tangent to the ellipsoid with semi-axes (1, 0.3, 0.1).
+                b.push(((u[0]).powi(2) + (0.3 * u[1]).powi(2) + (0.1 * u[2]).powi(2)).sqrt());
+                a.push(u);
+            }
+            Some((a, b))
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn dense_polygons_match_brute_force((a, b) in dense2()) {
+        let poly = polygon_from_halfplanes(&a, &b, &PolytopeOptions::default()).unwrap();
+        prop_assume!(poly.status == RegionStatus::Bounded);
+        let brute = brute2(&a, &b);
+        for v in &poly.vertices {
+            prop_assert!(near2(*v, &brute), "vertex {v:?} not a brute vertex");
+            for (r, c) in a.iter().zip(&b) {
+                prop_assert!(r[0] * v[0] + r[1] * v[1] - c <= 1e-9);
+            }
+        }
+        // Every brute vertex is a polygon vertex or within the merge band of an edge.
+        for w in &brute {
+            let on_boundary = poly.halfplanes().iter().any(|(n, c)| (n[0] * w[0] + n[1] * w[1] - c).abs() < 1e-7);
+            prop_assert!(on_boundary, "brute vertex {w:?} not on the boundary");
+        }
+    }
+
+    #[test]
+    fn dense_polyhedra_match_brute_force((a, b) in dense3()) {
+        let poly = polyhedron_from_halfspaces(&a, &b, &PolytopeOptions::default()).unwrap();
+        prop_assume!(poly.status == RegionStatus::Bounded);
+        let brute = brute3(&a, &b);
+        for v in &poly.vertices {
+            prop_assert!(near3(*v, &brute), "vertex {v:?} not a brute vertex");
+            for (r, c) in a.iter().zip(&b) {
+                prop_assert!(r[0] * v[0] + r[1] * v[1] + r[2] * v[2] - c <= 1e-9);
+            }
+        }
+        for w in &brute {
+            let on_boundary = poly.planes.iter().any(|(n, c)| (n[0] * w[0] + n[1] * w[1] + n[2] * w[2] - c).abs() < 1e-7);
+            prop_assert!(on_boundary, "brute vertex {w:?} not on the boundary");
+        }
+    }
+}
