@@ -18,8 +18,9 @@ use nalgebra::DMatrix;
 
 use crate::certificate::{certify_whitened, Certificate};
 use crate::dd::DdCore;
-use crate::linalg::{normalize, numerical_rank, orthonormal_rows, rank_of, sorted_svd};
-use crate::precondition::{whiten, Whitened};
+use crate::exact::exact_span_to_face;
+use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
+use crate::precondition::whiten;
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
 /// The result of [`span_to_face`].
@@ -50,7 +51,10 @@ pub struct FaceToSpan {
 }
 
 /// Reusable buffers of the conversions. Repeated conversions through the same workspace reuse
-/// its arenas: the double description loop does not allocate once they are large enough.
+/// its arenas: the double description loop (the hot loop: one iteration per generator, pairs
+/// of rays inside) does not allocate once they are large enough. The steps around it
+/// (preconditioning SVD, certificate bookkeeping, the returned matrices) still allocate a few
+/// small buffers per conversion.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     core: DdCore,
@@ -78,7 +82,7 @@ fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
 
 /// Everything span -> face computes, in whitened and world coordinates.
 struct Polar {
-    wh: Whitened,
+    equations: DMatrix<f64>,
     facets: DMatrix<f64>,
     lineality: DMatrix<f64>,
     extreme: Vec<usize>,
@@ -124,7 +128,7 @@ impl Workspace {
             face: FaceForm {
                 dim: d,
                 facets: p.facets,
-                equations: p.wh.equations.clone(),
+                equations: p.equations,
             },
             lineality: p.lineality,
             extreme_generators: p.extreme,
@@ -167,7 +171,7 @@ impl Workspace {
             span: SpanForm {
                 dim: d,
                 generators: p.facets,
-                lineality: p.wh.equations.clone(),
+                lineality: p.equations,
             },
             irredundant_facets,
             certificate: p.certificate,
@@ -178,11 +182,20 @@ impl Workspace {
     fn polar(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
         opts.tol.validate()?;
         if opts.arithmetic == Arithmetic::Exact {
-            return Err(ConeError::Unsupported(
-                "exact arithmetic is not available in this version; use Arithmetic::Tolerance"
-                    .into(),
-            ));
+            return exact_polar(v, opts);
         }
+        match self.polar_tolerance(v, opts) {
+            Err(ConeError::Uncertified(reason)) if opts.exact_fallback => {
+                // Repair: the exact answer for the input as given.
+                exact_polar(v, opts)
+                    .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))
+            }
+            other => other,
+        }
+    }
+
+    /// The floating-point conversion with the tolerance contract.
+    fn polar_tolerance(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
         let tol = &opts.tol;
         let d = v.ncols();
         let wh = whiten(v, tol);
@@ -206,40 +219,21 @@ impl Workspace {
             fw.extend_from_slice(self.core.ray(f));
         }
         // Lineality: the null space of the facet matrix, in whitened coordinates.
-        let (perp, lin) = if r == 0 {
-            (Vec::new(), Vec::new())
-        } else if nf == 0 {
-            (
-                Vec::new(),
-                DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
-            )
-        } else {
-            let fm = DMatrix::from_row_slice(nf, r, &fw);
-            let (sv, vt) = sorted_svd(&fm);
-            let t = numerical_rank(&sv, tol.rank);
-            let mut perp = Vec::with_capacity(t * r);
-            for b in 0..t {
-                perp.extend(vt.row(b).iter());
-            }
-            let mut lin = Vec::with_capacity((r - t) * r);
-            for b in t..r {
-                lin.extend(vt.row(b).iter());
-            }
-            (perp, lin)
-        };
+        let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
         let t = perp.len().checked_div(r).unwrap_or(0);
         let l = r - t;
-        let certificate = certify_whitened(
+        let (certificate, extreme_kept) = certify_whitened(
             &wh,
             &fw,
             &perp,
             &lin,
             tol,
             opts.arithmetic,
+            opts.check_completeness,
             &mut self.check,
             &mut self.scratch,
         );
-        if !certificate.certified && !opts.allow_uncertified {
+        if !certificate.certified && !opts.allow_uncertified && opts.check_completeness {
             return Err(ConeError::Uncertified(certificate.failure_reason()));
         }
         // Facets in world coordinates, sorted lexicographically.
@@ -270,44 +264,191 @@ impl Workspace {
             lw.row_mut(b).copy_from_slice(&x);
         }
         let lineality = orthonormal_rows(&lw, tol.rank);
-        // Extreme generators: tight facets of rank t - 1, one per incidence pattern.
-        let mut extreme = Vec::new();
-        if t > 0 {
-            let mut seen: Vec<Vec<bool>> = Vec::new();
-            let mut tight_rows = Vec::new();
-            for &i in &wh.distinct {
-                let g = wh.gen(i);
-                let pattern: Vec<bool> = (0..nf)
-                    .map(|f| crate::linalg::dot(&fw[f * r..(f + 1) * r], g).abs() <= tol.incidence)
-                    .collect();
-                tight_rows.clear();
-                for f in 0..nf {
-                    if pattern[f] {
-                        tight_rows.extend_from_slice(&fw[f * r..(f + 1) * r]);
-                    }
-                }
-                let cnt = tight_rows.len() / r;
-                let rank = rank_of(
-                    (0..cnt).map(|k| &tight_rows[k * r..(k + 1) * r]),
-                    r,
-                    tol.support_rank,
-                    &mut self.scratch,
-                );
-                if rank + 1 == t && !seen.contains(&pattern) {
-                    seen.push(pattern);
-                    extreme.push(wh.kept[i]);
-                }
-            }
-            extreme.sort_unstable();
-        }
+        // Extreme generators (a by-product of the certificate's incidence), as input rows.
+        let mut extreme: Vec<usize> = extreme_kept.iter().map(|&i| wh.kept[i]).collect();
+        extreme.sort_unstable();
         Ok(Polar {
-            wh,
+            equations: wh.equations.clone(),
             facets: facets_m,
             lineality,
             extreme,
             certificate,
         })
     }
+}
+
+/// The exact conversion; an uncertified exact answer is an error unless allowed.
+fn exact_polar(v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+    let e = exact_span_to_face(v, &opts.tol)?;
+    if !e.certificate.certified && !opts.allow_uncertified {
+        return Err(ConeError::Uncertified(format!(
+            "exact: {}",
+            e.certificate.failure_reason()
+        )));
+    }
+    Ok(Polar {
+        equations: e.equations,
+        facets: e.facets,
+        lineality: e.lineality,
+        extreme: e.extreme,
+        certificate: e.certificate,
+    })
+}
+
+/// The row space of the facet matrix `fw` (`nf x r`) and its complement, the lineality space,
+/// as flat row-major orthonormal rows.
+fn split_lineality(fw: &[f64], nf: usize, r: usize, rank_tol: f64) -> (Vec<f64>, Vec<f64>) {
+    if r == 0 {
+        (Vec::new(), Vec::new())
+    } else if nf == 0 {
+        (
+            Vec::new(),
+            DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+        )
+    } else if crate::linalg::rank_of(
+        (0..nf).map(|f| &fw[f * r..(f + 1) * r]),
+        r,
+        r,
+        rank_tol,
+        &mut Vec::new(),
+    ) == r
+    {
+        // Facets span R^r (a pointed cone): no lineality, any orthonormal basis is L^perp.
+        (
+            DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
+            Vec::new(),
+        )
+    } else {
+        let fm = DMatrix::from_row_slice(nf, r, fw);
+        let (sv, vt) = sorted_svd(&fm);
+        let t = numerical_rank(&sv, rank_tol);
+        let mut perp = Vec::with_capacity(t * r);
+        for b in 0..t {
+            perp.extend(vt.row(b).iter());
+        }
+        let mut lin = Vec::with_capacity((r - t) * r);
+        for b in t..r {
+            lin.extend(vt.row(b).iter());
+        }
+        (perp, lin)
+    }
+}
+
+/// Certifies a claimed face form of `span(generators)` independently of how it was computed:
+/// soundness, support, lineality and completeness (see [`Certificate`]), plus the equations
+/// (they must annihilate every generator and number `d - dim span(V)`) and the claimed
+/// lineality space (its dimension must be that of the null space of the facets within
+/// `span(V)`, and the facets and equations must vanish on it).
+///
+/// ```
+/// use polycone::{nalgebra::DMatrix, span_to_face, certify_span_to_face, DdOptions, FaceForm};
+/// let v = DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 1.0, 0.0, 1.0, 1.0, -1.0, -1.0, 1.0]);
+/// let opts = DdOptions::default();
+/// let r = span_to_face(&v, &opts).unwrap();
+/// let ok = certify_span_to_face(&v, &r.face, &r.lineality, &opts).unwrap();
+/// assert!(ok.certified);
+/// // Drop a facet: the face form is now too large, and the certificate says so.
+/// let partial = FaceForm::new(r.face.facets.rows(0, 2).into_owned(), r.face.equations.clone()).unwrap();
+/// let bad = certify_span_to_face(&v, &partial, &r.lineality, &opts).unwrap();
+/// assert!(!bad.certified);
+/// ```
+pub fn certify_span_to_face(
+    generators: &DMatrix<f64>,
+    face: &FaceForm,
+    lineality: &DMatrix<f64>,
+    opts: &DdOptions,
+) -> Result<Certificate, ConeError> {
+    let d = generators.ncols();
+    if d == 0 {
+        return Err(ConeError::ZeroDimension);
+    }
+    check_finite("generators", generators)?;
+    face.validate()?;
+    if face.dim != d {
+        return Err(ConeError::DimensionMismatch {
+            what: "face form",
+            got: face.dim,
+            expected: d,
+        });
+    }
+    if lineality.nrows() > 0 && lineality.ncols() != d {
+        return Err(ConeError::DimensionMismatch {
+            what: "lineality",
+            got: lineality.ncols(),
+            expected: d,
+        });
+    }
+    check_finite("lineality", lineality)?;
+    opts.tol.validate()?;
+    let tol = &opts.tol;
+    let wh = whiten(generators, tol);
+    let r = wh.r;
+    // Facets in whitened coordinates (their components along the equations do not matter).
+    let nf = face.facets.nrows();
+    let mut fw = vec![0.0; nf * r];
+    let mut u = vec![0.0; d];
+    for f in 0..nf {
+        for j in 0..d {
+            u[j] = face.facets[(f, j)];
+        }
+        wh.facet_from_world(&u, &mut fw[f * r..(f + 1) * r]);
+    }
+    let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
+    let mut check = DdCore::default();
+    let mut scratch = Vec::new();
+    let (mut cert, _) = certify_whitened(
+        &wh,
+        &fw,
+        &perp,
+        &lin,
+        tol,
+        opts.arithmetic,
+        true,
+        &mut check,
+        &mut scratch,
+    );
+    // Equations: annihilate the generators, and as many as the complement of span(V).
+    let maxn = (0..generators.nrows())
+        .map(|i| generators.row(i).norm())
+        .fold(0.0, f64::max);
+    let mut eq_res: f64 = 0.0;
+    for e in 0..face.equations.nrows() {
+        let row = face.equations.row(e);
+        let rn = row.norm();
+        for i in 0..generators.nrows() {
+            if maxn > 0.0 && rn > 0.0 {
+                eq_res = eq_res.max(row.dot(&generators.row(i)).abs() / (rn * maxn));
+            }
+        }
+    }
+    let eq_rank = {
+        let (sv, _) = if face.equations.nrows() > 0 {
+            sorted_svd(&face.equations)
+        } else {
+            (Vec::new(), DMatrix::zeros(0, 0))
+        };
+        numerical_rank(&sv, tol.rank)
+    };
+    cert.max_equation_residual = cert.max_equation_residual.max(eq_res);
+    if eq_res > tol.certificate || eq_rank + r != d {
+        cert.soundness = false;
+    }
+    // Claimed lineality: right dimension, and in the claimed cone's lineality space.
+    let l = r - perp.len().checked_div(r).unwrap_or(0);
+    let mut lin_ok = lineality.nrows() == l;
+    for b in 0..lineality.nrows() {
+        let x = lineality.row(b).transpose();
+        let n = x.norm();
+        let bad_f = (0..nf).any(|f| (face.facets.row(f) * &x)[0].abs() > tol.certificate * n);
+        let bad_e = (0..face.equations.nrows())
+            .any(|e| (face.equations.row(e) * &x)[0].abs() > tol.certificate * n);
+        if n == 0.0 || bad_f || bad_e {
+            lin_ok = false;
+        }
+    }
+    cert.lineality &= lin_ok;
+    cert.certified = cert.soundness && cert.support && cert.lineality && cert.completeness;
+    Ok(cert)
 }
 
 /// Converts a cone from span form to face form: `span(V) = {x : U x <= 0, E x = 0}`.

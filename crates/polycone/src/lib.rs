@@ -29,29 +29,58 @@
 //!
 //! # The tolerance contract ([`Arithmetic::Tolerance`], the default)
 //!
-//! In whitened coordinates every generator `w_i` and facet `u` is a unit vector, and a
-//! generator is **incident** to a facet when `|u . w_i| <= eps` with
-//! `eps = `[`tol::Tolerances::incidence`]. The returned face form is exactly right for a
-//! perturbation of the input in which every whitened generator moved by at most about `eps`
-//! (a relative perturbation, independent of units): structure that is degenerate within `eps`
-//! (a foot `1e-12` out of plane) is merged. What is certified (see [`Certificate`]), in whitened
-//! unit coordinates: every generator satisfies every facet up to
-//! [`tol::Tolerances::certificate`]; every facet is tight (within `eps`) on generators spanning a
-//! hyperplane; the lineality space is positively spanned by generators; and every extreme ray
-//! of the returned face form is (within [`tol::Tolerances::parallel`]) the projection of a
-//! generator. So the returned cone is sandwiched: it contains every generator up to the
-//! certificate tolerance and contains nothing outside `span(V)` beyond the parallel tolerance.
-//! If any check fails, the conversion returns [`ConeError::Uncertified`] instead of a cone.
+//! In whitened coordinates every generator `w_i` and facet normal `u` is a unit vector, so
+//! slacks `u . w_i` are cosines, independent of units. Signs are decided with
+//! `eps = `[`tol::Tolerances::incidence`] (`|u . w_i| <= eps`: incident): structure that is
+//! degenerate within `eps` (a foot `1e-12` m out of plane) is merged. Every answer is then
+//! verified by the [`Certificate`], in whitened unit coordinates:
+//!
+//! 1. **soundness**: every generator satisfies every facet up to
+//!    [`tol::Tolerances::certificate`] (the true cone lies in the returned one, up to that
+//!    angle), and the equations annihilate the generators;
+//! 2. **support**: every facet is incident to generators spanning a hyperplane (no facet is
+//!    spurious: each is, within `eps`, a facet of the true cone);
+//! 3. **lineality**: the generators lying in the returned lineality space positively span it;
+//! 4. **completeness**: every ridge of every returned facet (computed from the generators
+//!    incident to it) lies in exactly two returned facets; with 1 and 2 this proves that no
+//!    facet is missing (the facet graph of a cone is connected), which is what cddlib's float
+//!    mode gets wrong on near-degenerate stances while passing 1 and 2.
+//!
+//! So a certified answer is the face form of `span(V)` up to merging structure degenerate
+//! within `eps`. What is not proven: a bound on the distance between the returned and the true
+//! cone as a function of `eps` (incidences are tolerance decisions); the tests check membership
+//! against an independent oracle (non-negative least squares over the generators) outside a
+//! `1e-6` band. When the certificate fails, the conversion falls back to exact arithmetic
+//! ([`DdOptions::exact_fallback`], on by default), and returns [`ConeError::Uncertified`] if
+//! that fails too: a wrong cone is never returned as certified.
+//!
+//! # Exact semantics ([`Arithmetic::Exact`])
+//!
+//! Every `f64` is a dyadic rational, so the input as given is converted to integers and the
+//! double description, the equations, the lineality space and the certificate are computed
+//! with big integers (see the `exact` module source): certified exact combinatorics for the
+//! input as given, facet normals rounded to `f64` at the end. Rounding of the input usually
+//! breaks the degeneracies of the intended geometry: the exact answer for a rounded flat
+//! double support has 32 facets where the intended geometry has 16 (the same as cddlib's GMP
+//! mode on the same input).
 //!
 //! # Limitations
 //!
-//! - [`Arithmetic::Exact`] is not implemented in this version (it returns
-//!   [`ConeError::Unsupported`]).
-//! - The double description runs in `f64` with a tolerance on signs; inputs degenerate at the
-//!   scale of the tolerances may fail certification (an error, never a wrong certified cone).
-//! - The completeness check costs a second double description run (of the result).
-//! - Rank decisions (equations, lineality) use a relative singular-value threshold
-//!   ([`tol::Tolerances::rank`]).
+//! - Speed: the certified tolerance mode is only x1.9 (16 generators) to x4.8 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x26 at 48 and 64
+//!   generators), short of the x10 / x30 aimed at; about half of the time is the
+//!   completeness check (small double descriptions per facet, see
+//!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table.
+//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders
+//!   of magnitude slower than cddlib's GMP mode on large cones (seconds for 32 generators and
+//!   ~280 facets).
+//! - [`face_to_span`] runs the double description on the polar, whose constraints are the
+//!   facets: with hundreds of facets it is much slower than [`span_to_face`] of the same cone.
+//! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
+//!   fail certification (an error, never a wrong certified cone).
+//! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
+//!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks.
+//! - The 2-D and 3-D polygon/polyhedron routines live in a separate module (`polytope`).
 
 // Index loops over several parallel arrays read like the math here.
 #![allow(clippy::needless_range_loop)]
@@ -62,13 +91,17 @@ mod certificate;
 mod convert;
 pub mod dd;
 mod error;
+mod exact;
 mod forms;
 mod linalg;
+pub mod polytope;
 pub mod precondition;
 pub mod tol;
 
 pub use certificate::Certificate;
-pub use convert::{face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace};
+pub use convert::{
+    certify_span_to_face, face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace,
+};
 pub use error::ConeError;
 pub use forms::{FaceForm, SpanForm};
 
@@ -83,14 +116,34 @@ pub enum Arithmetic {
 }
 
 /// Options of a conversion.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct DdOptions {
     /// Tolerance (default) or exact semantics.
     pub arithmetic: Arithmetic,
     /// Thresholds, see [`tol::Tolerances`].
     pub tol: tol::Tolerances,
+    /// In tolerance mode, when the floating-point answer cannot be certified, compute the exact
+    /// answer for the input as given instead (slower; its certificate says
+    /// [`Arithmetic::Exact`]). Default `true`.
+    pub exact_fallback: bool,
+    /// Run the completeness check of the certificate (the ridge check, about two thirds of the
+    /// time of a conversion). When `false`, soundness and support are still checked but the
+    /// result is never `certified` (and an uncertified result is returned, not an error, as
+    /// if `allow_uncertified` were set). Default `true`.
+    pub check_completeness: bool,
     /// Return the answer even when its certificate fails (with `certified == false`) instead of
     /// [`ConeError::Uncertified`]. Default `false`.
     pub allow_uncertified: bool,
 }
-pub mod polytope;
+
+impl Default for DdOptions {
+    fn default() -> Self {
+        Self {
+            arithmetic: Arithmetic::Tolerance,
+            tol: tol::Tolerances::default(),
+            exact_fallback: true,
+            check_completeness: true,
+            allow_uncertified: false,
+        }
+    }
+}

@@ -37,12 +37,14 @@ pub(crate) fn numerical_rank(sv: &[f64], rel: f64) -> usize {
     sv.iter().filter(|&&s| s > rel * smax).count()
 }
 
-/// Rank of a set of vectors of length `k` (given by an iterator of slices) by modified
-/// Gram-Schmidt with pivoting on the largest residual; residual norms at most `eps` (absolute,
-/// the vectors being unit) count as zero. `buf` is reused scratch.
+/// Rank of a set of vectors of length `k` (given by an iterator of slices), capped at `target`
+/// (the count stops there), by modified Gram-Schmidt with pivoting on the largest residual;
+/// residual norms at most `eps` (absolute, the vectors being unit) count as zero. `buf` is
+/// reused scratch.
 pub(crate) fn rank_of<'a>(
     vectors: impl Iterator<Item = &'a [f64]>,
     k: usize,
+    target: usize,
     eps: f64,
     buf: &mut Vec<f64>,
 ) -> usize {
@@ -52,15 +54,11 @@ pub(crate) fn rank_of<'a>(
         buf.extend_from_slice(v);
         n += 1;
     }
-    let mut used = vec![false; n];
     let mut rank = 0;
-    while rank < k {
+    while rank < k.min(target) {
         let mut best = usize::MAX;
         let mut best_nn = eps * eps;
-        for i in 0..n {
-            if used[i] {
-                continue;
-            }
+        for i in rank..n {
             let nn: f64 = buf[i * k..(i + 1) * k].iter().map(|x| x * x).sum();
             if nn > best_nn {
                 best_nn = nn;
@@ -70,22 +68,25 @@ pub(crate) fn rank_of<'a>(
         if best == usize::MAX {
             break;
         }
-        used[best] = true;
+        // Move the pivot to position `rank`.
+        if best != rank {
+            for t in 0..k {
+                buf.swap(best * k + t, rank * k + t);
+            }
+        }
+        let q = rank;
         rank += 1;
         let inv = 1.0 / best_nn.sqrt();
         for t in 0..k {
-            buf[best * k + t] *= inv;
+            buf[q * k + t] *= inv;
         }
-        for i in 0..n {
-            if used[i] {
-                continue;
-            }
+        for i in rank..n {
             let mut d = 0.0;
             for t in 0..k {
-                d += buf[i * k + t] * buf[best * k + t];
+                d += buf[i * k + t] * buf[q * k + t];
             }
             for t in 0..k {
-                buf[i * k + t] -= d * buf[best * k + t];
+                buf[i * k + t] -= d * buf[q * k + t];
             }
         }
     }

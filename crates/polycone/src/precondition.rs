@@ -67,6 +67,15 @@ impl Whitened {
         normalize(out);
     }
 
+    /// Maps a facet normal `u` to whitened coordinates: `u_w = S Q u`, normalized.
+    pub fn facet_from_world(&self, u: &[f64], out: &mut [f64]) {
+        for c in 0..self.r {
+            let qu: f64 = self.q.row(c).iter().zip(u).map(|(a, b)| a * b).sum();
+            out[c] = self.sv[c] * qu;
+        }
+        normalize(out);
+    }
+
     /// Maps a whitened point back: `x = Q^T S y` (not normalized).
     pub fn point_to_world(&self, y: &[f64], out: &mut [f64]) {
         out.fill(0.0);

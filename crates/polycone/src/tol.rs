@@ -40,11 +40,6 @@ pub struct Tolerances {
     /// the hyperplane leave residuals below it), well below the separation of distinct
     /// generators of a physical stance after preconditioning.
     pub support_rank: f64,
-    /// Two unit rays whose distance is at most `parallel` are the same ray in the completeness
-    /// check (matching the rays of the dual conversion to input generators). Unit: relative
-    /// distance. Default `1e-6`: the rays of a conversion are computed to about `1e-12`;
-    /// distinct extreme rays of the inputs the engine accepts are separated far more.
-    pub parallel: f64,
 }
 
 impl Default for Tolerances {
@@ -56,7 +51,6 @@ impl Default for Tolerances {
             incidence: 1e-9,
             certificate: 1e-8,
             support_rank: 1e-7,
-            parallel: 1e-6,
         }
     }
 }
@@ -71,7 +65,6 @@ impl Tolerances {
             ("incidence", self.incidence),
             ("certificate", self.certificate),
             ("support_rank", self.support_rank),
-            ("parallel", self.parallel),
         ];
         for (name, v) in all {
             if !(v.is_finite() && v >= 0.0) {

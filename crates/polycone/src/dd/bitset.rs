@@ -14,20 +14,3 @@ pub(crate) fn words_for(n: usize) -> usize {
 pub(crate) fn set(z: &mut [u64], j: usize) {
     z[j / 64] |= 1u64 << (j % 64);
 }
-
-/// `out = a & b`, returns the popcount of `out`.
-#[inline]
-pub(crate) fn and_count(a: &[u64], b: &[u64], out: &mut [u64]) -> u32 {
-    let mut c = 0;
-    for ((o, x), y) in out.iter_mut().zip(a).zip(b) {
-        *o = x & y;
-        c += o.count_ones();
-    }
-    c
-}
-
-/// Is `a` a subset of `b`?
-#[inline]
-pub(crate) fn subset(a: &[u64], b: &[u64]) -> bool {
-    a.iter().zip(b).all(|(x, y)| x & !y == 0)
-}

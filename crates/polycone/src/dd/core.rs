@@ -40,6 +40,13 @@ pub(crate) struct DdCore {
     basis: Vec<usize>,
     resid: Vec<f64>,
     aug: Vec<f64>,
+    /// Transposed incidence of the current rays: for each row `j`, the bitset (over rays) of
+    /// the rays tight on `j`; `m * ray_words` words.
+    col: Vec<u64>,
+    acc: Vec<u64>,
+    zp: Vec<u64>,
+    zn: Vec<u64>,
+    cand: Vec<(u32, u32)>,
     /// Number of adjacency candidates examined in the last run (for profiling).
     pub pairs_tested: usize,
 }
@@ -264,34 +271,70 @@ impl DdCore {
             }
             next_n += 1;
         }
-        // New rays from adjacent pairs.
-        self.tmp.clear();
-        self.tmp.resize(words, 0);
+        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2.
         let need = k.saturating_sub(2) as u32;
-        for pi in 0..self.plus.len() {
-            let p = self.plus[pi] as usize;
-            for ni in 0..self.minus.len() {
-                let q = self.minus[ni] as usize;
-                let c = bitset::and_count(
-                    &self.z[p * words..(p + 1) * words],
-                    &self.z[q * words..(q + 1) * words],
-                    &mut self.tmp,
-                );
-                if c < need {
-                    continue;
+        self.zp.clear();
+        for &p in &self.plus {
+            let p = p as usize;
+            self.zp
+                .extend_from_slice(&self.z[p * words..(p + 1) * words]);
+        }
+        self.zn.clear();
+        for &q in &self.minus {
+            let q = q as usize;
+            self.zn
+                .extend_from_slice(&self.z[q * words..(q + 1) * words]);
+        }
+        self.cand.clear();
+        candidate_pairs(&self.zp, &self.zn, words, need, &mut self.cand);
+        if !self.cand.is_empty() {
+            // Transposed incidence, for the combinatorial adjacency test: a third ray tight on
+            // every row of Z(p) ∩ Z(n) is in the AND of those rows' ray sets.
+            let rw = bitset::words_for(self.n);
+            self.col.clear();
+            self.col.resize(self.m * rw, 0);
+            for i in 0..self.n {
+                for (wi, &w0) in self.z[i * words..(i + 1) * words].iter().enumerate() {
+                    let mut w = w0;
+                    while w != 0 {
+                        let b = w.trailing_zeros() as usize;
+                        w &= w - 1;
+                        let jj = wi * 64 + b;
+                        self.col[jj * rw + i / 64] |= 1u64 << (i % 64);
+                    }
+                }
+            }
+            self.acc.clear();
+            self.acc.resize(rw, 0);
+            self.tmp.clear();
+            self.tmp.resize(words, 0);
+            for ci in 0..self.cand.len() {
+                let (pi, ni) = self.cand[ci];
+                let p = self.plus[pi as usize] as usize;
+                let q = self.minus[ni as usize] as usize;
+                for t in 0..words {
+                    self.tmp[t] = self.z[p * words + t] & self.z[q * words + t];
                 }
                 self.pairs_tested += 1;
-                let mut adjacent = true;
-                for r in 0..self.n {
-                    if r == p || r == q {
-                        continue;
-                    }
-                    if bitset::subset(&self.tmp, &self.z[r * words..(r + 1) * words]) {
-                        adjacent = false;
-                        break;
+                self.acc.fill(u64::MAX);
+                for (wi, &w0) in self.tmp.iter().enumerate() {
+                    let mut w = w0;
+                    while w != 0 {
+                        let b = w.trailing_zeros() as usize;
+                        w &= w - 1;
+                        let jj = wi * 64 + b;
+                        for (a, c) in self.acc.iter_mut().zip(&self.col[jj * rw..(jj + 1) * rw]) {
+                            *a &= c;
+                        }
                     }
                 }
-                if !adjacent {
+                self.acc[p / 64] &= !(1u64 << (p % 64));
+                self.acc[q / 64] &= !(1u64 << (q % 64));
+                // Only rays 0..n exist: clear the bits past them.
+                if self.n % 64 != 0 {
+                    self.acc[rw - 1] &= (1u64 << (self.n % 64)) - 1;
+                }
+                if self.acc.iter().any(|&w| w != 0) {
                     continue;
                 }
                 let (sp, sq) = (self.slack[p], self.slack[q]);
@@ -320,4 +363,58 @@ impl DdCore {
         self.n = next_n;
         Ok(())
     }
+}
+
+/// Pairs `(i, j)` of `plus` and `minus` zero sets (`words` words each, contiguous) sharing at
+/// least `need` bits, appended to `out`. Uses the `popcnt` instruction when the CPU has it.
+fn candidate_pairs(zp: &[u64], zn: &[u64], words: usize, need: u32, out: &mut Vec<(u32, u32)>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("popcnt") {
+            // SAFETY: the CPU supports `popcnt`, checked just above.
+            unsafe { candidate_pairs_popcnt(zp, zn, words, need, out) };
+            return;
+        }
+    }
+    candidate_pairs_portable(zp, zn, words, need, out);
+}
+
+#[inline(always)]
+fn candidate_pairs_portable(
+    zp: &[u64],
+    zn: &[u64],
+    words: usize,
+    need: u32,
+    out: &mut Vec<(u32, u32)>,
+) {
+    if words == 1 {
+        for (i, &a) in zp.iter().enumerate() {
+            for (j, &b) in zn.iter().enumerate() {
+                if (a & b).count_ones() >= need {
+                    out.push((i as u32, j as u32));
+                }
+            }
+        }
+        return;
+    }
+    for (i, a) in zp.chunks_exact(words).enumerate() {
+        for (j, b) in zn.chunks_exact(words).enumerate() {
+            let c: u32 = a.iter().zip(b).map(|(x, y)| (x & y).count_ones()).sum();
+            if c >= need {
+                out.push((i as u32, j as u32));
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "popcnt")]
+unsafe fn candidate_pairs_popcnt(
+    zp: &[u64],
+    zn: &[u64],
+    words: usize,
+    need: u32,
+    out: &mut Vec<(u32, u32)>,
+) {
+    candidate_pairs_portable(zp, zn, words, need, out)
 }

@@ -25,4 +25,4 @@
 pub(crate) mod bitset;
 mod core;
 
-pub(crate) use self::core::DdCore;
+pub(crate) use self::core::{DdCore, DdFailure};

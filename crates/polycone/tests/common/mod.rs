@@ -122,3 +122,137 @@ pub fn same_span(a: &DMatrix<f64>, b: &DMatrix<f64>, eps: f64) -> bool {
     let (ra, rb, rs) = (rank(a), rank(b), rank(&stacked));
     ra == rb && rb == rs
 }
+
+/// Distance from `b` to the cone spanned by the rows of `v` (Lawson-Hanson non-negative least
+/// squares): an independent membership oracle for the tests, `0` (up to rounding) iff `b` is in
+/// `span(V)`.
+pub fn cone_distance(v: &DMatrix<f64>, b: &[f64]) -> f64 {
+    let (n, d) = v.shape();
+    let a = v.transpose(); // d x n, columns are generators
+    let bv = polycone::nalgebra::DVector::from_column_slice(b);
+    let mut x = polycone::nalgebra::DVector::<f64>::zeros(n);
+    let mut passive = vec![false; n];
+    let tol = 1e-13 * (1.0 + bv.norm()) * (1.0 + a.norm());
+    for _outer in 0..(3 * n + 10) {
+        let w = a.transpose() * (&bv - &a * &x);
+        let j = (0..n)
+            .filter(|&j| !passive[j])
+            .max_by(|&i, &k| w[i].total_cmp(&w[k]));
+        let Some(j) = j else { break };
+        if w[j] <= tol {
+            break;
+        }
+        passive[j] = true;
+        for _inner in 0..(3 * n + 10) {
+            let idx: Vec<usize> = (0..n).filter(|&i| passive[i]).collect();
+            let ap = DMatrix::from_fn(d, idx.len(), |r, c| a[(r, idx[c])]);
+            let s_p = ap
+                .clone()
+                .svd(true, true)
+                .solve(&bv, 1e-14)
+                .expect("svd solve");
+            if s_p.iter().all(|&s| s > 0.0) {
+                x.fill(0.0);
+                for (c, &i) in idx.iter().enumerate() {
+                    x[i] = s_p[c];
+                }
+                break;
+            }
+            let mut alpha = f64::INFINITY;
+            for (c, &i) in idx.iter().enumerate() {
+                if s_p[c] <= 0.0 {
+                    alpha = alpha.min(x[i] / (x[i] - s_p[c]));
+                }
+            }
+            for (c, &i) in idx.iter().enumerate() {
+                x[i] += alpha * (s_p[c] - x[i]);
+                if x[i] <= 1e-300 {
+                    x[i] = 0.0;
+                    passive[i] = false;
+                }
+            }
+        }
+    }
+    (&bv - &a * &x).norm()
+}
+
+/// Rotation about a unit axis by `angle` radians (contact frame -> world).
+pub fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
+    let [x, y, z] = axis;
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ]
+}
+
+/// A rectangular contact: position, rotation (contact -> world), half sizes, friction.
+#[derive(Clone, Copy, Debug)]
+pub struct Contact {
+    pub pos: [f64; 3],
+    pub rot: [[f64; 3]; 3],
+    pub half: [f64; 2],
+    pub mu: f64,
+}
+
+impl Contact {
+    pub fn flat(pos: [f64; 3], half: [f64; 2], mu: f64) -> Self {
+        Self {
+            pos,
+            rot: rotation([0.0, 0.0, 1.0], 0.0),
+            half,
+            mu,
+        }
+    }
+}
+
+fn mat_vec(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [
+        r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
+        r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
+        r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
+    ]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// GIWC generators `-(f, p x f)` at the world origin: the 4 pyramid edges `(+-mu, +-mu, 1)` at
+/// the 4 corners of each rectangle (the paper's `A_stance V_all`, MATH.md section 3).
+pub fn giwc_generators(contacts: &[Contact]) -> DMatrix<f64> {
+    let mut rows = Vec::new();
+    for c in contacts {
+        for (sx, sy) in [(1.0, 1.0), (1.0, -1.0), (-1.0, -1.0), (-1.0, 1.0)] {
+            let corner_local = [sx * c.half[0], sy * c.half[1], 0.0];
+            let cl = mat_vec(&c.rot, corner_local);
+            let p = [c.pos[0] + cl[0], c.pos[1] + cl[1], c.pos[2] + cl[2]];
+            for (ex, ey) in [(1.0, 1.0), (1.0, -1.0), (-1.0, -1.0), (-1.0, 1.0)] {
+                let f = mat_vec(&c.rot, [ex * c.mu, ey * c.mu, 1.0]);
+                let t = cross(p, f);
+                rows.push([-f[0], -f[1], -f[2], -t[0], -t[1], -t[2]]);
+            }
+        }
+    }
+    DMatrix::from_fn(rows.len(), 6, |i, j| rows[i][j])
+}
+
+/// The linear map of wrenches `(f, t) -> (f, t - s x f)` (moving the reference point by `s`:
+/// what the generators of stances translated by `s` are, in the original's coordinates).
+pub fn shift_wrenches(v: &DMatrix<f64>, s: [f64; 3]) -> DMatrix<f64> {
+    let mut out = v.clone();
+    for i in 0..v.nrows() {
+        let f = [v[(i, 0)], v[(i, 1)], v[(i, 2)]];
+        let sf = cross(s, f);
+        for k in 0..3 {
+            out[(i, 3 + k)] = v[(i, 3 + k)] + sf[k];
+        }
+    }
+    out
+}

@@ -1,0 +1,88 @@
+//! The certificate catches wrong cones: a face form missing facets (cddlib's float-mode failure
+//! on near-degenerate stances passes soundness and support), a wrong lineality, wrong equations.
+
+mod common;
+
+use common::*;
+use polycone::nalgebra::DMatrix;
+use polycone::{certify_span_to_face, span_to_face, DdOptions, FaceForm};
+
+fn without_rows(m: &DMatrix<f64>, drop: &[usize]) -> DMatrix<f64> {
+    let keep: Vec<usize> = (0..m.nrows()).filter(|i| !drop.contains(i)).collect();
+    DMatrix::from_fn(keep.len(), m.ncols(), |i, j| m[(keep[i], j)])
+}
+
+#[test]
+fn deleting_any_facet_fails_completeness() {
+    let opts = DdOptions::default();
+    for case in [
+        "double_support_stairs",
+        "tilted_foot_hand_ledge",
+        "single_support_flat",
+    ] {
+        let j = load(case);
+        let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+        let r = span_to_face(&v, &opts).unwrap();
+        let ok = certify_span_to_face(&v, &r.face, &r.lineality, &opts).unwrap();
+        assert!(ok.certified, "{case}: {ok:?}");
+        let nf = r.face.facets.nrows();
+        // Every single deletion (stride to keep the test fast on the 176-facet case), and a
+        // block of 6 as in the issue.
+        let mut drops: Vec<Vec<usize>> = (0..nf).step_by(7).map(|i| vec![i]).collect();
+        drops.push((0..6).map(|k| k * nf / 6).collect());
+        for drop in drops {
+            let partial = FaceForm::new(
+                without_rows(&r.face.facets, &drop),
+                r.face.equations.clone(),
+            )
+            .unwrap();
+            let c = certify_span_to_face(&v, &partial, &r.lineality, &opts).unwrap();
+            assert!(c.soundness, "{case}: a subset of facets stays sound");
+            assert!(!c.certified, "{case}: dropping {drop:?} must not certify");
+            assert!(!c.completeness || !c.lineality, "{case}: {c:?}");
+        }
+    }
+}
+
+#[test]
+fn a_wrong_facet_fails_soundness_or_support() {
+    let opts = DdOptions::default();
+    let j = load("double_support_flat");
+    let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+    let r = span_to_face(&v, &opts).unwrap();
+    // Tilt one facet slightly: either some generator violates it, or it is no longer tight on
+    // a hyperplane of generators.
+    let mut facets = r.face.facets.clone();
+    facets[(0, 0)] += 1e-3;
+    let n = facets.row(0).norm();
+    facets.row_mut(0).scale_mut(1.0 / n);
+    let bad = FaceForm::new(facets, r.face.equations.clone()).unwrap();
+    let c = certify_span_to_face(&v, &bad, &r.lineality, &opts).unwrap();
+    assert!(!c.certified);
+    assert!(!c.soundness || !c.support);
+}
+
+#[test]
+fn wrong_equations_or_lineality_fail() {
+    let opts = DdOptions::default();
+    let j = load("opposing_walls_frictionless");
+    let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+    let r = span_to_face(&v, &opts).unwrap();
+    assert_eq!(r.lineality.nrows(), 3);
+    let ok = certify_span_to_face(&v, &r.face, &r.lineality, &opts).unwrap();
+    assert!(ok.certified);
+    // Claiming a smaller lineality space is wrong.
+    let c = certify_span_to_face(&v, &r.face, &r.lineality.rows(0, 2).into_owned(), &opts).unwrap();
+    assert!(!c.certified);
+    // Claiming an equation the generators do not satisfy is wrong.
+    let e = DMatrix::from_row_slice(1, 6, &[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+    let bad = FaceForm::new(r.face.facets.clone(), e).unwrap();
+    let c = certify_span_to_face(&v, &bad, &r.lineality, &opts).unwrap();
+    assert!(!c.certified && !c.soundness);
+    // A lower-dimensional cone whose equations are omitted is wrong.
+    let v2 = DMatrix::from_row_slice(2, 3, &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let r2 = span_to_face(&v2, &opts).unwrap();
+    let missing = FaceForm::new(r2.face.facets.clone(), DMatrix::zeros(0, 3)).unwrap();
+    let c = certify_span_to_face(&v2, &missing, &r2.lineality, &opts).unwrap();
+    assert!(!c.certified);
+}

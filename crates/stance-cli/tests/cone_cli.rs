@@ -1,0 +1,171 @@
+//! Integration tests of `stance cone span-to-face` and `stance cone face-to-span`.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn stance(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stance"))
+        .args(args)
+        .output()
+        .expect("run stance")
+}
+
+/// A fresh file in the temporary directory with `content`.
+fn temp_file(name: &str, content: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stance-cone-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, content).unwrap();
+    p
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+fn assert_bad_input(out: &Output, needle: &str) {
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(err.contains(needle), "{err} should mention {needle}");
+}
+
+#[test]
+fn span_to_face_of_the_quadrant_and_back() {
+    let f = temp_file(
+        "quadrant.json",
+        r#"{"generators": [[1, 0, 0], [0, 1, 0], [1, 1, 0]]}"#,
+    );
+    let out = json(&stance(&["cone", "span-to-face", f.to_str().unwrap()]));
+    assert_eq!(out["dim"], 3);
+    assert_eq!(out["facets"].as_array().unwrap().len(), 2);
+    assert_eq!(out["equations"].as_array().unwrap().len(), 1);
+    assert_eq!(out["lineality"].as_array().unwrap().len(), 0);
+    assert_eq!(out["extreme_generators"], serde_json::json!([0, 1]));
+    assert_eq!(out["certified"], true);
+    // Back to span form.
+    let face = serde_json::json!({"facets": out["facets"], "equations": out["equations"]});
+    let g = temp_file("quadrant_face.json", &face.to_string());
+    let back = json(&stance(&["cone", "face-to-span", g.to_str().unwrap()]));
+    assert_eq!(back["generators"].as_array().unwrap().len(), 2);
+    assert_eq!(back["lineality"].as_array().unwrap().len(), 0);
+    assert_eq!(back["certified"], true);
+}
+
+#[test]
+fn golden_stance_exact_toml_repeat_and_output_file() {
+    // Single support (16 generators -> 16 facets), from the project's fixtures.
+    let path = format!(
+        "{}/../../testdata/cones/single_support_flat.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let input = serde_json::json!({"generators": j["generators"]["float64"]});
+    let f = temp_file("single.json", &input.to_string());
+    let out = json(&stance(&[
+        "cone",
+        "span-to-face",
+        f.to_str().unwrap(),
+        "--repeat",
+        "3",
+    ]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 16);
+    let exact = json(&stance(&[
+        "cone",
+        "span-to-face",
+        f.to_str().unwrap(),
+        "--exact",
+    ]));
+    assert_eq!(exact["facets"].as_array().unwrap().len(), 16);
+    assert_eq!(exact["certified"], true);
+    // -o writes the file and nothing on stdout.
+    let o = std::env::temp_dir().join(format!("stance-cone-cli-{}/out.json", std::process::id()));
+    let run = stance(&[
+        "cone",
+        "span-to-face",
+        f.to_str().unwrap(),
+        "-o",
+        o.to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    assert!(run.stdout.is_empty());
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&o).unwrap()).unwrap();
+    assert_eq!(written["facets"].as_array().unwrap().len(), 16);
+    // TOML input.
+    let t = temp_file(
+        "half.toml",
+        "generators = [[1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]\n",
+    );
+    let out = json(&stance(&["cone", "span-to-face", t.to_str().unwrap()]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 1);
+    assert_eq!(out["lineality"].as_array().unwrap().len(), 1);
+}
+
+#[test]
+fn zero_cone_and_whole_space() {
+    let f = temp_file("zero.json", r#"{"generators": [], "dim": 3}"#);
+    let out = json(&stance(&["cone", "span-to-face", f.to_str().unwrap()]));
+    assert_eq!(out["equations"].as_array().unwrap().len(), 3);
+    let g = temp_file("whole.json", r#"{"facets": [], "dim": 2}"#);
+    let out = json(&stance(&["cone", "face-to-span", g.to_str().unwrap()]));
+    assert_eq!(out["lineality"].as_array().unwrap().len(), 2);
+    assert_eq!(out["generators"].as_array().unwrap().len(), 0);
+}
+
+#[test]
+fn bad_inputs_exit_2_with_one_line() {
+    let ragged = temp_file("ragged.json", r#"{"generators": [[1, 0], [1]]}"#);
+    assert_bad_input(
+        &stance(&["cone", "span-to-face", ragged.to_str().unwrap()]),
+        "ragged",
+    );
+    let empty = temp_file("empty.json", r#"{"generators": []}"#);
+    assert_bad_input(
+        &stance(&["cone", "span-to-face", empty.to_str().unwrap()]),
+        "empty",
+    );
+    let unknown = temp_file("unknown.json", r#"{"generators": [[1]], "gens": 1}"#);
+    assert_bad_input(
+        &stance(&["cone", "span-to-face", unknown.to_str().unwrap()]),
+        "unknown field",
+    );
+    let nan = temp_file("nan.toml", "generators = [[1.0, nan]]\n");
+    assert_bad_input(
+        &stance(&["cone", "span-to-face", nan.to_str().unwrap()]),
+        "finite",
+    );
+    let huge = temp_file("huge.json", r#"{"generators": [[1e999, 0]]}"#);
+    assert_eq!(
+        stance(&["cone", "span-to-face", huge.to_str().unwrap()])
+            .status
+            .code(),
+        Some(2)
+    );
+    let blank = temp_file("blank.json", "  \n");
+    assert_bad_input(
+        &stance(&["cone", "span-to-face", blank.to_str().unwrap()]),
+        "empty",
+    );
+    let missing = stance(&["cone", "span-to-face", "/nonexistent/x.json"]);
+    assert_eq!(missing.status.code(), Some(2));
+    let wrong_keys = temp_file("wrong.json", r#"{"generators": [[1, 0]]}"#);
+    assert_bad_input(
+        &stance(&["cone", "face-to-span", wrong_keys.to_str().unwrap()]),
+        "unknown field",
+    );
+    let dims = temp_file(
+        "dims.json",
+        r#"{"facets": [[1, 0]], "equations": [[1, 0, 0]]}"#,
+    );
+    assert_bad_input(
+        &stance(&["cone", "face-to-span", dims.to_str().unwrap()]),
+        "entries",
+    );
+}
