@@ -457,13 +457,22 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
             in_use[v] = true;
         }
     }
-    let live: Vec<usize> = (0..vertices.len()).filter(|&v| in_use[v]).collect();
-    for (k, &v) in live.iter().enumerate() {
-        if let Some(&w) = live[..k]
-            .iter()
-            .find(|&&w| alias[w] == w && norm(sub(vertices[v], vertices[w])) <= opts.merge_tol)
-        {
-            alias[v] = w;
+    // Sweep along x: only vertices within merge_tol in x can be merged (O(L log L)).
+    let mut live: Vec<usize> = (0..vertices.len()).filter(|&v| in_use[v]).collect();
+    live.sort_by(|&a, &b| vertices[a][0].total_cmp(&vertices[b][0]).then(a.cmp(&b)));
+    for k in 0..live.len() {
+        let v = live[k];
+        let mut j = k;
+        while j > 0 {
+            j -= 1;
+            let w = live[j];
+            if vertices[v][0] - vertices[w][0] > opts.merge_tol {
+                break;
+            }
+            if alias[w] == w && norm(sub(vertices[v], vertices[w])) <= opts.merge_tol {
+                alias[v] = w;
+                break;
+            }
         }
     }
     let mut loops: Vec<Vec<usize>> = faces
@@ -522,7 +531,9 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
             // clipping error (wrong incident planes).
             // The clipping error grows as 1 / sqrt(smallest eigenvalue of N^T N).
             let old = vertices[v];
-            let lmin = m.symmetric_eigenvalues().min().max(0.0).sqrt();
+            // Cheap lower bound of the smallest eigenvalue: det / trace^2 (no eigen solver).
+            let tr = m.trace();
+            let lmin = (m.determinant().max(0.0) / (tr * tr).max(f64::MIN_POSITIVE)).sqrt();
             let scale = (1.0 + old.iter().fold(0.0f64, |a, x| a.max(x.abs()))) / lmin.min(1.0);
             let moved = norm(sub([p[0], p[1], p[2]], old));
             if p.iter().all(|x| x.is_finite()) && moved <= POLISH_MAX_MOVE * scale {

@@ -4,6 +4,7 @@ use polycone::polytope::{polyhedron_from_halfspaces, Polyhedron, RegionStatus};
 
 use super::halfspaces::{com_halfspaces, ComHalfspaces, Tester};
 use super::EquilibriumOptions;
+use super::StaticEquilibrium;
 use crate::{ContactError, Giwc};
 
 /// The robust static-equilibrium region `M = {p : U_stance (g_k, p x g_k) <= 0, k = 1..K}` as
@@ -16,7 +17,7 @@ pub struct RobustRegion {
     /// from outside), and the plane `(n, d)` (`n . p <= d`, unit `n`, metres) of each face.
     pub polyhedron: Polyhedron,
     /// Irredundant half-spaces of `M` (the face planes) when `M` is a bounded solid; otherwise
-    /// all `K x rows` half-spaces.
+    /// the irredundant rows of the K prisms.
     pub halfspaces: ComHalfspaces,
     tester: Tester,
 }
@@ -51,13 +52,20 @@ impl RobustRegion {
             offsets: vec![],
             infeasible: false,
         };
+        // Each prism contributes only its irredundant rows (M is inside every prism, so a row
+        // redundant for one prism is redundant for M): about 10x fewer planes to clip.
         for &g in gravities {
-            all.extend(com_halfspaces(
-                giwc,
-                g,
-                opts.tol.zero_normal,
-                opts.tol.face,
-            )?);
+            if g[2] != 0.0 && g.iter().all(|x| x.is_finite()) {
+                let eq = StaticEquilibrium::new(giwc, g, opts)?;
+                all.extend(eq.irredundant_halfspaces().clone());
+            } else {
+                all.extend(com_halfspaces(
+                    giwc,
+                    g,
+                    opts.tol.zero_normal,
+                    opts.tol.face,
+                )?);
+            }
         }
         let polyhedron = if all.infeasible {
             Polyhedron {

@@ -16,6 +16,8 @@ pub struct StaticEquilibrium {
     opts: EquilibriumOptions,
     /// The cross-section at height 0, computed once (reused by [`Self::polygon`]).
     section0: Option<StaticPolygon>,
+    /// The rows of `halfspaces` that bound the prism (all of them when unknown).
+    irredundant: ComHalfspaces,
 }
 
 /// Cross-section of the static-equilibrium prism by the horizontal plane `z = height`.
@@ -105,7 +107,13 @@ impl StaticEquilibrium {
             halfspaces,
             opts: *opts,
             section0: None,
+            irredundant: ComHalfspaces {
+                normals: vec![],
+                offsets: vec![],
+                infeasible: false,
+            },
         };
+        out.irredundant = out.halfspaces.clone();
         // Test loop on the irredundant rows only (the polygon's edges), when they are known.
         if gravity[2] != 0.0 {
             let poly = out.section(0.0)?;
@@ -117,6 +125,7 @@ impl StaticEquilibrium {
                     infeasible: out.halfspaces.infeasible,
                 };
                 out.tester = Tester::new(&reduced, opts.tol.region);
+                out.irredundant = reduced;
             }
             out.section0 = Some(poly);
         }
@@ -162,6 +171,21 @@ impl StaticEquilibrium {
     /// ```
     pub fn halfspaces(&self) -> &ComHalfspaces {
         &self.halfspaces
+    }
+
+    /// The half-spaces that bound the prism: the rows of the polygon's edges when the polygon
+    /// is a bounded 2-D polygon (every other row is redundant, at every height, since all rows
+    /// are parallel to `g`), otherwise all rows.
+    ///
+    /// ```
+    /// # use stance_contact::{examples, equilibrium::StaticEquilibrium};
+    /// let scene = examples::single_support_flat();
+    /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
+    /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
+    /// assert_eq!(eq.irredundant_halfspaces().normals.len(), 4); // the foot's 4 edges
+    /// ```
+    pub fn irredundant_halfspaces(&self) -> &ComHalfspaces {
+        &self.irredundant
     }
 
     /// Whether the CoM `p` (world, m) is in static equilibrium (within the region band).
