@@ -22,8 +22,27 @@ impl Stance {
     /// assert!(giwc.certified);
     /// ```
     pub fn u_stance(&self, opts: &GiwcOptions) -> Result<Giwc, ContactError> {
+        self.u_stance_with(&mut polycone::Workspace::new(), opts)
+    }
+
+    /// [`Stance::u_stance`] with a reusable polycone workspace (for many stances in a loop).
+    ///
+    /// ```
+    /// # use stance_contact::examples;
+    /// let mut ws = polycone::Workspace::new();
+    /// for name in examples::NAMES {
+    ///     let stance = examples::by_name(name).unwrap().stance().unwrap();
+    ///     assert!(stance.u_stance_with(&mut ws, &Default::default()).unwrap().certified);
+    /// }
+    /// ```
+    pub fn u_stance_with(
+        &self,
+        ws: &mut polycone::Workspace,
+        opts: &GiwcOptions,
+    ) -> Result<Giwc, ContactError> {
         let span = self.giwc_span();
-        let out = polycone::span_to_face(&span, &opts.dd)
+        let out = ws
+            .span_to_face(&span, &opts.dd)
             .map_err(|e| ContactError::Cone(e.to_string()))?;
         Ok(Giwc {
             facets: out.face.facets,

@@ -8,12 +8,8 @@
 
 use super::polygon::Polygon;
 use super::polyhedron::{affine_dim, ccw_order, dedup_points, Polyhedron};
+use super::tol::HULL_SAME_FACET;
 use super::{polyhedron_from_halfspaces, PolytopeError, PolytopeOptions, RegionStatus};
-
-/// Two hull facets whose unit normals differ by less than this (dimensionless, 1e-7) are one
-/// facet split by rounding in the polar. Reason: the polar's vertices carry about 1e-10 relative
-/// rounding, and distinct facets of the regions handled here differ by far more than 1e-7 rad.
-const HULL_SAME_FACET: f64 = 1e-7;
 
 fn check_points<const D: usize>(points: &[[f64; D]]) -> Result<(), PolytopeError> {
     if points.is_empty() {

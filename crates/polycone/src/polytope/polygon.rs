@@ -1,6 +1,7 @@
 //! Half-planes `a_i . p <= b_i` in `R^2` -> convex polygon (Sutherland-Hodgman clipping of the
 //! far box, see the module doc of [`crate::polytope`]).
 
+use super::tol::POLISH_MAX_MOVE;
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polygon given by its vertices, the result of [`polygon_from_halfplanes`].
@@ -66,12 +67,6 @@ impl Polygon {
         0.5 * s
     }
 }
-
-/// Largest move of a vertex by the polish step, relative to `(1 + |p|_inf) / |det|` with `det`
-/// the determinant of the two unit normals (dimensionless, 1e-6): clipping from the far box
-/// leaves errors of about `far * 1e-16 / |det| = 1e-10 / |det|`, so a larger move means the
-/// polish used the wrong lines and is rejected.
-const POLISH_MAX_MOVE: f64 = 1e-6;
 
 /// A running vertex and the label of its outgoing edge.
 #[derive(Debug, Clone, Copy)]

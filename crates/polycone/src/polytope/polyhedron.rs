@@ -1,6 +1,7 @@
 //! Half-spaces `a_i . p <= b_i` in `R^3` -> convex polyhedron (face-by-face clipping of the far
 //! box with a cap face per cut, see the module doc of [`crate::polytope`]).
 
+use super::tol::{POLISH_MAX_MOVE, REFINE_MARGIN, REFINE_TRIES};
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polyhedron, the result of [`polyhedron_from_halfspaces`].
@@ -151,18 +152,6 @@ pub fn polyhedron_from_halfspaces(
     }
     Ok(first)
 }
-
-/// Largest move of a corner by the polish step, relative to `(1 + |p|_inf) / sqrt(l_min)`
-/// with `l_min` the smallest eigenvalue of `N^T N` over the incident unit normals
-/// (dimensionless, 1e-6; same reason as in the 2-D routine).
-const POLISH_MAX_MOVE: f64 = 1e-6;
-
-/// How many times the refinement box may grow (by 4x each) before the first pass is kept.
-const REFINE_TRIES: usize = 4;
-
-/// Relative margin of the refinement box around the first-pass result (dimensionless, 0.05:
-/// large against rounding, small enough to keep the box at the result's scale).
-const REFINE_MARGIN: f64 = 0.05;
 
 fn clip_box(
     normals: &[[f64; 3]],
