@@ -318,7 +318,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             let region = RobustRegion::new(&giwc, &gs, &opts)?;
             let mut stable = vec![false; pts.points.len()];
             for _ in 0..a.common.repeat {
-                batch_with_progress(&region, &pts.points, &mut stable);
+                batch_with_progress(&region, &pts.points, &mut stable)?;
             }
             let margin = a
                 .margin
@@ -336,21 +336,22 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
 }
 
 /// Batch test with a progress bar on standard error for long batches.
-fn batch_with_progress(region: &RobustRegion, points: &[[f64; 3]], out: &mut [bool]) {
+fn batch_with_progress(region: &RobustRegion, points: &[[f64; 3]], out: &mut [bool]) -> Result<()> {
     /// Batches shorter than this finish in well under a second: no progress bar.
     const LONG_BATCH: usize = 10_000_000;
     /// Points per progress step.
     const STEP: usize = 1_000_000;
     if points.len() < LONG_BATCH {
-        region.contains_batch(points, out);
-        return;
+        region.contains_batch(points, out)?;
+        return Ok(());
     }
     let bar = indicatif::ProgressBar::new(points.len() as u64);
     for (p, o) in points.chunks(STEP).zip(out.chunks_mut(STEP)) {
-        region.contains_batch(p, o);
+        region.contains_batch(p, o)?;
         bar.inc(p.len() as u64);
     }
     bar.finish_and_clear();
+    Ok(())
 }
 
 /// Used by the plot module: the 2-D hull of projected points.

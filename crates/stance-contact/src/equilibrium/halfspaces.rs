@@ -106,6 +106,17 @@ pub fn com_halfspaces(
     Ok(out)
 }
 
+/// Batch outputs must match the points one to one.
+pub(crate) fn same_length(points: usize, out: usize) -> Result<(), ContactError> {
+    if points == out {
+        Ok(())
+    } else {
+        Err(ContactError::BadShape(format!(
+            "{points} points but {out} output slots: give one output per point"
+        )))
+    }
+}
+
 /// Structure-of-arrays copy of half-spaces for the batch test loop (no allocation per point).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub(crate) struct Tester {

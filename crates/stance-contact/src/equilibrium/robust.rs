@@ -110,8 +110,8 @@ impl RobustRegion {
         self.tester.contains(p)
     }
 
-    /// Tests many CoMs in parallel (rayon) into `out`; no allocation per point. Panics if the
-    /// slices differ in length (a caller bug).
+    /// Tests many CoMs in parallel (rayon) into `out`; no allocation per point. Slices of
+    /// different lengths are an error.
     ///
     /// ```
     /// # use stance_contact::{examples, equilibrium::RobustRegion};
@@ -119,12 +119,17 @@ impl RobustRegion {
     /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
     /// let m = RobustRegion::new(&giwc, &[[0.1, 0.0, -9.81], [-0.1, 0.0, -9.81]], &Default::default()).unwrap();
     /// let mut out = [false; 2];
-    /// m.contains_batch(&[[0.0, 0.0, 0.8], [0.0, 0.3, 0.8]], &mut out);
+    /// m.contains_batch(&[[0.0, 0.0, 0.8], [0.0, 0.3, 0.8]], &mut out).unwrap();
     /// assert_eq!(out, [true, false]);
     /// ```
-    pub fn contains_batch(&self, points: &[[f64; 3]], out: &mut [bool]) {
-        assert_eq!(points.len(), out.len(), "one output per point");
+    pub fn contains_batch(
+        &self,
+        points: &[[f64; 3]],
+        out: &mut [bool],
+    ) -> Result<(), ContactError> {
+        super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
+        Ok(())
     }
 
     /// Signed margin (m): for a CoM inside a bounded `M`, its distance to the boundary (the

@@ -203,7 +203,7 @@ impl StaticEquilibrium {
     }
 
     /// Tests many CoMs in parallel (rayon), writing `out[i]` for `points[i]`; no allocation per
-    /// point. Panics if the slices differ in length (a caller bug, not input data).
+    /// point. Slices of different lengths are an error.
     ///
     /// ```
     /// # use stance_contact::{examples, equilibrium::StaticEquilibrium};
@@ -212,12 +212,18 @@ impl StaticEquilibrium {
     /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
     /// let pts = [[0.0, 0.0, 0.8], [0.2, 0.0, 0.8]];
     /// let mut out = [false; 2];
-    /// eq.is_stable_batch(&pts, &mut out);
+    /// eq.is_stable_batch(&pts, &mut out).unwrap();
     /// assert_eq!(out, [true, false]);
+    /// assert!(eq.is_stable_batch(&pts, &mut [false; 3]).is_err());
     /// ```
-    pub fn is_stable_batch(&self, points: &[[f64; 3]], out: &mut [bool]) {
-        assert_eq!(points.len(), out.len(), "one output per point");
+    pub fn is_stable_batch(
+        &self,
+        points: &[[f64; 3]],
+        out: &mut [bool],
+    ) -> Result<(), ContactError> {
+        super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
+        Ok(())
     }
 
     /// The cross-section of the static-equilibrium prism at height `z = height` (m): the
