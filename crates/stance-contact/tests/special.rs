@@ -331,3 +331,130 @@ friction = 0.7
     assert_eq!(scene.gravity, [0.0, 0.0, -9.81]);
     assert_eq!(scene.stance().unwrap().contacts().len(), 1);
 }
+
+/// The robust region M of the paper's box-climbing and stair stances against the QP over
+/// contact forces: its centroid is supported under every g_k, and a point 5 mm outside the
+/// middle of each face is not supported under some g_k.
+#[test]
+fn robust_region_faces_against_the_qp() {
+    let gs = [
+        [0.15, 0.0, -9.81],
+        [-0.15, 0.0, -9.81],
+        [0.0, 0.15, -9.81],
+        [0.0, -0.15, -9.81],
+    ];
+    for name in ["box-climbing", "stairs"] {
+        let stance = stance_contact::examples::by_name(name)
+            .unwrap()
+            .stance()
+            .unwrap();
+        let giwc = stance.u_stance(&Default::default()).unwrap();
+        let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+        assert_eq!(m.polyhedron.status, RegionStatus::Bounded, "{name}");
+        let v = &m.polyhedron.vertices;
+        let n = v.len() as f64;
+        let c = v.iter().fold([0.0; 3], |a, p| {
+            [a[0] + p[0] / n, a[1] + p[1] / n, a[2] + p[2] / n]
+        });
+        let qp = |p: [f64; 3], g: [f64; 3]| {
+            supporting_forces(&stance, &w_gi_static(39.0, g, p), &Default::default())
+                .unwrap()
+                .outcome
+        };
+        for g in gs {
+            assert_eq!(
+                qp(c, g),
+                ForcesOutcome::Feasible,
+                "{name}: centroid under {g:?}"
+            );
+        }
+        for (face, (nrm, _)) in m.polyhedron.faces.iter().zip(&m.polyhedron.planes) {
+            let k = face.len() as f64;
+            let mid = face.iter().fold([0.0; 3], |a, &i| {
+                [a[0] + v[i][0] / k, a[1] + v[i][1] / k, a[2] + v[i][2] / k]
+            });
+            let out = [
+                mid[0] + 0.005 * nrm[0],
+                mid[1] + 0.005 * nrm[1],
+                mid[2] + 0.005 * nrm[2],
+            ];
+            assert!(!m.contains(out));
+            assert!(
+                gs.iter().any(|&g| qp(out, g) == ForcesOutcome::Infeasible),
+                "{name}: 5 mm outside a face of M, yet supported under every g_k"
+            );
+            let inside = [
+                mid[0] - 0.005 * nrm[0],
+                mid[1] - 0.005 * nrm[1],
+                mid[2] - 0.005 * nrm[2],
+            ];
+            if m.margin(inside) > 1e-4 {
+                for g in gs {
+                    assert_eq!(
+                        qp(inside, g),
+                        ForcesOutcome::Feasible,
+                        "{name}: 5 mm inside a face under {g:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// M of flat double support equals the brute-force intersection of all 4 x 16 half-spaces
+/// (every feasible triple intersection), not only of the prisms' irredundant rows.
+#[test]
+fn robust_region_vertices_match_brute_force_over_all_rows() {
+    let gs = [
+        [0.15, 0.0, -9.81],
+        [-0.15, 0.0, -9.81],
+        [0.0, 0.15, -9.81],
+        [0.0, -0.15, -9.81],
+    ];
+    let giwc = stance_contact::examples::double_support_flat()
+        .stance()
+        .unwrap()
+        .u_stance(&Default::default())
+        .unwrap();
+    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let mut a = vec![];
+    let mut d = vec![];
+    for g in gs {
+        let h = stance_contact::com_halfspaces(&giwc, g, 1e-12, 1e-9).unwrap();
+        a.extend(h.normals);
+        d.extend(h.offsets);
+    }
+    let mut brute: Vec<[f64; 3]> = vec![];
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            for k in j + 1..a.len() {
+                let mat = Matrix3::from_rows(&[
+                    Vector3::from(a[i]).transpose(),
+                    Vector3::from(a[j]).transpose(),
+                    Vector3::from(a[k]).transpose(),
+                ]);
+                if mat.determinant().abs() < 1e-9 {
+                    continue;
+                }
+                let Some(p) = mat.lu().solve(&Vector3::new(d[i], d[j], d[k])) else {
+                    continue;
+                };
+                let ok = a
+                    .iter()
+                    .zip(&d)
+                    .all(|(n, c)| n[0] * p[0] + n[1] * p[1] + n[2] * p[2] <= c + 1e-9);
+                if ok && !brute.iter().any(|q| (Vector3::from(*q) - p).norm() < 1e-7) {
+                    brute.push([p[0], p[1], p[2]]);
+                }
+            }
+        }
+    }
+    assert_eq!(brute.len(), m.polyhedron.vertices.len());
+    for q in &brute {
+        assert!(m
+            .polyhedron
+            .vertices
+            .iter()
+            .any(|v| (Vector3::from(*v) - Vector3::from(*q)).norm() < 1e-7));
+    }
+}
