@@ -39,6 +39,7 @@ pub struct GiwcArgs {
     /// Face form of the net contact wrench cone (`-U`, w_c = -w_GI) instead of the GIWC.
     #[arg(long)]
     pub net_contact_wrench: bool,
+
     #[command(flatten)]
     pub common: Common,
 }
@@ -154,11 +155,13 @@ struct GiwcOut {
 pub fn run_giwc(a: GiwcArgs) -> Result<()> {
     let scene = load_scene(&a.scene)?;
     let stance = scene.stance().context("invalid scene")?;
+    let opts = GiwcOptions::default();
+    let mut ws = stance::polycone::Workspace::new();
     let mut giwc = None;
     for _ in 0..a.common.repeat {
         giwc = Some(
             stance
-                .u_stance(&GiwcOptions::default())
+                .u_stance_with(&mut ws, &opts)
                 .context("cannot compute the GIWC")?,
         );
     }
