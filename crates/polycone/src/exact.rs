@@ -33,6 +33,11 @@ use crate::linalg::orthonormal_rows;
 use crate::tol::Tolerances;
 use crate::{Arithmetic, Certificate, ConeError};
 
+/// New rays whose longest entry exceeds this many bits are divided by their content (the gcd
+/// of their entries). Not a tolerance: any value gives the same exact answer; it trades gcd
+/// work against the length of the integers. 192 bits: three machine words.
+const PRIMITIVE_BITS: u64 = 192;
+
 /// An exact ray with its zero set.
 struct Ray {
     x: Vec<BigInt>,
@@ -75,21 +80,33 @@ fn gcd(a: &BigInt, b: &BigInt) -> BigInt {
     a
 }
 
-/// Divides `v` by the gcd of its entries.
+/// Divides `v` by the gcd of its entries. Starts from the smallest entry, so that every
+/// Euclid step after the first works on numbers of its size, and stops as soon as the gcd is 1.
 fn primitive(v: &mut [BigInt]) {
-    let mut g = BigInt::zero();
-    for x in v.iter() {
-        if !x.is_zero() {
-            g = gcd(&g, x);
-            if g.is_one() {
-                return;
-            }
+    let Some(start) = v
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| !x.is_zero())
+        .min_by_key(|(_, x)| x.bits())
+        .map(|(i, _)| i)
+    else {
+        return;
+    };
+    let mut g = v[start].abs();
+    if g.is_one() {
+        return;
+    }
+    for (i, x) in v.iter().enumerate() {
+        if i == start || x.is_zero() {
+            continue;
+        }
+        g = gcd(&g, x);
+        if g.is_one() {
+            return;
         }
     }
-    if g > BigInt::one() {
-        for x in v.iter_mut() {
-            *x = &*x / &g;
-        }
+    for x in v.iter_mut() {
+        *x = &*x / &g;
     }
 }
 
@@ -115,10 +132,11 @@ fn row_basis(rows: &[Vec<BigInt>], cap: usize) -> Vec<usize> {
         for (c, e) in &ech {
             if !r[*c].is_zero() {
                 let (a, b) = (e[*c].clone(), r[*c].clone());
+                // Entries grow by one pivot per step (at most `d` steps): no gcd needed, only
+                // the independence decision is used.
                 for t in 0..r.len() {
                     r[t] = &r[t] * &a - &e[t] * &b;
                 }
-                primitive(&mut r);
             }
         }
         if let Some(c) = r.iter().position(|x| !x.is_zero()) {
@@ -243,16 +261,8 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
             }
             continue;
         }
-        let mut next: Vec<Ray> = Vec::new();
-        for (i, r) in rays.iter().enumerate() {
-            if !s[i].is_positive() {
-                let mut z = r.z.clone();
-                if s[i].is_zero() {
-                    bitset::set(&mut z, j);
-                }
-                next.push(Ray { x: r.x.clone(), z });
-            }
-        }
+        // New rays first (they need their parents), then the survivors are moved, not cloned.
+        let mut created: Vec<Ray> = Vec::new();
         for p in (0..rays.len()).filter(|&i| s[i].is_positive()) {
             for q in (0..rays.len()).filter(|&i| s[i].is_negative()) {
                 let mut c = 0;
@@ -272,12 +282,26 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
                 let mut x: Vec<BigInt> = (0..k)
                     .map(|t| &s[p] * &rays[q].x[t] - &s[q] * &rays[p].x[t])
                     .collect();
-                primitive(&mut x);
+                // Divide out the content only when the entries get long: gcds dominate the
+                // cost, and most combinations stay short.
+                if x.iter().map(|v| v.bits()).max().unwrap_or(0) > PRIMITIVE_BITS {
+                    primitive(&mut x);
+                }
                 let mut z = tmp.clone();
                 bitset::set(&mut z, j);
-                next.push(Ray { x, z });
+                created.push(Ray { x, z });
             }
         }
+        let mut next: Vec<Ray> = Vec::with_capacity(rays.len() + created.len());
+        for (i, mut r) in rays.into_iter().enumerate() {
+            if !s[i].is_positive() {
+                if s[i].is_zero() {
+                    bitset::set(&mut r.z, j);
+                }
+                next.push(r);
+            }
+        }
+        next.extend(created);
         rays = next;
         if rays.is_empty() {
             break;

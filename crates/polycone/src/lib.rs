@@ -66,8 +66,8 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is only x1.9 (16 generators) to x4.8 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x26 at 48 and 64
+//! - Speed: the certified tolerance mode is only x2 (16 generators) to x5 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x28 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at; about half of the time is the
 //!   completeness check (small double descriptions per facet, see
 //!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table.
@@ -132,7 +132,8 @@ pub struct DdOptions {
     /// if `allow_uncertified` were set). Default `true`.
     pub check_completeness: bool,
     /// Return the answer even when its certificate fails (with `certified == false`) instead of
-    /// [`ConeError::Uncertified`]. Default `false`.
+    /// [`ConeError::Uncertified`]; the exact fallback is then not attempted. For diagnosis
+    /// only: such an answer may be a wrong cone. Default `false`.
     pub allow_uncertified: bool,
 }
 

@@ -90,6 +90,21 @@ impl Whitened {
 
 /// Whitens the generators `v` (rows), assumed finite with `v.ncols() >= 1`.
 pub(crate) fn whiten(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
+    // Scale by a power of two (exact, and the cone does not change) so that the largest entry
+    // is about 1: norms of rows with entries near 1e300 or 1e-300 neither overflow nor vanish.
+    let amax = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if amax > 0.0 && !(0.5..=1.0).contains(&amax) {
+        let e = amax.log2().floor() as i32;
+        // Two steps: 2^-e alone may not be representable for subnormal inputs.
+        let (e1, e2) = (e / 2, e - e / 2);
+        let scaled = v * 2f64.powi(-e1) * 2f64.powi(-e2);
+        return whiten_scaled(&scaled, tol);
+    }
+    whiten_scaled(v, tol)
+}
+
+/// [`whiten`] on an input whose largest entry is about 1 (or zero).
+fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
     let (n, d) = v.shape();
     let norms: Vec<f64> = (0..n).map(|i| v.row(i).norm()).collect();
     let maxn = norms.iter().copied().fold(0.0, f64::max);

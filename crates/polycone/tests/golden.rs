@@ -31,6 +31,12 @@ fn golden_span_to_face_matches_cdd_exact() {
         let lin_dim = reference["lineality_dim"].as_u64().unwrap() as usize;
         let r = span_to_face(&v, &DdOptions::default()).unwrap_or_else(|e| panic!("{case}: {e}"));
         assert!(r.certificate.certified, "{case}: {:?}", r.certificate);
+        // Solved by the floating-point engine, not rescued by the exact fallback.
+        assert_eq!(
+            r.certificate.arithmetic,
+            polycone::Arithmetic::Tolerance,
+            "{case}"
+        );
         let worst = same_rows_up_to_scaling(&r.face.facets, &normalized(&ref_facets), MAX_ANGLE);
         assert!(
             worst.is_some(),

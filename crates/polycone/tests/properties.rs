@@ -105,6 +105,7 @@ proptest! {
     fn random_cones_agree_with_the_oracle(v in cone_strategy(), seed in any::<u64>()) {
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);
+        prop_assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
         check_membership(&v, &r, seed);
         // Dimensions add up: d = dim span + equations, and lineality <= dim span.
         prop_assert!(r.lineality.nrows() + r.face.equations.nrows() <= v.ncols());
@@ -199,6 +200,7 @@ proptest! {
         let v = giwc_generators(&[a, b]);
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);
+        prop_assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
         check_membership(&v, &r, seed);
     }
 }
@@ -215,5 +217,41 @@ fn oracle_detects_a_missing_facet() {
     r.face.facets = r.face.facets.rows(0, 10).into_owned();
     for seed in 1..50 {
         check_membership(&v, &r, seed);
+    }
+}
+
+/// Higher dimensions: cones over cyclic polytopes (points on the moment curve), d = 4 to 10,
+/// certified and agreeing with the oracle; the facet count of a cyclic polytope with n
+/// vertices in dimension e = d - 1 is known in closed form (Gale's evenness condition).
+#[test]
+fn cyclic_cones_in_higher_dimensions() {
+    fn cyclic_facets(n: usize, e: usize) -> usize {
+        // Number of facets of the cyclic polytope C(n, e).
+        fn binom(n: usize, k: usize) -> usize {
+            if k > n {
+                return 0;
+            }
+            (0..k).fold(1, |acc, i| acc * (n - i) / (i + 1))
+        }
+        if e % 2 == 0 {
+            let m = e / 2;
+            binom(n - m, m) * n / (n - m)
+        } else {
+            let m = (e - 1) / 2;
+            2 * binom(n - m - 1, m)
+        }
+    }
+    for d in 4..=10 {
+        let n = d + 4;
+        // Points (1, t, t^2, ..., t^(d-1)) with t in [-1, 1], so the cone is pointed.
+        let v = DMatrix::from_fn(n, d, |i, j| {
+            let t = -1.0 + 2.0 * i as f64 / (n - 1) as f64;
+            t.powi(j as i32)
+        });
+        let r = span_to_face(&v, &DdOptions::default()).unwrap();
+        assert!(r.certificate.certified, "d = {d}");
+        assert_eq!(r.face.facets.nrows(), cyclic_facets(n, d - 1), "d = {d}");
+        assert_eq!(r.extreme_generators.len(), n);
+        check_membership(&v, &r, d as u64);
     }
 }

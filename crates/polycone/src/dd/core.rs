@@ -287,7 +287,53 @@ impl DdCore {
         }
         self.cand.clear();
         candidate_pairs(&self.zp, &self.zn, words, need, &mut self.cand);
-        if !self.cand.is_empty() {
+        // Few candidates: scanning the rays for a blocker is cheaper than building the
+        // transposed incidence (measured on 6-D wrench cones).
+        let scan = self.cand.len() < 4 * k;
+        if scan {
+            self.tmp.clear();
+            self.tmp.resize(words, 0);
+            for ci in 0..self.cand.len() {
+                let (pi, ni) = self.cand[ci];
+                let p = self.plus[pi as usize] as usize;
+                let q = self.minus[ni as usize] as usize;
+                for t in 0..words {
+                    self.tmp[t] = self.z[p * words + t] & self.z[q * words + t];
+                }
+                self.pairs_tested += 1;
+                let tmp = &self.tmp;
+                let blocked = (0..self.n).any(|r| {
+                    r != p
+                        && r != q
+                        && tmp
+                            .iter()
+                            .zip(&self.z[r * words..(r + 1) * words])
+                            .all(|(a, b)| a & !b == 0)
+                });
+                if blocked {
+                    continue;
+                }
+                let (sp, sq) = (self.slack[p], self.slack[q]);
+                let start = self.next_x.len();
+                let mut nn = 0.0;
+                for t in 0..k {
+                    let v = sp * self.x[q * k + t] - sq * self.x[p * k + t];
+                    self.next_x.push(v);
+                    nn += v * v;
+                }
+                if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
+                    return Err(DdFailure::Cancellation);
+                }
+                let inv = 1.0 / nn.sqrt();
+                for v in &mut self.next_x[start..start + k] {
+                    *v *= inv;
+                }
+                let zs = self.next_z.len();
+                self.next_z.extend_from_slice(&self.tmp);
+                bitset::set(&mut self.next_z[zs..zs + words], j);
+                next_n += 1;
+            }
+        } else if !self.cand.is_empty() {
             // Transposed incidence, for the combinatorial adjacency test: a third ray tight on
             // every row of Z(p) ∩ Z(n) is in the AND of those rows' ray sets.
             let rw = bitset::words_for(self.n);

@@ -132,17 +132,21 @@ pub fn cone_distance(v: &DMatrix<f64>, b: &[f64]) -> f64 {
     let bv = polycone::nalgebra::DVector::from_column_slice(b);
     let mut x = polycone::nalgebra::DVector::<f64>::zeros(n);
     let mut passive = vec![false; n];
+    // Columns whose entry failed (degenerate: the least-squares solution gave them a
+    // non-positive weight right away, Lawson and Hanson's rule); cleared when x moves.
+    let mut banned = vec![false; n];
     let tol = 1e-13 * (1.0 + bv.norm()) * (1.0 + a.norm());
-    for _outer in 0..(3 * n + 10) {
+    for _outer in 0..(10 * n + 10) {
         let w = a.transpose() * (&bv - &a * &x);
         let j = (0..n)
-            .filter(|&j| !passive[j])
+            .filter(|&j| !passive[j] && !banned[j])
             .max_by(|&i, &k| w[i].total_cmp(&w[k]));
         let Some(j) = j else { break };
         if w[j] <= tol {
             break;
         }
         passive[j] = true;
+        let mut first = true;
         for _inner in 0..(3 * n + 10) {
             let idx: Vec<usize> = (0..n).filter(|&i| passive[i]).collect();
             let ap = DMatrix::from_fn(d, idx.len(), |r, c| a[(r, idx[c])]);
@@ -151,26 +155,47 @@ pub fn cone_distance(v: &DMatrix<f64>, b: &[f64]) -> f64 {
                 .svd(true, true)
                 .solve(&bv, 1e-14)
                 .expect("svd solve");
+            if first {
+                first = false;
+                let cj = idx.iter().position(|&i| i == j).expect("j is passive");
+                if s_p[cj] <= 0.0 {
+                    passive[j] = false;
+                    banned[j] = true;
+                    break;
+                }
+            }
             if s_p.iter().all(|&s| s > 0.0) {
                 x.fill(0.0);
                 for (c, &i) in idx.iter().enumerate() {
                     x[i] = s_p[c];
                 }
+                banned.fill(false);
                 break;
             }
+            // Step back to the boundary: the variable that hits zero first leaves the passive
+            // set exactly (not by a threshold, which rounding defeats).
             let mut alpha = f64::INFINITY;
+            let mut leaving = usize::MAX;
             for (c, &i) in idx.iter().enumerate() {
-                if s_p[c] <= 0.0 {
-                    alpha = alpha.min(x[i] / (x[i] - s_p[c]));
+                if s_p[c] <= 0.0 && x[i] - s_p[c] > 0.0 {
+                    let al = x[i] / (x[i] - s_p[c]);
+                    if al < alpha {
+                        alpha = al;
+                        leaving = i;
+                    }
                 }
+            }
+            if !alpha.is_finite() {
+                alpha = 0.0;
             }
             for (c, &i) in idx.iter().enumerate() {
                 x[i] += alpha * (s_p[c] - x[i]);
-                if x[i] <= 1e-300 {
+                if i == leaving || x[i] <= 0.0 {
                     x[i] = 0.0;
                     passive[i] = false;
                 }
             }
+            banned.fill(false);
         }
     }
     (&bv - &a * &x).norm()
