@@ -39,6 +39,10 @@ pub struct GiwcArgs {
     /// Face form of the net contact wrench cone (`-U`, w_c = -w_GI) instead of the GIWC.
     #[arg(long)]
     pub net_contact_wrench: bool,
+    /// Certified exact combinatorics for the generators as computed in floating point (slower;
+    /// rounding of rotated/translated generators can split facets of the intended geometry).
+    #[arg(long)]
+    pub exact: bool,
 
     #[command(flatten)]
     pub common: Common,
@@ -155,7 +159,10 @@ struct GiwcOut {
 pub fn run_giwc(a: GiwcArgs) -> Result<()> {
     let scene = load_scene(&a.scene)?;
     let stance = scene.stance().context("invalid scene")?;
-    let opts = GiwcOptions::default();
+    let mut opts = GiwcOptions::default();
+    if a.exact {
+        opts.dd.arithmetic = stance::polycone::Arithmetic::Exact;
+    }
     let mut ws = stance::polycone::Workspace::new();
     let mut giwc = None;
     for _ in 0..a.common.repeat {
