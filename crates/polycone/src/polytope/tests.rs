@@ -425,3 +425,19 @@ proptest! {
         }
     }
 }
+
+/// The documented limitation, pinned: a region entirely beyond `far` is reported empty, and
+/// raising `far` finds it.
+#[test]
+fn region_beyond_far_needs_a_larger_far() {
+    let a = [[-1.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+    let b = [-2e6, 2e6 + 1.0, 1.0, 1.0]; // 2e6 <= x <= 2e6 + 1, |y| <= 1
+    let o = PolytopeOptions::default();
+    assert_eq!(
+        polygon_from_halfplanes(&a, &b, &o).unwrap().status,
+        RegionStatus::Empty
+    );
+    let big = PolytopeOptions { far: 1e7, ..o };
+    let p = polygon_from_halfplanes(&a, &b, &big).unwrap();
+    assert_eq!((p.status, p.vertices.len()), (RegionStatus::Bounded, 4));
+}
