@@ -305,6 +305,11 @@ fn bad_inputs_are_errors_with_a_fix() {
         .unwrap();
     let side = StaticEquilibrium::new(&giwc, [9.81, 0.0, 0.0], &Default::default()).unwrap();
     assert!(side.polygon(0.0).is_err());
+    // Regression: a gravity with a vertical component below the zero threshold used to make
+    // `new` itself fail (it computes the polygon to reduce its rows); now only `polygon` does.
+    let almost = StaticEquilibrium::new(&giwc, [9.81, 0.0, 1e-14], &Default::default()).unwrap();
+    assert!(almost.polygon(0.0).is_err());
+    assert!(!almost.is_stable([0.0, 0.0, 0.8]));
     assert!(StaticEquilibrium::new(&giwc, [0.0; 3], &Default::default()).is_err());
 }
 

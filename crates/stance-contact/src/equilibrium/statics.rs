@@ -115,7 +115,8 @@ impl StaticEquilibrium {
         };
         out.irredundant = out.halfspaces.clone();
         // Test loop on the irredundant rows only (the polygon's edges), when they are known.
-        if gravity[2] != 0.0 {
+        let gn = gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if gravity[2].abs() > opts.tol.zero_normal * gn {
             let poly = out.section(0.0)?;
             if poly.status == RegionStatus::Bounded && poly.dim == 2 {
                 let keep = out.active_rows(&poly);
