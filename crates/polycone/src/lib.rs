@@ -94,6 +94,7 @@ mod error;
 mod exact;
 mod forms;
 mod linalg;
+pub mod polytope;
 pub mod precondition;
 pub mod tol;
 
@@ -147,5 +148,3 @@ impl Default for DdOptions {
         }
     }
 }
-
-pub mod polytope;

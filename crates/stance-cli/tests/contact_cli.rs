@@ -35,6 +35,20 @@ fn giwc_of_a_scene_file_has_16_facets() {
     assert_eq!(v["giwc"]["facets"].as_array().unwrap().len(), 16);
     assert_eq!(v["span"].as_array().unwrap().len(), 16);
     assert_eq!(v["certified"], true);
+    // Exact mode gives the same 16 facets here (axis-aligned foot: the generators are exact).
+    let (code, out2, err) = stance(&["giwc", f.to_str().unwrap(), "--exact", "--repeat", "2"]);
+    assert_eq!(code, 0, "{err}");
+    let w: serde_json::Value = serde_json::from_str(&out2).unwrap();
+    let rows = |x: &serde_json::Value| -> Vec<Vec<f64>> {
+        serde_json::from_value(x["giwc"]["facets"].clone()).unwrap()
+    };
+    let (a, b) = (rows(&v), rows(&w));
+    assert_eq!(a.len(), b.len());
+    for r in &a {
+        assert!(b
+            .iter()
+            .any(|s| r.iter().zip(s).all(|(x, y)| (x - y).abs() < 1e-9)));
+    }
 }
 
 #[test]

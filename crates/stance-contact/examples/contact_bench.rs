@@ -141,11 +141,13 @@ fn main() {
             }) / serial.len() as f64;
         let mut out = vec![false; batch.len()];
         let ns_robust_test_batch_1core = 1e9
-            * one.install(|| time(|| region.contains_batch(&batch, &mut out)))
+            * one.install(|| time(|| region.contains_batch(&batch, &mut out).unwrap()))
             / batch.len() as f64;
-        let t_all = time(|| region.contains_batch(&batch, &mut out));
+        let t_all = time(|| region.contains_batch(&batch, &mut out).unwrap());
         let mut sample_stable = vec![false; job.sample_points.len()];
-        region.contains_batch(&job.sample_points, &mut sample_stable);
+        region
+            .contains_batch(&job.sample_points, &mut sample_stable)
+            .unwrap();
         outs.push(Out {
             name: name.clone(),
             scene: scene.clone(),

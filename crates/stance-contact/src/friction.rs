@@ -87,9 +87,15 @@ impl FrictionModel {
     /// use stance_contact::FrictionModel;
     /// let e = FrictionModel::default().edges(0.5);
     /// assert_eq!(e.len(), 4);
-    /// for v in &e { assert!((v[0].abs() - 0.5).abs() < 1e-12 && (v[1].abs() - 0.5).abs() < 1e-12 && v[2] == 1.0); }
+    /// // The paper's pyramid has exact edges (+-mu, +-mu, 1).
+    /// for v in &e { assert!(v[0].abs() == 0.5 && v[1].abs() == 0.5 && v[2] == 1.0); }
     /// ```
     pub fn edges(&self, mu: f64) -> Vec<[f64; 3]> {
+        if self.sides == 4 {
+            // Exact values for the paper's pyramid (no trigonometric rounding): (+-a, +-a, 1).
+            let a = self.apothem(mu);
+            return vec![[a, a, 1.0], [-a, a, 1.0], [-a, -a, 1.0], [a, -a, 1.0]];
+        }
         let k = self.sides as f64;
         let r = self.apothem(mu) / (std::f64::consts::PI / k).cos();
         (0..self.sides)
@@ -112,6 +118,15 @@ impl FrictionModel {
     /// }
     /// ```
     pub fn faces(&self, mu: f64) -> Vec<[f64; 3]> {
+        if self.sides == 4 {
+            let a = self.apothem(mu);
+            return vec![
+                [1.0, 0.0, -a],
+                [0.0, 1.0, -a],
+                [-1.0, 0.0, -a],
+                [0.0, -1.0, -a],
+            ];
+        }
         let k = self.sides as f64;
         let a = self.apothem(mu);
         (0..self.sides)

@@ -84,12 +84,13 @@ impl Giwc {
     /// ```
     pub fn max_violation(&self, w: &[f64; 6]) -> f64 {
         let mut worst = f64::NEG_INFINITY;
+        // (Rows are zipped with w: a malformed matrix cannot index out of bounds.)
         for r in self.facets.row_iter() {
-            let v: f64 = (0..6).map(|k| r[k] * w[k]).sum();
+            let v: f64 = r.iter().zip(w).map(|(a, b)| a * b).sum();
             worst = worst.max(v);
         }
         for r in self.equations.row_iter() {
-            let v: f64 = (0..6).map(|k| r[k] * w[k]).sum();
+            let v: f64 = r.iter().zip(w).map(|(a, b)| a * b).sum();
             worst = worst.max(v.abs());
         }
         if worst == f64::NEG_INFINITY {

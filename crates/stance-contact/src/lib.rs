@@ -52,6 +52,8 @@
 //! - The supporting-forces QP distributes forces on the shape vertices (the paper's model); it
 //!   reports `Unknown` if the solver stops without a conclusion.
 
+#![warn(missing_docs)]
+
 pub mod contact;
 pub mod equilibrium;
 pub mod error;

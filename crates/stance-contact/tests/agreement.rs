@@ -10,7 +10,8 @@ use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
 use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
 use stance_contact::{
-    supporting_forces, w_gi_static, Contact, ForcesOutcome, FrictionModel, Shape, Stance,
+    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Shape,
+    Stance,
 };
 
 /// Band (relative, on `max(U w) / |w|`) inside which face test and QP may disagree.
@@ -66,9 +67,29 @@ fn contact_strategy() -> impl Strategy<Value = Contact> {
         })
 }
 
+/// Mostly the paper's pyramid; sometimes k-sided outer or inner pyramids (the QP uses their
+/// face form, the GIWC their edges: a consistency check of the two).
 fn stance_strategy() -> impl Strategy<Value = Stance> {
-    prop::collection::vec(contact_strategy(), 1..5)
-        .prop_map(|c| Stance::new(c, FrictionModel::default()).unwrap())
+    (
+        prop::collection::vec(contact_strategy(), 1..5),
+        prop_oneof![3 => Just(4usize), 1 => 3usize..9],
+        proptest::bool::ANY,
+    )
+        .prop_map(|(c, sides, outer)| {
+            let approximation = if outer || sides == 4 {
+                Approximation::Outer
+            } else {
+                Approximation::Inner
+            };
+            Stance::new(
+                c,
+                FrictionModel {
+                    sides,
+                    approximation,
+                },
+            )
+            .unwrap()
+        })
 }
 
 fn coms() -> impl Strategy<Value = Vec<[f64; 3]>> {
@@ -90,52 +111,121 @@ proptest! {
 
     #[test]
     fn face_test_regions_and_qp_agree(stance in stance_strategy(), points in coms()) {
-        let giwc = stance.u_stance(&Default::default()).unwrap();
-        prop_assert!(giwc.certified);
-        let opts = Default::default();
-        let eq = StaticEquilibrium::new(&giwc, G, &opts).unwrap();
-        let poly = eq.polygon(0.0).unwrap();
-        let robust = RobustRegion::new(&giwc, &GS, &opts).unwrap();
-        for p in points {
-            let v = face_value(&giwc, G, p);
-            // 1. The QP over contact forces.
-            let qp = supporting_forces(&stance, &w_gi_static(1.0, G, p), &Default::default()).unwrap();
-            if v < -FACE_BAND {
-                prop_assert_eq!(qp.outcome, ForcesOutcome::Feasible, "face says stable ({}), QP disagrees: {} res {} fric {}", v, qp.solver_status, qp.residual, qp.friction_violation);
-            } else if v > FACE_BAND {
-                prop_assert_eq!(qp.outcome, ForcesOutcome::Infeasible, "face says unstable ({}), QP disagrees: {} res {} fric {}", v, qp.solver_status, qp.residual, qp.friction_violation);
-            }
-            // 2. The CoM half-spaces (metres): same sign as the face value outside the band.
-            let r = -eq.halfspaces().max_residual(p);
-            if v < -FACE_BAND { prop_assert!(r >= -REGION_BAND); }
-            if v > FACE_BAND { prop_assert!(r <= REGION_BAND); }
-            if r > REGION_BAND { prop_assert!(eq.is_stable(p)); prop_assert!(v <= FACE_BAND); }
-            if r < -REGION_BAND { prop_assert!(!eq.is_stable(p)); prop_assert!(v >= -FACE_BAND); }
-            // 3. The polygon (vertical gravity: the prism's cross-section).
-            if poly.status == RegionStatus::Bounded && poly.dim == 2 {
-                let m = poly.margin([p[0], p[1]]);
-                if m > REGION_BAND { prop_assert!(r >= -REGION_BAND, "inside polygon but residual {}", r); }
-                if m < -REGION_BAND { prop_assert!(r <= REGION_BAND, "outside polygon but residual {}", r); }
-            }
-            // 4. The robust region against the K face tests.
-            let worst = GS.iter().map(|&g| face_value(&giwc, g, p)).fold(f64::NEG_INFINITY, f64::max);
-            let mr = robust.margin(p);
-            if worst < -FACE_BAND { prop_assert!(mr >= -REGION_BAND, "robust: face {} margin {}", worst, mr); }
-            if worst > FACE_BAND { prop_assert!(mr <= REGION_BAND, "robust: face {} margin {}", worst, mr); }
-            if mr > REGION_BAND { prop_assert!(robust.contains(p)); }
-            if mr < -REGION_BAND { prop_assert!(!robust.contains(p)); }
+        check_agreement(stance, points)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// The same sweep, 3000 stances (about a minute in debug):
+    /// `cargo test -p stance-contact --test agreement -- --ignored`.
+    #[test]
+    #[ignore]
+    fn heavy_agreement_sweep(stance in stance_strategy(), points in coms()) {
+        check_agreement(stance, points)?;
+    }
+}
+
+fn check_agreement(stance: Stance, points: Vec<[f64; 3]>) -> Result<(), TestCaseError> {
+    let giwc = stance.u_stance(&Default::default()).unwrap();
+    prop_assert!(giwc.certified);
+    let opts = Default::default();
+    let eq = StaticEquilibrium::new(&giwc, G, &opts).unwrap();
+    let poly = eq.polygon(0.0).unwrap();
+    let robust = RobustRegion::new(&giwc, &GS, &opts).unwrap();
+    for p in points {
+        let v = face_value(&giwc, G, p);
+        // 1. The QP over contact forces.
+        let qp = supporting_forces(&stance, &w_gi_static(1.0, G, p), &Default::default()).unwrap();
+        if v < -FACE_BAND {
+            prop_assert_eq!(
+                qp.outcome,
+                ForcesOutcome::Feasible,
+                "face says stable ({}), QP disagrees: {} res {} fric {}",
+                v,
+                qp.solver_status,
+                qp.residual,
+                qp.friction_violation
+            );
+        } else if v > FACE_BAND {
+            prop_assert_eq!(
+                qp.outcome,
+                ForcesOutcome::Infeasible,
+                "face says unstable ({}), QP disagrees: {} res {} fric {}",
+                v,
+                qp.solver_status,
+                qp.residual,
+                qp.friction_violation
+            );
         }
-        // 5. The robust polyhedron's vertices are robustly stable (face tests), and it lies
-        // inside the static prism of each g_k.
-        if robust.polyhedron.status == RegionStatus::Bounded {
-            for v in &robust.polyhedron.vertices {
-                for &g in &GS {
-                    let fv = face_value(&giwc, g, *v);
-                    prop_assert!(fv <= FACE_BAND, "vertex {:?} g {:?} face {} poly {:?}", v, g, fv, robust.polyhedron);
-                }
+        // 2. The CoM half-spaces (metres): same sign as the face value outside the band.
+        let r = -eq.halfspaces().max_residual(p);
+        if v < -FACE_BAND {
+            prop_assert!(r >= -REGION_BAND);
+        }
+        if v > FACE_BAND {
+            prop_assert!(r <= REGION_BAND);
+        }
+        if r > REGION_BAND {
+            prop_assert!(eq.is_stable(p));
+            prop_assert!(v <= FACE_BAND);
+        }
+        if r < -REGION_BAND {
+            prop_assert!(!eq.is_stable(p));
+            prop_assert!(v >= -FACE_BAND);
+        }
+        // 3. The polygon (vertical gravity: the prism's cross-section).
+        if poly.status == RegionStatus::Bounded && poly.dim == 2 {
+            let m = poly.margin([p[0], p[1]]);
+            if m > REGION_BAND {
+                prop_assert!(r >= -REGION_BAND, "inside polygon but residual {}", r);
+            }
+            if m < -REGION_BAND {
+                prop_assert!(r <= REGION_BAND, "outside polygon but residual {}", r);
+            }
+        }
+        // 4. The robust region against the K face tests.
+        let worst = GS
+            .iter()
+            .map(|&g| face_value(&giwc, g, p))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mr = robust.margin(p);
+        if worst < -FACE_BAND {
+            prop_assert!(mr >= -REGION_BAND, "robust: face {} margin {}", worst, mr);
+        }
+        if worst > FACE_BAND {
+            prop_assert!(mr <= REGION_BAND, "robust: face {} margin {}", worst, mr);
+        }
+        if mr > REGION_BAND {
+            prop_assert!(robust.contains(p));
+        }
+        if mr < -REGION_BAND {
+            prop_assert!(!robust.contains(p));
+        }
+    }
+    // 5. The robust polyhedron's vertices are robustly stable (face tests), and it lies
+    // inside the static prism of each g_k.
+    if robust.polyhedron.status == RegionStatus::Bounded {
+        for v in &robust.polyhedron.vertices {
+            for &g in &GS {
+                let fv = face_value(&giwc, g, *v);
+                prop_assert!(
+                    fv <= FACE_BAND,
+                    "vertex {:?} g {:?} face {} poly {:?}",
+                    v,
+                    g,
+                    fv,
+                    robust.polyhedron
+                );
             }
         }
     }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
 
     /// A stable CoM found by the polygon is confirmed by the QP (checks the positive side
     /// where random CoMs rarely land).

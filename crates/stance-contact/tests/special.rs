@@ -189,6 +189,41 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Oblique gravity: the polygon at height h is the cross-section of the prism along g,
+    /// checked against the face test of the 3-D CoM, and it translates with the height.
+    #[test]
+    fn oblique_gravity_polygon_is_the_prism_cross_section(gx in -3.0f64..3.0, gy in -3.0f64..3.0, h in 0.0f64..1.5) {
+        let giwc = fixture_stance(&fixture("tilted_foot_hand_ledge")).u_stance(&Default::default()).unwrap();
+        let g = [gx, gy, -9.81];
+        let eq = StaticEquilibrium::new(&giwc, g, &Default::default()).unwrap();
+        let poly = eq.polygon(h).unwrap();
+        prop_assume!(poly.status == RegionStatus::Bounded && poly.dim == 2);
+        let n = poly.vertices.len() as f64;
+        let c = poly.vertices.iter().fold([0.0, 0.0], |a, v| [a[0] + v[0] / n, a[1] + v[1] / n]);
+        let face = |p: [f64; 3]| {
+            let w = w_gi_static(1.0, g, p);
+            giwc.max_violation(&w) / w.iter().map(|x| x * x).sum::<f64>().sqrt()
+        };
+        prop_assert!(face([c[0], c[1], h]) <= 1e-9);
+        for v in &poly.vertices {
+            prop_assert!(face([v[0], v[1], h]).abs() <= 1e-7);
+            // 1 cm outward from the centroid through a vertex: unstable.
+            let d = ((v[0] - c[0]).powi(2) + (v[1] - c[1]).powi(2)).sqrt();
+            let out = [v[0] + 0.01 * (v[0] - c[0]) / d, v[1] + 0.01 * (v[1] - c[1]) / d, h];
+            prop_assert!(face(out) > 0.0);
+        }
+        // Moving up by dz shifts the section by (gx, gy) / gz * dz.
+        let up = eq.polygon(h + 0.5).unwrap();
+        let shift = [g[0] / g[2] * 0.5, g[1] / g[2] * 0.5];
+        for v in &poly.vertices {
+            prop_assert!(up.vertices.iter().any(|u| (u[0] - v[0] - shift[0]).abs() < 1e-7 && (u[1] - v[1] - shift[1]).abs() < 1e-7));
+        }
+    }
+}
+
 #[test]
 fn robust_region_sign_sanity_of_eq_12() {
     // MATH.md section 4: one flat foot at the origin, CoM (0, 0, 0.8) stable, (0.2, 0, 0.8) not.
@@ -270,6 +305,11 @@ fn bad_inputs_are_errors_with_a_fix() {
         .unwrap();
     let side = StaticEquilibrium::new(&giwc, [9.81, 0.0, 0.0], &Default::default()).unwrap();
     assert!(side.polygon(0.0).is_err());
+    // Regression: a gravity with a vertical component below the zero threshold used to make
+    // `new` itself fail (it computes the polygon to reduce its rows); now only `polygon` does.
+    let almost = StaticEquilibrium::new(&giwc, [9.81, 0.0, 1e-14], &Default::default()).unwrap();
+    assert!(almost.polygon(0.0).is_err());
+    assert!(!almost.is_stable([0.0, 0.0, 0.8]));
     assert!(StaticEquilibrium::new(&giwc, [0.0; 3], &Default::default()).is_err());
 }
 
@@ -295,4 +335,131 @@ friction = 0.7
     let scene: stance_contact::Scene = toml::from_str(toml_text).unwrap();
     assert_eq!(scene.gravity, [0.0, 0.0, -9.81]);
     assert_eq!(scene.stance().unwrap().contacts().len(), 1);
+}
+
+/// The robust region M of the paper's box-climbing and stair stances against the QP over
+/// contact forces: its centroid is supported under every g_k, and a point 5 mm outside the
+/// middle of each face is not supported under some g_k.
+#[test]
+fn robust_region_faces_against_the_qp() {
+    let gs = [
+        [0.15, 0.0, -9.81],
+        [-0.15, 0.0, -9.81],
+        [0.0, 0.15, -9.81],
+        [0.0, -0.15, -9.81],
+    ];
+    for name in ["box-climbing", "stairs"] {
+        let stance = stance_contact::examples::by_name(name)
+            .unwrap()
+            .stance()
+            .unwrap();
+        let giwc = stance.u_stance(&Default::default()).unwrap();
+        let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+        assert_eq!(m.polyhedron.status, RegionStatus::Bounded, "{name}");
+        let v = &m.polyhedron.vertices;
+        let n = v.len() as f64;
+        let c = v.iter().fold([0.0; 3], |a, p| {
+            [a[0] + p[0] / n, a[1] + p[1] / n, a[2] + p[2] / n]
+        });
+        let qp = |p: [f64; 3], g: [f64; 3]| {
+            supporting_forces(&stance, &w_gi_static(39.0, g, p), &Default::default())
+                .unwrap()
+                .outcome
+        };
+        for g in gs {
+            assert_eq!(
+                qp(c, g),
+                ForcesOutcome::Feasible,
+                "{name}: centroid under {g:?}"
+            );
+        }
+        for (face, (nrm, _)) in m.polyhedron.faces.iter().zip(&m.polyhedron.planes) {
+            let k = face.len() as f64;
+            let mid = face.iter().fold([0.0; 3], |a, &i| {
+                [a[0] + v[i][0] / k, a[1] + v[i][1] / k, a[2] + v[i][2] / k]
+            });
+            let out = [
+                mid[0] + 0.005 * nrm[0],
+                mid[1] + 0.005 * nrm[1],
+                mid[2] + 0.005 * nrm[2],
+            ];
+            assert!(!m.contains(out));
+            assert!(
+                gs.iter().any(|&g| qp(out, g) == ForcesOutcome::Infeasible),
+                "{name}: 5 mm outside a face of M, yet supported under every g_k"
+            );
+            let inside = [
+                mid[0] - 0.005 * nrm[0],
+                mid[1] - 0.005 * nrm[1],
+                mid[2] - 0.005 * nrm[2],
+            ];
+            if m.margin(inside) > 1e-4 {
+                for g in gs {
+                    assert_eq!(
+                        qp(inside, g),
+                        ForcesOutcome::Feasible,
+                        "{name}: 5 mm inside a face under {g:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// M of flat double support equals the brute-force intersection of all 4 x 16 half-spaces
+/// (every feasible triple intersection), not only of the prisms' irredundant rows.
+#[test]
+fn robust_region_vertices_match_brute_force_over_all_rows() {
+    let gs = [
+        [0.15, 0.0, -9.81],
+        [-0.15, 0.0, -9.81],
+        [0.0, 0.15, -9.81],
+        [0.0, -0.15, -9.81],
+    ];
+    let giwc = stance_contact::examples::double_support_flat()
+        .stance()
+        .unwrap()
+        .u_stance(&Default::default())
+        .unwrap();
+    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let mut a = vec![];
+    let mut d = vec![];
+    for g in gs {
+        let h = stance_contact::com_halfspaces(&giwc, g, 1e-12, 1e-9).unwrap();
+        a.extend(h.normals);
+        d.extend(h.offsets);
+    }
+    let mut brute: Vec<[f64; 3]> = vec![];
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            for k in j + 1..a.len() {
+                let mat = Matrix3::from_rows(&[
+                    Vector3::from(a[i]).transpose(),
+                    Vector3::from(a[j]).transpose(),
+                    Vector3::from(a[k]).transpose(),
+                ]);
+                if mat.determinant().abs() < 1e-9 {
+                    continue;
+                }
+                let Some(p) = mat.lu().solve(&Vector3::new(d[i], d[j], d[k])) else {
+                    continue;
+                };
+                let ok = a
+                    .iter()
+                    .zip(&d)
+                    .all(|(n, c)| n[0] * p[0] + n[1] * p[1] + n[2] * p[2] <= c + 1e-9);
+                if ok && !brute.iter().any(|q| (Vector3::from(*q) - p).norm() < 1e-7) {
+                    brute.push([p[0], p[1], p[2]]);
+                }
+            }
+        }
+    }
+    assert_eq!(brute.len(), m.polyhedron.vertices.len());
+    for q in &brute {
+        assert!(m
+            .polyhedron
+            .vertices
+            .iter()
+            .any(|v| (Vector3::from(*v) - Vector3::from(*q)).norm() < 1e-7));
+    }
 }

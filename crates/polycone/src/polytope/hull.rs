@@ -1,19 +1,17 @@
 //! Points -> convex hull with its irredundant half-spaces (the way back from vertices).
 //!
 //! 2-D: Andrew's monotone chain with a distance-filtered orientation test. 3-D: through the
-//! polar. With `c` an interior point (the centroid) and `s` a scale, the facets
-//! `n . p <= d` of `conv(P)` are in one-to-one correspondence with the vertices `y` of the polar
-//! polyhedron `{y : ((p_i - c) / s) . y <= 1}`: `n = y / |y|`, `d = n . c + s / |y|`. The
-//! polar is computed by [`super::polyhedron_from_halfspaces`].
+//! polar. With `c` the centroid, `W` the whitening of the points' covariance (an affine map,
+//! so the hull's combinatorics do not change; it makes needles round) and `s` a scale, the
+//! facets `n . p <= d` of `conv(P)` are in one-to-one correspondence with the vertices `y` of
+//! the polar polyhedron `{y : (W (p_i - c) / s) . y <= 1}`: `n` is `W^T y` normalized, and `d`
+//! is read off the points on the facet. The polar is computed by
+//! [`super::polyhedron_from_halfspaces`].
 
 use super::polygon::Polygon;
 use super::polyhedron::{affine_dim, ccw_order, dedup_points, Polyhedron};
+use super::tol::HULL_SAME_FACET;
 use super::{polyhedron_from_halfspaces, PolytopeError, PolytopeOptions, RegionStatus};
-
-/// Two hull facets whose unit normals differ by less than this (dimensionless, 1e-7) are one
-/// facet split by rounding in the polar. Reason: the polar's vertices carry about 1e-10 relative
-/// rounding, and distinct facets of the regions handled here differ by far more than 1e-7 rad.
-const HULL_SAME_FACET: f64 = 1e-7;
 
 fn check_points<const D: usize>(points: &[[f64; D]]) -> Result<(), PolytopeError> {
     if points.is_empty() {
@@ -96,9 +94,8 @@ pub fn hull2(points: &[[f64; 2]], opts: &PolytopeOptions) -> Result<Polygon, Pol
 /// their planes (`planes[f] = (n, d)`, unit outward `n`, `n . p <= d`); `active` holds `None`.
 /// A flat input gives `dim < 3`, the distinct points and no faces.
 ///
-/// Limitation: the polar is taken around the vertex centroid, so on needle-shaped inputs
-/// (length over width beyond about 1e3) a thin face may be lost to rounding; the robotics
-/// regions of this project are far from that.
+/// Limitation: clusters of nearly coincident points (closer than about 1e-3 of the extent) may
+/// split a face into coplanar pieces.
 ///
 /// ```
 /// use polycone::polytope::{hull3, PolytopeOptions};
@@ -131,19 +128,41 @@ pub fn hull3(points: &[[f64; 3]], opts: &PolytopeOptions) -> Result<Polyhedron, 
             c[k] += p[k] / m;
         }
     }
-    let s = pts
+    // Whitening q = W (p - c), W = L^-1/2 Q^T from the covariance Q L Q^T of the points: an
+    // affine map (same hull combinatorics) that makes needles and slabs round, so that the
+    // polar below is well conditioned.
+    let mut cov = nalgebra::Matrix3::<f64>::zeros();
+    for p in &pts {
+        let d = nalgebra::Vector3::new(p[0] - c[0], p[1] - c[1], p[2] - c[2]);
+        cov += d * d.transpose() / m;
+    }
+    let eig = cov.symmetric_eigen();
+    let mut w = eig.eigenvectors.transpose();
+    let mut smax = 0.0f64;
+    for k in 0..3 {
+        let sd = eig.eigenvalues[k].max(0.0).sqrt();
+        smax = smax.max(sd);
+        let f = if sd > 0.0 { 1.0 / sd } else { 0.0 };
+        for j in 0..3 {
+            w[(k, j)] *= f;
+        }
+    }
+    let whiten = |p: &[f64; 3]| {
+        let q = w * nalgebra::Vector3::new(p[0] - c[0], p[1] - c[1], p[2] - c[2]);
+        [q[0], q[1], q[2]]
+    };
+    let qs: Vec<[f64; 3]> = pts.iter().map(whiten).collect();
+    let s = qs
         .iter()
-        .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt())
+        .map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt())
         .fold(0.0, f64::max);
-    let normals: Vec<[f64; 3]> = pts
-        .iter()
-        .map(|p| [(p[0] - c[0]) / s, (p[1] - c[1]) / s, (p[2] - c[2]) / s])
-        .collect();
+    let normals: Vec<[f64; 3]> = qs.iter().map(|q| [q[0] / s, q[1] / s, q[2] / s]).collect();
     let ones = vec![1.0; normals.len()];
-    // The polar lives at unit scale: use the default tolerances there, relative to 1.
+    // Tolerances in the polar's unit scale: the whitening shrinks lengths by at least 1/smax
+    // and the scaling by 1/s (conservative: the smallest resulting tolerance).
     let polar_opts = PolytopeOptions {
-        dist_tol: opts.dist_tol / s,
-        merge_tol: opts.merge_tol / s,
+        dist_tol: opts.dist_tol / (smax * s),
+        merge_tol: opts.merge_tol / (smax * s),
         ..*opts
     };
     let polar = polyhedron_from_halfspaces(&normals, &ones, &polar_opts)?;
@@ -173,8 +192,10 @@ pub fn hull3(points: &[[f64; 3]], opts: &PolytopeOptions) -> Result<Polyhedron, 
     // vertex of degree > 3 split by rounding) give the same facet and are united.
     let mut facets: Vec<([f64; 3], Vec<usize>)> = Vec::new();
     for (y, on) in polar.vertices.iter().zip(&around) {
-        let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
-        let n = [y[0] / ny, y[1] / ny, y[2] / ny];
+        // Back from whitened coordinates: y . W (p - c) <= s, so the normal is W^T y.
+        let r = w.transpose() * nalgebra::Vector3::new(y[0], y[1], y[2]);
+        let ny = r.norm();
+        let n = [r[0] / ny, r[1] / ny, r[2] / ny];
         let same = facets.iter_mut().find(|(m, _)| {
             ((n[0] - m[0]).powi(2) + (n[1] - m[1]).powi(2) + (n[2] - m[2]).powi(2)).sqrt()
                 <= HULL_SAME_FACET

@@ -38,10 +38,11 @@
 //!
 //! - Tolerance-based predicates (no exact arithmetic): structure degenerate within `dist_tol`
 //!   is merged (a face thinner than `dist_tol` may vanish, near-coplanar faces may stay split).
-//! - Regions reaching beyond `far` are reported unbounded even when they are bounded.
-//! - [`hull3`] goes through the polar around the vertex centroid: needle-shaped inputs (aspect
-//!   ratio beyond about 1e3) and clusters of nearly coincident points may lose or split thin
-//!   faces.
+//! - Regions reaching beyond `far` are reported unbounded even when they are bounded, and a
+//!   region lying entirely beyond `far` is reported empty: keep the data within `far` of the
+//!   origin (or raise `far`).
+//! - [`hull3`] goes through the polar of the whitened points: clusters of nearly coincident
+//!   points (closer than about 1e-3 of the extent) may split a face into coplanar pieces.
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

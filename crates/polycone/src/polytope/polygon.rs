@@ -1,6 +1,7 @@
 //! Half-planes `a_i . p <= b_i` in `R^2` -> convex polygon (Sutherland-Hodgman clipping of the
 //! far box, see the module doc of [`crate::polytope`]).
 
+use super::tol::POLISH_MAX_MOVE;
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polygon given by its vertices, the result of [`polygon_from_halfplanes`].
@@ -204,6 +205,14 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 0.0
             };
             if off <= opts.dist_tol {
+                // The merged edge p -> q keeps the line of the longer of the two edges it
+                // replaces (a tiny edge's line is ill-determined).
+                let kp = (k + n - 1) % n;
+                let lin = (v[0] - p[0]).hypot(v[1] - p[1]);
+                let lout = (q[0] - v[0]).hypot(q[1] - v[1]);
+                if lout > lin {
+                    poly[kp].edge = poly[k].edge;
+                }
                 poly.remove(k);
                 changed = true;
                 break;
@@ -224,10 +233,20 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 if det.abs() <= opts.rank_tol {
                     return poly[k].p;
                 }
-                [
+                let x = [
                     (ai.1 * aj.0[1] - ai.0[1] * aj.1) / det,
                     (ai.0[0] * aj.1 - ai.1 * aj.0[0]) / det,
-                ]
+                ];
+                // Safety net: a polish that moves the vertex by more than the clipping error
+                // means the edge labels do not describe this corner; keep the clipped point.
+                // The clipping error grows as 1 / |det| for nearly parallel lines.
+                let p = poly[k].p;
+                let scale = (1.0 + p[0].abs().max(p[1].abs())) / det.abs().min(1.0);
+                if (x[0] - p[0]).hypot(x[1] - p[1]) > POLISH_MAX_MOVE * scale {
+                    p
+                } else {
+                    x
+                }
             })
             .collect();
         for (v, p) in poly.iter_mut().zip(fixed) {

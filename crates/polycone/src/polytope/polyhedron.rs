@@ -1,6 +1,7 @@
 //! Half-spaces `a_i . p <= b_i` in `R^3` -> convex polyhedron (face-by-face clipping of the far
 //! box with a cap face per cut, see the module doc of [`crate::polytope`]).
 
+use super::tol::{POLISH_MAX_MOVE, REFINE_MARGIN, REFINE_TRIES};
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polyhedron, the result of [`polyhedron_from_halfspaces`].
@@ -151,13 +152,6 @@ pub fn polyhedron_from_halfspaces(
     }
     Ok(first)
 }
-
-/// How many times the refinement box may grow (by 4x each) before the first pass is kept.
-const REFINE_TRIES: usize = 4;
-
-/// Relative margin of the refinement box around the first-pass result (dimensionless, 0.05:
-/// large against rounding, small enough to keep the box at the result's scale).
-const REFINE_MARGIN: f64 = 0.05;
 
 fn clip_box(
     normals: &[[f64; 3]],
@@ -452,13 +446,22 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
             in_use[v] = true;
         }
     }
-    let live: Vec<usize> = (0..vertices.len()).filter(|&v| in_use[v]).collect();
-    for (k, &v) in live.iter().enumerate() {
-        if let Some(&w) = live[..k]
-            .iter()
-            .find(|&&w| alias[w] == w && norm(sub(vertices[v], vertices[w])) <= opts.merge_tol)
-        {
-            alias[v] = w;
+    // Sweep along x: only vertices within merge_tol in x can be merged (O(L log L)).
+    let mut live: Vec<usize> = (0..vertices.len()).filter(|&v| in_use[v]).collect();
+    live.sort_by(|&a, &b| vertices[a][0].total_cmp(&vertices[b][0]).then(a.cmp(&b)));
+    for k in 0..live.len() {
+        let v = live[k];
+        let mut j = k;
+        while j > 0 {
+            j -= 1;
+            let w = live[j];
+            if vertices[v][0] - vertices[w][0] > opts.merge_tol {
+                break;
+            }
+            if alias[w] == w && norm(sub(vertices[v], vertices[w])) <= opts.merge_tol {
+                alias[v] = w;
+                break;
+            }
         }
     }
     let mut loops: Vec<Vec<usize>> = faces
@@ -513,7 +516,16 @@ fn finish(mut vertices: Vec<[f64; 3]>, faces: Vec<Face>, opts: &PolytopeOptions)
             r += nv * faces[f].d;
         }
         if let Some(p) = m.cholesky().map(|c| c.solve(&r)) {
-            if p.iter().all(|x| x.is_finite()) {
+            // Safety net as in 2-D: reject a polish that moves the corner by more than the
+            // clipping error (wrong incident planes).
+            // The clipping error grows as 1 / sqrt(smallest eigenvalue of N^T N).
+            let old = vertices[v];
+            // Cheap lower bound of the smallest eigenvalue: det / trace^2 (no eigen solver).
+            let tr = m.trace();
+            let lmin = (m.determinant().max(0.0) / (tr * tr).max(f64::MIN_POSITIVE)).sqrt();
+            let scale = (1.0 + old.iter().fold(0.0f64, |a, x| a.max(x.abs()))) / lmin.min(1.0);
+            let moved = norm(sub([p[0], p[1], p[2]], old));
+            if p.iter().all(|x| x.is_finite()) && moved <= POLISH_MAX_MOVE * scale {
                 vertices[v] = [p[0], p[1], p[2]];
             }
         }

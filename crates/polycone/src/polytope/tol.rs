@@ -73,3 +73,24 @@ impl PolytopeOptions {
         Ok(())
     }
 }
+
+/// Largest move of a vertex by the polish step (dimensionless, 1e-6), relative to
+/// `(1 + |p|_inf) / c`, with `c` the conditioning of the corner (2-D: `|det|` of the two unit
+/// normals; 3-D: a lower bound of `sqrt(l_min(N^T N))` over the incident unit normals).
+/// Clipping from the far box leaves errors of about `far * 1e-16 / c = 1e-10 / c`, so a larger
+/// move means the polish used the wrong lines or planes and is rejected. Structural.
+pub const POLISH_MAX_MOVE: f64 = 1e-6;
+
+/// Relative margin of the 3-D refinement box around the first-pass result (dimensionless,
+/// 0.05): large against rounding, small enough to keep the box at the result's scale.
+/// Structural.
+pub const REFINE_MARGIN: f64 = 0.05;
+
+/// How many times the 3-D refinement box may grow (by 4x each) before the first pass is kept.
+pub const REFINE_TRIES: usize = 4;
+
+/// Two hull facets whose unit normals differ by less than this (dimensionless, 1e-7) are one
+/// facet split by rounding in the polar ([`super::hull3`]). Reason: the polar's vertices carry
+/// about 1e-10 relative rounding, and distinct facets of the regions handled here differ by far
+/// more than 1e-7 rad. Structural.
+pub const HULL_SAME_FACET: f64 = 1e-7;

@@ -39,6 +39,11 @@ pub struct GiwcArgs {
     /// Face form of the net contact wrench cone (`-U`, w_c = -w_GI) instead of the GIWC.
     #[arg(long)]
     pub net_contact_wrench: bool,
+    /// Certified exact combinatorics for the generators as computed in floating point (slower;
+    /// rounding of rotated/translated generators can split facets of the intended geometry).
+    #[arg(long)]
+    pub exact: bool,
+
     #[command(flatten)]
     pub common: Common,
 }
@@ -154,11 +159,16 @@ struct GiwcOut {
 pub fn run_giwc(a: GiwcArgs) -> Result<()> {
     let scene = load_scene(&a.scene)?;
     let stance = scene.stance().context("invalid scene")?;
+    let mut opts = GiwcOptions::default();
+    if a.exact {
+        opts.dd.arithmetic = stance::polycone::Arithmetic::Exact;
+    }
+    let mut ws = stance::polycone::Workspace::new();
     let mut giwc = None;
     for _ in 0..a.common.repeat {
         giwc = Some(
             stance
-                .u_stance(&GiwcOptions::default())
+                .u_stance_with(&mut ws, &opts)
                 .context("cannot compute the GIWC")?,
         );
     }
@@ -318,7 +328,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             let region = RobustRegion::new(&giwc, &gs, &opts)?;
             let mut stable = vec![false; pts.points.len()];
             for _ in 0..a.common.repeat {
-                batch_with_progress(&region, &pts.points, &mut stable);
+                batch_with_progress(&region, &pts.points, &mut stable)?;
             }
             let margin = a
                 .margin
@@ -336,21 +346,22 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
 }
 
 /// Batch test with a progress bar on standard error for long batches.
-fn batch_with_progress(region: &RobustRegion, points: &[[f64; 3]], out: &mut [bool]) {
+fn batch_with_progress(region: &RobustRegion, points: &[[f64; 3]], out: &mut [bool]) -> Result<()> {
     /// Batches shorter than this finish in well under a second: no progress bar.
     const LONG_BATCH: usize = 10_000_000;
     /// Points per progress step.
     const STEP: usize = 1_000_000;
     if points.len() < LONG_BATCH {
-        region.contains_batch(points, out);
-        return;
+        region.contains_batch(points, out)?;
+        return Ok(());
     }
     let bar = indicatif::ProgressBar::new(points.len() as u64);
     for (p, o) in points.chunks(STEP).zip(out.chunks_mut(STEP)) {
-        region.contains_batch(p, o);
+        region.contains_batch(p, o)?;
         bar.inc(p.len() as u64);
     }
     bar.finish_and_clear();
+    Ok(())
 }
 
 /// Used by the plot module: the 2-D hull of projected points.

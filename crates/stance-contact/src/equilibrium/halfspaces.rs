@@ -63,6 +63,14 @@ pub fn com_halfspaces(
             what: "gravity".into(),
         });
     }
+    for (m, what) in [(&giwc.facets, "facets"), (&giwc.equations, "equations")] {
+        if m.nrows() > 0 && m.ncols() != 6 {
+            return Err(ContactError::BadShape(format!(
+                "GIWC {what} must have 6 columns (force, torque), got {}",
+                m.ncols()
+            )));
+        }
+    }
     let gn = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
     if gn == 0.0 {
         return Err(ContactError::BadGravity {
@@ -104,6 +112,17 @@ pub fn com_halfspaces(
         push(e.map(|x| -x), &mut out);
     }
     Ok(out)
+}
+
+/// Batch outputs must match the points one to one.
+pub(crate) fn same_length(points: usize, out: usize) -> Result<(), ContactError> {
+    if points == out {
+        Ok(())
+    } else {
+        Err(ContactError::BadShape(format!(
+            "{points} points but {out} output slots: give one output per point"
+        )))
+    }
 }
 
 /// Structure-of-arrays copy of half-spaces for the batch test loop (no allocation per point).

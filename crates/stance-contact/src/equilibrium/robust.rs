@@ -4,6 +4,7 @@ use polycone::polytope::{polyhedron_from_halfspaces, Polyhedron, RegionStatus};
 
 use super::halfspaces::{com_halfspaces, ComHalfspaces, Tester};
 use super::EquilibriumOptions;
+use super::StaticEquilibrium;
 use crate::{ContactError, Giwc};
 
 /// The robust static-equilibrium region `M = {p : U_stance (g_k, p x g_k) <= 0, k = 1..K}` as
@@ -16,7 +17,7 @@ pub struct RobustRegion {
     /// from outside), and the plane `(n, d)` (`n . p <= d`, unit `n`, metres) of each face.
     pub polyhedron: Polyhedron,
     /// Irredundant half-spaces of `M` (the face planes) when `M` is a bounded solid; otherwise
-    /// all `K x rows` half-spaces.
+    /// the irredundant rows of the K prisms.
     pub halfspaces: ComHalfspaces,
     tester: Tester,
 }
@@ -51,13 +52,21 @@ impl RobustRegion {
             offsets: vec![],
             infeasible: false,
         };
+        // Each prism contributes only its irredundant rows (M is inside every prism, so a row
+        // redundant for one prism is redundant for M): about 10x fewer planes to clip.
         for &g in gravities {
-            all.extend(com_halfspaces(
-                giwc,
-                g,
-                opts.tol.zero_normal,
-                opts.tol.face,
-            )?);
+            let gn = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if g.iter().all(|x| x.is_finite()) && g[2].abs() > opts.tol.zero_normal * gn {
+                let eq = StaticEquilibrium::new(giwc, g, opts)?;
+                all.extend(eq.irredundant_halfspaces().clone());
+            } else {
+                all.extend(com_halfspaces(
+                    giwc,
+                    g,
+                    opts.tol.zero_normal,
+                    opts.tol.face,
+                )?);
+            }
         }
         let polyhedron = if all.infeasible {
             Polyhedron {
@@ -102,8 +111,8 @@ impl RobustRegion {
         self.tester.contains(p)
     }
 
-    /// Tests many CoMs in parallel (rayon) into `out`; no allocation per point. Panics if the
-    /// slices differ in length (a caller bug).
+    /// Tests many CoMs in parallel (rayon) into `out`; no allocation per point. Slices of
+    /// different lengths are an error.
     ///
     /// ```
     /// # use stance_contact::{examples, equilibrium::RobustRegion};
@@ -111,12 +120,17 @@ impl RobustRegion {
     /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
     /// let m = RobustRegion::new(&giwc, &[[0.1, 0.0, -9.81], [-0.1, 0.0, -9.81]], &Default::default()).unwrap();
     /// let mut out = [false; 2];
-    /// m.contains_batch(&[[0.0, 0.0, 0.8], [0.0, 0.3, 0.8]], &mut out);
+    /// m.contains_batch(&[[0.0, 0.0, 0.8], [0.0, 0.3, 0.8]], &mut out).unwrap();
     /// assert_eq!(out, [true, false]);
     /// ```
-    pub fn contains_batch(&self, points: &[[f64; 3]], out: &mut [bool]) {
-        assert_eq!(points.len(), out.len(), "one output per point");
+    pub fn contains_batch(
+        &self,
+        points: &[[f64; 3]],
+        out: &mut [bool],
+    ) -> Result<(), ContactError> {
+        super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
+        Ok(())
     }
 
     /// Signed margin (m): for a CoM inside a bounded `M`, its distance to the boundary (the

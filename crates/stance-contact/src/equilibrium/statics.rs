@@ -16,6 +16,8 @@ pub struct StaticEquilibrium {
     opts: EquilibriumOptions,
     /// The cross-section at height 0, computed once (reused by [`Self::polygon`]).
     section0: Option<StaticPolygon>,
+    /// The rows of `halfspaces` that bound the prism (all of them when unknown).
+    irredundant: ComHalfspaces,
 }
 
 /// Cross-section of the static-equilibrium prism by the horizontal plane `z = height`.
@@ -105,9 +107,16 @@ impl StaticEquilibrium {
             halfspaces,
             opts: *opts,
             section0: None,
+            irredundant: ComHalfspaces {
+                normals: vec![],
+                offsets: vec![],
+                infeasible: false,
+            },
         };
+        out.irredundant = out.halfspaces.clone();
         // Test loop on the irredundant rows only (the polygon's edges), when they are known.
-        if gravity[2] != 0.0 {
+        let gn = gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if gravity[2].abs() > opts.tol.zero_normal * gn {
             let poly = out.section(0.0)?;
             if poly.status == RegionStatus::Bounded && poly.dim == 2 {
                 let keep = out.active_rows(&poly);
@@ -117,6 +126,7 @@ impl StaticEquilibrium {
                     infeasible: out.halfspaces.infeasible,
                 };
                 out.tester = Tester::new(&reduced, opts.tol.region);
+                out.irredundant = reduced;
             }
             out.section0 = Some(poly);
         }
@@ -164,6 +174,21 @@ impl StaticEquilibrium {
         &self.halfspaces
     }
 
+    /// The half-spaces that bound the prism: the rows of the polygon's edges when the polygon
+    /// is a bounded 2-D polygon (every other row is redundant, at every height, since all rows
+    /// are parallel to `g`), otherwise all rows.
+    ///
+    /// ```
+    /// # use stance_contact::{examples, equilibrium::StaticEquilibrium};
+    /// let scene = examples::single_support_flat();
+    /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
+    /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
+    /// assert_eq!(eq.irredundant_halfspaces().normals.len(), 4); // the foot's 4 edges
+    /// ```
+    pub fn irredundant_halfspaces(&self) -> &ComHalfspaces {
+        &self.irredundant
+    }
+
     /// Whether the CoM `p` (world, m) is in static equilibrium (within the region band).
     ///
     /// ```
@@ -179,7 +204,7 @@ impl StaticEquilibrium {
     }
 
     /// Tests many CoMs in parallel (rayon), writing `out[i]` for `points[i]`; no allocation per
-    /// point. Panics if the slices differ in length (a caller bug, not input data).
+    /// point. Slices of different lengths are an error.
     ///
     /// ```
     /// # use stance_contact::{examples, equilibrium::StaticEquilibrium};
@@ -188,12 +213,18 @@ impl StaticEquilibrium {
     /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
     /// let pts = [[0.0, 0.0, 0.8], [0.2, 0.0, 0.8]];
     /// let mut out = [false; 2];
-    /// eq.is_stable_batch(&pts, &mut out);
+    /// eq.is_stable_batch(&pts, &mut out).unwrap();
     /// assert_eq!(out, [true, false]);
+    /// assert!(eq.is_stable_batch(&pts, &mut [false; 3]).is_err());
     /// ```
-    pub fn is_stable_batch(&self, points: &[[f64; 3]], out: &mut [bool]) {
-        assert_eq!(points.len(), out.len(), "one output per point");
+    pub fn is_stable_batch(
+        &self,
+        points: &[[f64; 3]],
+        out: &mut [bool],
+    ) -> Result<(), ContactError> {
+        super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
+        Ok(())
     }
 
     /// The cross-section of the static-equilibrium prism at height `z = height` (m): the

@@ -1,0 +1,114 @@
+//! Near-degenerate stances through the whole pipeline (GIWC, CoM tests, QP): a world origin far
+//! away, a foot rolled by a tiny angle, tiny contact patches. The GIWC either comes back
+//! certified and then agrees with the QP outside the band, or the conversion reports an error:
+//! never a silently wrong answer.
+
+use nalgebra::{Rotation3, Vector3};
+use stance_contact::equilibrium::StaticEquilibrium;
+use stance_contact::{
+    supporting_forces, w_gi_static, Contact, ForcesOutcome, FrictionModel, Shape, Stance,
+};
+
+const FACE_BAND: f64 = 1e-6;
+
+fn foot(name: &str, p: [f64; 3], roll_deg: f64, half: (f64, f64)) -> Contact {
+    let r = Rotation3::from_axis_angle(&Vector3::x_axis(), roll_deg.to_radians());
+    let m = r.matrix();
+    let rot = [
+        [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
+        [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
+        [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
+    ];
+    let shape = Shape::Rectangle {
+        half_length: half.0,
+        half_width: half.1,
+    };
+    Contact::new(name, p, rot, shape, 0.7, &Default::default()).unwrap()
+}
+
+fn check(stance: &Stance, origin: [f64; 3], what: &str) {
+    let giwc = match stance.u_stance(&Default::default()) {
+        Ok(g) => g,
+        Err(e) => {
+            // An error is an acceptable outcome; a wrong cone is not.
+            eprintln!("{what}: conversion refused: {e}");
+            return;
+        }
+    };
+    assert!(giwc.certified, "{what}: uncertified cone returned");
+    let g = [0.0, 0.0, -9.81];
+    let eq = StaticEquilibrium::new(&giwc, g, &Default::default()).unwrap();
+    let mut agreed = 0;
+    for i in 0..41 {
+        for j in 0..9 {
+            let p = [
+                origin[0] - 0.25 + 0.0125 * i as f64,
+                origin[1] - 0.2 + 0.05 * j as f64,
+                origin[2] + 0.8,
+            ];
+            let w = w_gi_static(1.0, g, p);
+            let n = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let v = giwc.max_violation(&w) / n;
+            if v.abs() <= FACE_BAND {
+                continue;
+            }
+            let qp = supporting_forces(stance, &w, &Default::default()).unwrap();
+            let want = if v < 0.0 {
+                ForcesOutcome::Feasible
+            } else {
+                ForcesOutcome::Infeasible
+            };
+            assert_eq!(qp.outcome, want, "{what}: CoM {p:?}, face value {v}");
+            assert_eq!(eq.is_stable(p), v < 0.0, "{what}: half-spaces at {p:?}");
+            agreed += 1;
+        }
+    }
+    assert!(
+        agreed > 300,
+        "{what}: too few CoMs outside the band ({agreed})"
+    );
+}
+
+#[test]
+fn far_origin_50_m() {
+    let o = [50.0, -30.0, 2.0];
+    let s = Stance::new(
+        vec![
+            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, (0.11, 0.065)),
+            foot("RF", [o[0], o[1] - 0.1, o[2]], 0.0, (0.11, 0.065)),
+        ],
+        FrictionModel::default(),
+    )
+    .unwrap();
+    check(&s, o, "50 m origin");
+}
+
+#[test]
+fn foot_rolled_by_small_angles() {
+    for roll in [1.0, 0.1, 0.01] {
+        let s = Stance::new(
+            vec![
+                foot("LF", [0.0, 0.1, 0.0], 0.0, (0.11, 0.065)),
+                foot("RF", [0.0, -0.1, 0.0], roll, (0.11, 0.065)),
+            ],
+            FrictionModel::default(),
+        )
+        .unwrap();
+        check(&s, [0.0; 3], &format!("roll {roll} deg"));
+    }
+}
+
+#[test]
+fn tiny_patches() {
+    // 1 mm patches: the polygon is almost the segment between the two patches.
+    let s = Stance::new(
+        vec![
+            foot("LF", [0.0, 0.1, 0.0], 0.0, (0.001, 0.001)),
+            foot("RF", [0.0, -0.1, 0.0], 0.0, (0.001, 0.001)),
+            foot("H", [0.3, 0.0, 0.0], 0.0, (0.001, 0.001)),
+        ],
+        FrictionModel::default(),
+    )
+    .unwrap();
+    check(&s, [0.0; 3], "1 mm patches");
+}
