@@ -103,3 +103,21 @@ fn demo_runs_the_built_in_examples() {
     assert!(!text.contains("false"), "every GIWC certified:\n{text}");
     assert!(text.contains("optimal"));
 }
+
+#[test]
+fn usage_errors_are_one_line_with_exit_code_2() {
+    for args in [
+        &["retime"][..],
+        &["cone", "span-to-face"],
+        &["no-such-command"],
+    ] {
+        let out = stance().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("error:"), "{err}");
+    }
+    let out = stance().arg("--help").output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8(out.stdout).unwrap().contains("retime"));
+}

@@ -5,10 +5,39 @@
 //! Dynamics" (RSS 2015). This crate is the facade: it re-exports the layers below and holds the
 //! glue between them.
 //!
-//! - [`polycone`]: polyhedral cones, double description (span form <-> face form).
-//! - [`stance_contact`]: contact wrench cones, the GIWC, static equilibrium.
-//! - [`stance_topp`]: time-optimal path parameterization.
-//! - [`stance_robot`]: robot model, kinematics and centroidal momentum.
+//! - [`polycone`]: polyhedral cones, double description (span form <-> face form), certified.
+//! - [`stance_contact`]: contact wrench cones, the GIWC `U_stance`, static and robust static
+//!   equilibrium, supporting contact forces.
+//! - [`stance_topp`]: time-optimal path parameterization on `a u + b x + c <= 0`.
+//! - [`stance_robot`]: robot model from URDF, kinematics and centroidal momentum.
+//! - [`retime`]: the glue of the paper's Section V: a stance and a CoM path become the rows of
+//!   eq. (14) through `U_stance` (computed once), solved by reachability analysis, with the
+//!   violation of contact stability between grid points measured (and optionally refined away).
+//!
+//! # The pipeline in one call
+//!
+//! ```
+//! use stance::retime::{retime, MotionSpec};
+//! // Sway the CoM from above the left foot to above the right foot, rest to rest.
+//! let spec: MotionSpec = serde_json::from_str(r#"{
+//!     "scene": "double-support",
+//!     "path": {"waypoints": [[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]]},
+//!     "max_violation_fraction": 0.01}"#).unwrap();
+//! let r = retime(&spec).unwrap();
+//! assert_eq!(r.status, "optimal");
+//! assert!(r.giwc_certified);
+//! assert!(r.between.unwrap().fraction_of_weight <= 0.01);
+//! ```
+//!
+//! # Limitations
+//!
+//! - [`retime`] uses the point-mass model (`L' = 0`) and one stance per motion; chaining
+//!   segments across stance changes is left to the caller (see
+//!   [`stance_topp::end_speed_range`]).
+//! - The stance's GIWC must be full-dimensional for retiming (a lower-dimensional GIWC, e.g.
+//!   point contacts only, is reported as an error naming the equations).
+//! - The whole-body pipeline of the paper (IK along the path, `l1`, `l2` from the robot model,
+//!   the MuJoCo check) is not wired into [`retime`] yet.
 
 pub use polycone;
 pub use stance_contact;

@@ -7,6 +7,7 @@
 //! million robust CoM tests; and the centroidal quantities of the project's small humanoid.
 //! Phase-plane plots go to `--out DIR` (default `stance-demo`).
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -34,6 +35,7 @@ fn motion(name: &str) -> Vec<[f64; 3]> {
 }
 
 pub fn run(args: DemoArgs) -> Result<()> {
+    let mut o = String::new();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output directory {}", args.out.display()))?;
     let mut gravities = Vec::new();
@@ -41,12 +43,19 @@ pub fn run(args: DemoArgs) -> Result<()> {
         gravities.push([gx, gy, -9.81]);
     }
 
-    println!("stance demo: the paper's stances end to end (times are wall-clock, this machine)\n");
-    println!("1. Gravito-inertial wrench cone, U_stance (once per stance; paper Section III)");
-    println!(
+    writeln!(
+        o,
+        "stance demo: the paper's stances end to end (times are wall-clock, this machine)\n"
+    )?;
+    writeln!(
+        o,
+        "1. Gravito-inertial wrench cone, U_stance (once per stance; paper Section III)"
+    )?;
+    writeln!(
+        o,
         "   {:<16} {:>8} {:>10} {:>7} {:>4} {:>4} {:>10} {:>9}",
         "scene", "contacts", "generators", "facets", "eq", "lin", "certified", "time ms"
-    );
+    )?;
     let mut giwcs = Vec::new();
     for name in examples::NAMES {
         let scene = examples::by_name(name).expect("built-in name");
@@ -55,7 +64,8 @@ pub fn run(args: DemoArgs) -> Result<()> {
         let t = Instant::now();
         let giwc = stance.u_stance(&GiwcOptions::default())?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        println!(
+        writeln!(
+            o,
             "   {:<16} {:>8} {:>10} {:>7} {:>4} {:>4} {:>10} {:>9.3}",
             name,
             stance.contacts().len(),
@@ -65,15 +75,19 @@ pub fn run(args: DemoArgs) -> Result<()> {
             giwc.lineality.nrows(),
             giwc.certified,
             ms
-        );
+        )?;
         giwcs.push((name, scene, giwc));
     }
 
-    println!("\n2. Static-equilibrium polygon (vertical gravity; paper Section IV)");
-    println!(
+    writeln!(
+        o,
+        "\n2. Static-equilibrium polygon (vertical gravity; paper Section IV)"
+    )?;
+    writeln!(
+        o,
         "   {:<16} {:>9} {:>10} {:>9}",
         "scene", "vertices", "area m^2", "time ms"
-    );
+    )?;
     for (name, scene, giwc) in &giwcs {
         let t = Instant::now();
         let eq = StaticEquilibrium::new(giwc, scene.gravity, &Default::default())?;
@@ -87,7 +101,14 @@ pub fn run(args: DemoArgs) -> Result<()> {
                     a[0] * b[1] - a[1] * b[0]
                 })
                 .sum::<f64>();
-        println!("   {:<16} {:>9} {:>10.4} {:>9.3}", name, v.len(), area, ms);
+        writeln!(
+            o,
+            "   {:<16} {:>9} {:>10.4} {:>9.3}",
+            name,
+            v.len(),
+            area,
+            ms
+        )?;
     }
 
     let (_, _, box_giwc) = giwcs.last().expect("four scenes");
@@ -108,31 +129,38 @@ pub fn run(args: DemoArgs) -> Result<()> {
         .collect();
     let mut stable = vec![false; n];
     let t = Instant::now();
-    region.contains_batch(&points, &mut stable);
+    region.contains_batch(&points, &mut stable)?;
     let batch = t.elapsed();
-    println!(
+    writeln!(
+        o,
         "\n3. Robust static equilibrium, box climbing, 4 gravity vectors (+-0.15 m/s^2 tilts)"
-    );
-    println!(
+    )?;
+    writeln!(
+        o,
         "   3-D region M: {} vertices, {} faces ({:?}) in {:.3} ms",
         region.polyhedron.vertices.len(),
         region.polyhedron.faces.len(),
         region.polyhedron.status,
         region_ms
-    );
-    println!(
+    )?;
+    writeln!(
+        o,
         "   {} CoM tests: {} stable, {:.1} ms in all, {:.1} ns per CoM",
         n,
         stable.iter().filter(|s| **s).count(),
         batch.as_secs_f64() * 1e3,
         batch.as_secs_f64() * 1e9 / n as f64
-    );
+    )?;
 
-    println!("\n4. Retiming a CoM motion under contact stability (GIWC -> TOPP; paper Section V)");
-    println!(
+    writeln!(
+        o,
+        "\n4. Retiming a CoM motion under contact stability (GIWC -> TOPP; paper Section V)"
+    )?;
+    writeln!(
+        o,
         "   {:<16} {:>6} {:>5} {:>11} {:>10} {:>12} {:>7} {:>7} {:>7}",
         "scene", "grid", "rows", "status", "duration s", "between %mg", "t_u ms", "t_abc", "t_topp"
-    );
+    )?;
     for (name, _, _) in &giwcs {
         let spec = MotionSpec {
             scene: SceneRef::Named(name.to_string()),
@@ -152,7 +180,8 @@ pub fn run(args: DemoArgs) -> Result<()> {
         let r = retime(&spec)?;
         let plot = args.out.join(format!("phase-{name}.svg"));
         super::retime::phase_plane(&plot, &r)?;
-        println!(
+        writeln!(
+            o,
             "   {:<16} {:>6} {:>5} {:>11} {:>10} {:>12} {:>7.3} {:>7.3} {:>7.3}",
             name,
             r.s.len(),
@@ -166,27 +195,32 @@ pub fn run(args: DemoArgs) -> Result<()> {
             r.timings.t_u_ms,
             r.timings.t_abc_ms,
             r.timings.t_topp_ms
-        );
+        )?;
     }
 
-    println!("\n5. Robot model: the project's small humanoid (URDF), centroidal quantities");
+    writeln!(
+        o,
+        "\n5. Robot model: the project's small humanoid (URDF), centroidal quantities"
+    )?;
     let model = Model::from_urdf_str(SMALL_HUMANOID_URDF, &UrdfOptions::default())?;
     let mut data = Data::new(&model);
     let q = model.neutral();
     let t = Instant::now();
     stance::stance_robot::centroidal_map(&model, &mut data, &q)?;
     let us = t.elapsed().as_secs_f64() * 1e6;
-    println!(
+    writeln!(
+        o,
         "   mass {:.3} kg, nq {}, nv {}, CoM at neutral {:?}, A_g in {:.1} us",
         model.total_mass(),
         model.nq,
         model.nv,
         data.com.map(|c| (c * 1e4).round() / 1e4),
         us
-    );
-    println!(
+    )?;
+    writeln!(
+        o,
         "\nPhase-plane plots (x = s'^2 against s): {}",
         args.out.display()
-    );
-    Ok(())
+    )?;
+    super::io::print_text(&o)
 }

@@ -42,9 +42,17 @@ pub fn write_output<T: Serialize>(common: &Common, value: &T) -> Result<()> {
     match &common.output {
         Some(path) => std::fs::write(path, text + "\n")
             .with_context(|| format!("cannot write output file {}", path.display())),
-        None => {
-            println!("{text}");
-            Ok(())
-        }
+        None => print_text(&(text + "\n")),
+    }
+}
+
+/// Writes `text` to standard output. A closed pipe (`stance ... | head`) is the reader's choice,
+/// not an error: the rest is dropped silently.
+pub fn print_text(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.context("cannot write the result to standard output"),
     }
 }
