@@ -374,13 +374,13 @@ fn hull_of(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
         .unwrap_or_default()
 }
 
-/// Plots with plotters, SVG or PNG by file extension. No text is drawn (no font is needed):
-/// grid lines every power of ten (0.1 m, 1 m, ...) that gives 4 to 40 lines; contact footprints
-/// in grey, regions in blue. The region plot shows its projections on (x, y), (x, z), (y, z).
+/// Plots with plotters, SVG or PNG by file extension: axes in metres with tick labels when a font
+/// is available (see `cmd::plot`), otherwise grid lines every power of ten (0.1 m, 1 m, ...)
+/// that gives 4 to 40 lines and no text; contact footprints in grey, regions in blue. The region plot shows its projections on (x, y), (x, z), (y, z).
 mod plot {
     use std::path::Path;
 
-    use anyhow::{anyhow, bail, Result};
+    use anyhow::{anyhow, Result};
     use plotters::coord::Shift;
     use plotters::prelude::*;
 
@@ -390,18 +390,6 @@ mod plot {
     const GRID: f64 = 0.1;
     /// Margin around the drawn geometry (m).
     const PAD: f64 = 0.1;
-
-    fn kind(path: &Path) -> Result<bool> {
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-        {
-            Some(e) if e == "svg" => Ok(true),
-            Some(e) if e == "png" => Ok(false),
-            _ => bail!("plot file {} must end in .svg or .png", path.display()),
-        }
-    }
 
     fn footprints(stance: &Stance) -> Vec<Vec<[f64; 3]>> {
         stance
@@ -451,6 +439,7 @@ mod plot {
         feet: &[Vec<[f64; 2]>],
         region: &[[f64; 2]],
         square: bool,
+        axes: (&str, &str),
     ) -> Result<()>
     where
         DB::ErrorType: 'static,
@@ -459,25 +448,43 @@ mod plot {
         sets.push(region.to_vec());
         let ((x0, x1), (y0, y1)) = bounds(&sets, square);
         let (gx, gy) = (spacing(x1 - x0), spacing(y1 - y0));
+        let grid = RGBColor(225, 225, 225);
+        let text = crate::cmd::plot::has_text();
+        let label_area = if text { 45 } else { 0 };
         let mut chart = ChartBuilder::on(area)
             .margin(8)
+            .x_label_area_size(label_area)
+            .y_label_area_size(label_area)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(|e| anyhow!("plot: {e:?}"))?;
-        let grid = RGBColor(225, 225, 225);
-        let mut lines = Vec::new();
-        let mut x = (x0 / gx).ceil() * gx;
-        while x <= x1 {
-            lines.push(vec![(x, y0), (x, y1)]);
-            x += gx;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc(axes.0)
+                .y_desc(axes.1)
+                .label_style((crate::cmd::plot::FONT, 13))
+                .axis_desc_style((crate::cmd::plot::FONT, 15))
+                .bold_line_style(grid)
+                .light_line_style(WHITE)
+                .draw()
+                .map_err(|e| anyhow!("plot: {e:?}"))?;
         }
-        let mut y = (y0 / gy).ceil() * gy;
-        while y <= y1 {
-            lines.push(vec![(x0, y), (x1, y)]);
-            y += gy;
+        if !text {
+            let mut lines = Vec::new();
+            let mut x = (x0 / gx).ceil() * gx;
+            while x <= x1 {
+                lines.push(vec![(x, y0), (x, y1)]);
+                x += gx;
+            }
+            let mut y = (y0 / gy).ceil() * gy;
+            while y <= y1 {
+                lines.push(vec![(x0, y), (x1, y)]);
+                y += gy;
+            }
+            chart
+                .draw_series(lines.into_iter().map(|l| PathElement::new(l, grid)))
+                .map_err(|e| anyhow!("plot: {e:?}"))?;
         }
-        chart
-            .draw_series(lines.into_iter().map(|l| PathElement::new(l, grid)))
-            .map_err(|e| anyhow!("plot: {e:?}"))?;
         for f in feet {
             let pts: Vec<(f64, f64)> = f.iter().map(|p| (p[0], p[1])).collect();
             chart
@@ -522,7 +529,7 @@ mod plot {
             .iter()
             .map(|f| hull_of(&f.iter().map(|p| [p[0], p[1]]).collect::<Vec<_>>()))
             .collect();
-        panel(&root, &feet, &poly.vertices, true)?;
+        panel(&root, &feet, &poly.vertices, true, ("x (m)", "y (m)"))?;
         root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
         Ok(())
     }
@@ -538,6 +545,7 @@ mod plot {
         root.fill(&WHITE).map_err(|e| anyhow!("plot: {e:?}"))?;
         let panels = root.split_evenly((1, 3));
         // Projections onto (x, y), (x, z), (y, z), like the paper's Fig. 3.
+        let names = ["x (m)", "y (m)", "z (m)"];
         for (area, (i, j)) in panels.iter().zip([(0, 1), (0, 2), (1, 2)]) {
             let proj = |p: &[f64; 3]| [p[i], p[j]];
             let feet: Vec<Vec<[f64; 2]>> = footprints(stance)
@@ -552,14 +560,14 @@ mod plot {
                     .map(proj)
                     .collect::<Vec<_>>(),
             );
-            panel(area, &feet, &shadow, false)?;
+            panel(area, &feet, &shadow, false, (names[i], names[j]))?;
         }
         root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
         Ok(())
     }
 
     pub fn polygon(path: &Path, stance: &Stance, poly: &StaticPolygon) -> Result<()> {
-        if kind(path)? {
+        if crate::cmd::plot::is_svg(path)? {
             draw_polygon(
                 SVGBackend::new(path, (640, 640)).into_drawing_area(),
                 stance,
@@ -575,7 +583,7 @@ mod plot {
     }
 
     pub fn region(path: &Path, stance: &Stance, region: &RobustRegion) -> Result<()> {
-        if kind(path)? {
+        if crate::cmd::plot::is_svg(path)? {
             draw_region(
                 SVGBackend::new(path, (1500, 500)).into_drawing_area(),
                 stance,

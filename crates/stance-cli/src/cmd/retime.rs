@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, Result};
 use stance::retime::{retime, MotionSpec, Retiming};
 
 use super::io::{read_input, write_output, Common};
@@ -40,18 +40,11 @@ pub fn run(args: RetimeArgs) -> Result<()> {
     write_output(&args.common, &out)
 }
 
-/// Draws the phase plane of a retiming (no text: the axes are `s` and `x = s'^2`).
+/// Draws the phase plane of a retiming: `x = s'^2` against `s`; feasible sets light grey,
+/// controllable sets blue, the profile red (axis labels when a font is available).
 pub fn phase_plane(path: &Path, r: &Retiming) -> Result<()> {
     use plotters::prelude::*;
-    let svg = match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-    {
-        Some(e) if e == "svg" => true,
-        Some(e) if e == "png" => false,
-        _ => bail!("plot file {} must end in .svg or .png", path.display()),
-    };
+    let svg = super::plot::is_svg(path)?;
     fn draw<DB: DrawingBackend>(
         root: DrawingArea<DB, plotters::coord::Shift>,
         r: &Retiming,
@@ -81,10 +74,26 @@ pub fn phase_plane(path: &Path, r: &Retiming) -> Result<()> {
             top = 1.0;
         }
         let top = top * 1.05;
+        let text = super::plot::has_text();
+        let label_area = if text { 50 } else { 0 };
         let mut chart = ChartBuilder::on(&root)
             .margin(10)
+            .x_label_area_size(label_area)
+            .y_label_area_size(label_area)
             .build_cartesian_2d(s0..s1, 0.0..top)
             .map_err(e)?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc("path parameter s")
+                .y_desc("x = (ds/dt)^2")
+                .label_style((super::plot::FONT, 13))
+                .axis_desc_style((super::plot::FONT, 15))
+                .bold_line_style(RGBColor(225, 225, 225))
+                .light_line_style(WHITE)
+                .draw()
+                .map_err(e)?;
+        }
         let band = |sets: &[Option<[f64; 2]>]| -> Vec<Vec<(f64, f64)>> {
             // One polygon per run of non-empty sets.
             let mut out = Vec::new();
