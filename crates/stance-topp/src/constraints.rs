@@ -50,7 +50,7 @@ pub struct CanonicalConstraints {
     u_bounds: Option<Vec<[f64; 2]>>,
 }
 
-fn check_grid(s: &[f64]) -> Result<(), ToppError> {
+pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
     if s.len() < 2 {
         return Err(ToppError::GridTooShort { got: s.len() });
     }

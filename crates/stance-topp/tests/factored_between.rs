@@ -150,6 +150,7 @@ fn tangent_vanishing_at_the_start() {
             x_lp.iter().map(|v| v.max(0.0)).collect(),
             vec![0.0; 100],
         )
+        .unwrap()
         .duration();
         println!("tangent-vanishing {disc:?}: duration {d:.8}, one-shot LP profile {d_lp:.8}");
         assert!(((d - d_lp) / d_lp).abs() < 1e-5);

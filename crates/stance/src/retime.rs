@@ -4,12 +4,15 @@
 //!
 //! A stance gives, once, the face form `U_stance` of its gravito-inertial wrench cone
 //! (`U_stance w_GI <= 0`, wrench at the world origin; [`stance_contact::Stance::u_stance`]). Along
-//! a CoM path `p(s)` (point-mass model, `L' = 0`), `p'' = p_s s'' + p_ss s'^2`, so the contact
-//! stability condition becomes, with `u = s''` and `x = s'^2`, the rows
+//! a CoM path `p(s)`, `p'' = p_s s'' + p_ss s'^2`, and for a whole-body motion the rate of the
+//! angular momentum about the CoM is `L' = l1(s) s'' + l2(s) s'^2` (optional samples,
+//! [`AngularSpec`]; `L' = 0` for the point-mass model), so the contact stability condition
+//! becomes, with `u = s''` and `x = s'^2`, the rows
 //!
 //! ```text
-//!     a(s) u + b(s) x + c(s) <= 0                                      (13)
-//!     a = -U (m p_s, m p x p_s),  b = -U (m p_ss, m p x p_ss),  c = U (m g, m p x g)   (14)
+//!     a(s) u + b(s) x + c(s) <= 0                                                     (13)
+//!     a = -U (m p_s, m p x p_s + l1),  b = -U (m p_ss, m p x p_ss + l2),
+//!     c = U (m g, m p x g)                                                            (14)
 //! ```
 //!
 //! produced by [`stance_topp::factored`] and solved by reachability analysis
@@ -25,9 +28,8 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use stance_contact::{GiwcOptions, Scene};
 use stance_topp::between::{check_between, refine_until, PathRows};
-use stance_topp::factored::FactoredRows;
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
-use stance_topp::path::{CubicSpline, PathCurve, Polyline, SplineEnds};
+use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
 use stance_topp::{
     solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Tolerances, Workspace,
 };
@@ -140,6 +142,27 @@ pub struct MotionSpec {
     /// Resample the retimed trajectory at this time step (s); none by default.
     #[serde(default)]
     pub dt: Option<f64>,
+    /// Angular-momentum terms of a whole-body motion (`L' = l1 s'' + l2 s'^2`); none by default
+    /// (point-mass model, `L' = 0`).
+    #[serde(default)]
+    pub angular_momentum: Option<AngularSpec>,
+}
+
+/// Samples of the angular-momentum terms `l1(s)`, `l2(s)` (about the CoM, world axes; MATH.md
+/// section 6: `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`), linear between
+/// samples. Units: N m s per unit of `s` (`l1`) and per unit of `s` squared (`l2`), so that
+/// `l1 s'' + l2 s'^2` is in N m.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AngularSpec {
+    /// Path parameters of the samples (strictly increasing, covering the path); default: the
+    /// path's knots (one sample per waypoint).
+    #[serde(default)]
+    pub s: Option<Vec<f64>>,
+    /// `l1` at each sample.
+    pub l1: Vec<[f64; 3]>,
+    /// `l2` at each sample.
+    pub l2: Vec<[f64; 3]>,
 }
 
 /// A curve built from a [`PathSpec`].
@@ -177,11 +200,7 @@ impl PathSpec {
     /// assert_eq!(spec.curve().unwrap().domain(), [0.0, 1.0]);
     /// ```
     pub fn curve(&self) -> Result<ComPath, StanceError> {
-        let n = self.waypoints.len();
-        let knots = match &self.knots {
-            Some(k) => k.clone(),
-            None => (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect(),
-        };
+        let knots = self.knots();
         Ok(match self.interpolation {
             Interpolation::Polyline => {
                 ComPath::Polyline(Polyline::new(knots, self.waypoints.clone())?)
@@ -195,6 +214,24 @@ impl PathSpec {
                 },
             )?),
         })
+    }
+}
+
+impl PathSpec {
+    /// The knots: as given, or evenly spaced on `[0, 1]`.
+    ///
+    /// ```
+    /// use stance::retime::{Interpolation, PathSpec};
+    /// let spec = PathSpec { waypoints: vec![[0.0; 3]; 3], knots: None,
+    ///     interpolation: Interpolation::Polyline };
+    /// assert_eq!(spec.knots(), vec![0.0, 0.5, 1.0]);
+    /// ```
+    pub fn knots(&self) -> Vec<f64> {
+        let n = self.waypoints.len();
+        match &self.knots {
+            Some(k) => k.clone(),
+            None => (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect(),
+        }
     }
 }
 
@@ -250,7 +287,8 @@ pub struct Retiming {
     pub sd: Vec<f64>,
     /// Path acceleration `s''` on each interval (empty without a profile).
     pub sdd: Vec<f64>,
-    /// Time at the grid points (empty without a profile).
+    /// Time at the grid points (empty without a profile; one per grid point, infinite (`null`
+    /// in JSON) after the interval where a stalled profile stops).
     pub t: Vec<f64>,
     /// CoM at the grid points.
     pub com: Vec<[f64; 3]>,
@@ -317,6 +355,35 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
             )));
         }
     }
+    if spec.grid_points > crate::tol::MAX_REFINED_GRID_POINTS {
+        return Err(StanceError::BadMotion(format!(
+            "grid_points is {}; give at most {} (or ask for max_violation_fraction to refine \
+             only where needed)",
+            spec.grid_points,
+            crate::tol::MAX_REFINED_GRID_POINTS
+        )));
+    }
+    if !(1..=crate::tol::MAX_SAMPLES_PER_INTERVAL).contains(&spec.samples_per_interval) {
+        return Err(StanceError::BadMotion(format!(
+            "samples_per_interval is {}; give 1 to {}",
+            spec.samples_per_interval,
+            crate::tol::MAX_SAMPLES_PER_INTERVAL
+        )));
+    }
+    if let Some(dt) = spec.dt {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "dt is {dt}; give a finite time step > 0"
+            )));
+        }
+    }
+    if let Some(bound) = spec.max_violation_fraction {
+        if !(bound.is_finite() && bound > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "max_violation_fraction is {bound}; give a finite fraction > 0 (e.g. 0.01)"
+            )));
+        }
+    }
     let scene = spec.scene.scene()?;
     let curve = spec.path.curve()?;
     let [s0, s1] = curve.domain();
@@ -347,9 +414,13 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
         .collect();
 
+    let mut rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
+    if let Some(l) = &spec.angular_momentum {
+        let knots = l.s.clone().unwrap_or_else(|| spec.path.knots());
+        rows = rows.with_angular(AngularTerms::new(knots, l.l1.clone(), l.l2.clone())?)?;
+    }
     let t1 = Instant::now();
-    let factored = FactoredRows::from_path(&u, grid.clone(), &curve, scene.mass, scene.gravity)?;
-    let k = factored.to_constraints();
+    let k = rows.factored_on_grid(grid.clone())?.to_constraints();
     let t_abc = t1.elapsed();
 
     let disc = match spec.discretization {
@@ -365,15 +436,9 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let t_topp = t2.elapsed();
 
     let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
-    let rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
     let mut k_final = k;
     let mut refinement = None;
     if let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) {
-        if !(bound.is_finite() && bound > 0.0) {
-            return Err(StanceError::BadMotion(format!(
-                "max_violation_fraction is {bound}; give a finite fraction > 0 (e.g. 0.01)"
-            )));
-        }
         let rep = refine_until(
             &rows,
             grid,
@@ -409,19 +474,15 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let (between, sd, sdd, t, samples) = match &sol.profile {
         Some(p) => {
             let (rep, _) = check_between(p, &rows, spec.samples_per_interval, weight);
+            // A stalled profile (infinite duration) has no finite-time trajectory to sample.
             let samples = match spec.dt {
-                Some(dt) if dt.is_finite() && dt > 0.0 => p
+                Some(dt) if p.duration().is_finite() => p
                     .resample(dt)
-                    .unwrap_or_default()
+                    .map_err(|e| StanceError::BadMotion(format!("dt: {e}")))?
                     .iter()
                     .map(|q| [q.t, q.s, q.sd, q.sdd])
                     .collect(),
-                Some(dt) => {
-                    return Err(StanceError::BadMotion(format!(
-                        "dt is {dt}; give a finite time step > 0"
-                    )))
-                }
-                None => Vec::new(),
+                _ => Vec::new(),
             };
             (
                 Some(Between {
@@ -431,11 +492,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
                 }),
                 p.sd(),
                 p.u().to_vec(),
-                p.times()
-                    .iter()
-                    .copied()
-                    .filter(|t| t.is_finite())
-                    .collect(),
+                p.times().to_vec(),
                 samples,
             )
         }
