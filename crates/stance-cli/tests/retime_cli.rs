@@ -68,7 +68,25 @@ fn retime_rejects_bad_motion_files_with_one_line_and_exit_code_2() {
         (
             "one-waypoint.json",
             r#"{"scene": "stairs", "path": {"waypoints": [[0,0,0.8]]}}"#,
-            "error",
+            "at least 2 CoM waypoints",
+        ),
+        (
+            "tiny-dt.json",
+            r#"{"scene": "double-support", "path": {"waypoints": [[0,0.05,0.8],[0,-0.05,0.8]]},
+                "dt": 1e-300}"#,
+            "give dt >=",
+        ),
+        (
+            "huge-grid.json",
+            r#"{"scene": "stairs", "path": {"waypoints": [[0,0,0.8],[0.1,0,0.8]]},
+                "grid_points": 1000000000000}"#,
+            "grid_points",
+        ),
+        (
+            "short-angular.json",
+            r#"{"scene": "stairs", "path": {"waypoints": [[0,0,0.8],[0.1,0,0.8]]},
+                "angular_momentum": {"l1": [[0,0,0],[0,0,0]], "l2": [[0,0,0]]}}"#,
+            "l2",
         ),
     ] {
         let f = tmp(name);
@@ -79,6 +97,32 @@ fn retime_rejects_bad_motion_files_with_one_line_and_exit_code_2() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(err.contains(needle), "{name}: {err}");
     }
+}
+
+/// The optional angular-momentum samples are read from the motion file and change the answer.
+#[test]
+fn retime_reads_angular_momentum_terms() {
+    let base = r#""scene": "double-support",
+        "path": {"waypoints": [[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]]}"#;
+    let duration = |extra: &str, name: &str| -> f64 {
+        let motion = tmp(name);
+        std::fs::write(&motion, format!("{{{base}{extra}}}")).unwrap();
+        let out = stance().arg("retime").arg(&motion).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["duration"].as_f64().unwrap()
+    };
+    let d0 = duration("", "point-mass.json");
+    let d1 = duration(
+        r#", "angular_momentum": {"l1": [[4, 0, 0], [0, 2, 1], [-4, 0, 0]],
+            "l2": [[0, 3, 0], [1, 0, 0], [0, -3, 0]]}"#,
+        "whole-body.json",
+    );
+    assert!((d1 - d0).abs() > 1e-3 * d0, "{d0} vs {d1}");
 }
 
 #[test]

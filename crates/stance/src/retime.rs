@@ -200,6 +200,12 @@ impl PathSpec {
     /// assert_eq!(spec.curve().unwrap().domain(), [0.0, 1.0]);
     /// ```
     pub fn curve(&self) -> Result<ComPath, StanceError> {
+        if self.waypoints.len() < 2 {
+            return Err(StanceError::BadMotion(format!(
+                "path.waypoints has {} point(s); give at least 2 CoM waypoints",
+                self.waypoints.len()
+            )));
+        }
         let knots = self.knots();
         Ok(match self.interpolation {
             Interpolation::Polyline => {

@@ -179,7 +179,8 @@ fn bad_motions_are_errors_that_say_what_to_fix() {
     assert!(retime(&s).unwrap_err().to_string().contains("sd_start"));
     s.sd_start = 0.0;
     s.path.waypoints = vec![[0.0; 3]];
-    assert!(retime(&s).is_err());
+    let e = retime(&s).unwrap_err().to_string();
+    assert!(e.contains("at least 2 CoM waypoints"), "{e}");
 }
 
 /// Values from the motion file that used to reach an allocation of their own size or a panic:
