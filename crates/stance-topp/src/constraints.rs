@@ -62,6 +62,16 @@ pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
             value: v,
         });
     }
+    let span = s[s.len() - 1] - s[0];
+    if !(2.0 * span).is_finite() {
+        return Err(ToppError::InvalidValue {
+            what: "s",
+            detail: format!(
+                "the grid's span s_N - s_0 = {span:e} overflows when doubled; rescale the path \
+                 parameter"
+            ),
+        });
+    }
     for i in 1..s.len() {
         if s[i] <= s[i - 1] {
             return Err(ToppError::GridNotIncreasing {
@@ -158,6 +168,17 @@ impl CanonicalConstraints {
                             point: i,
                             row: j,
                             value: v,
+                        });
+                    }
+                    if v.abs() > crate::tol::MAX_ABS_COEFFICIENT {
+                        return Err(ToppError::InvalidValue {
+                            what,
+                            detail: format!(
+                                "{v:e} at grid point {i}, row {j} exceeds {:e} in magnitude; \
+                                 rescale that row (dividing a row by a positive factor leaves \
+                                 its feasible set unchanged)",
+                                crate::tol::MAX_ABS_COEFFICIENT
+                            ),
                         });
                     }
                 }

@@ -139,6 +139,20 @@ impl FactoredRows {
         }
         // Grid validity is checked by CanonicalConstraints; check here too so errors come early.
         CanonicalConstraints::new(s.clone(), vec![0; s.len() + 1], vec![])?;
+        // The fill writes rows that CanonicalConstraints never re-checks: bound the products.
+        let max_abs = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0, |m: f64, v| m.max(v.abs()));
+        let u_max = max_abs(&mut u.iter().flatten().copied());
+        let w_max = max_abs(&mut w.iter().flatten().flatten().copied());
+        if 6.0 * u_max * w_max > crate::tol::MAX_ABS_COEFFICIENT {
+            return Err(ToppError::InvalidValue {
+                what: "factored rows",
+                detail: format!(
+                    "max |U| = {u_max:e} and max |w| = {w_max:e} give rows beyond {:e}; rescale \
+                     U (its rows by positive factors) or the units of the wrenches",
+                    crate::tol::MAX_ABS_COEFFICIENT
+                ),
+            });
+        }
         let cols = std::array::from_fn(|k| u.iter().map(|r| r[k]).collect());
         // The grid check above guarantees at least two grid points.
         let force = &w[0][2][..3];

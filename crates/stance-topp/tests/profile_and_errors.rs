@@ -209,3 +209,76 @@ fn profile_from_bad_states_is_an_error_not_a_panic() {
         Err(ToppError::GridNotIncreasing { .. })
     ));
 }
+
+/// `u + x <= 1`, `u >= -1` on `[0, 1]` (3 grid points), every row multiplied by `scale`.
+fn scaled_rows(scale: f64, s: Vec<f64>) -> Result<CanonicalConstraints, ToppError> {
+    let rows = [
+        Row {
+            a: scale,
+            b: scale,
+            c: -scale,
+        },
+        Row {
+            a: -scale,
+            b: 0.0,
+            c: -scale,
+        },
+    ];
+    let n = s.len();
+    CanonicalConstraints::new(s, (0..=n).map(|i| 2 * i).collect(), rows.repeat(n))
+}
+
+/// Rows with coefficients near 1e160 overflowed in the LP kernel (`a^2 + b^2 = inf`), which then
+/// accepted every point: `stance topp` answered "optimal" at the bounding box (s' = 1e4) with
+/// rows violated by 1e8. Scaling a row by a positive factor does not change its feasible set,
+/// so the answer must not depend on it; beyond the limit, an error that says to rescale.
+#[test]
+fn huge_coefficients_are_an_error_not_a_wrong_optimum() {
+    let s = vec![0.0, 0.5, 1.0];
+    let reference = solve(
+        &scaled_rows(1.0, s.clone()).unwrap(),
+        &SolveOptions::default(),
+    )
+    .unwrap()
+    .duration()
+    .unwrap();
+    assert!((reference - 2.0).abs() < 1e-12, "{reference}");
+    // (Rows uniformly below `tol.zero_row` are treated as constant rows by design: no tiny
+    // scale here.)
+    for scale in [1e-6, 1e90, stance_topp::tol::MAX_ABS_COEFFICIENT] {
+        let k = scaled_rows(scale, s.clone()).unwrap();
+        let d = solve(&k, &SolveOptions::default())
+            .unwrap()
+            .duration()
+            .unwrap();
+        assert!((d - reference).abs() < 1e-12, "scale {scale:e}: {d}");
+    }
+    for scale in [1e160, 1e300] {
+        let e = scaled_rows(scale, s.clone()).unwrap_err();
+        assert!(e.to_string().contains("rescale"), "{e}");
+    }
+}
+
+/// A grid whose span overflows when doubled (2 Delta = inf) gave a stalled profile with a
+/// positive speed; the LP box must stay within what the kernel can square.
+#[test]
+fn overflowing_grid_span_and_box_are_errors() {
+    let e = scaled_rows(1.0, vec![0.0, 1e300, 1.7e308]).unwrap_err();
+    assert!(e.to_string().contains("span"), "{e}");
+    let k = scaled_rows(1.0, vec![0.0, 0.5, 1.0]).unwrap();
+    let mut opts = SolveOptions::default();
+    opts.tol.max_x = 1e300;
+    let e = solve(&k, &opts).unwrap_err();
+    assert!(e.to_string().contains("max_x"), "{e}");
+}
+
+/// Finite `U` and eq. 14 vectors whose products exceed the coefficient limit bypassed the
+/// check of the canonical rows (the fill writes them after validation).
+#[test]
+fn factored_rows_whose_products_overflow_are_an_error() {
+    use stance_topp::factored::FactoredRows;
+    let u = [[1e60, 0.0, 0.0, 0.0, 0.0, 0.0]];
+    let w = vec![[[1e60; 6], [0.0; 6], [-1.0; 6]]; 2];
+    let e = FactoredRows::new(&u, vec![0.0, 1.0], w).unwrap_err();
+    assert!(e.to_string().contains("rescale"), "{e}");
+}
