@@ -307,6 +307,12 @@ pub struct Retiming {
     pub rows_per_point: usize,
     /// Whether the GIWC conversion certified its face form.
     pub giwc_certified: bool,
+    /// Whether the profile reached the solver's speed box (`s'^2` = `tol.max_x`, 1e8): the rows
+    /// leave the path speed unbounded there (for example a CoM path that does not move, or knots
+    /// spanning a huge range of `s`), so the box, not contact stability, decided the duration.
+    /// (The acceleration box is reached routinely where the path tangent vanishes, at the ends
+    /// of a rest-to-rest spline, and is not reported.)
+    pub speed_at_box: bool,
     /// Violation between grid points (of the final grid).
     pub between: Option<Between>,
     /// What the refinement did, when asked.
@@ -420,6 +426,22 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
         .collect();
 
+    // Knots too close together (or waypoints too far apart) overflow the path's derivatives:
+    // say so rather than report a non-finite row.
+    for &s in [s0, s1].iter().chain(&grid) {
+        let q = curve.eval(s);
+        if q.p
+            .iter()
+            .chain(&q.ps)
+            .chain(&q.pss)
+            .any(|v| !v.is_finite())
+        {
+            return Err(StanceError::BadMotion(format!(
+                "the CoM path or its derivatives are not finite at s = {s}: the knots are too \
+                 close together for the waypoints' distances; spread the knots (e.g. over [0, 1])"
+            )));
+        }
+    }
     let mut rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
     if let Some(l) = &spec.angular_momentum {
         let knots = l.s.clone().unwrap_or_else(|| spec.path.knots());
@@ -472,6 +494,11 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         Status::StartOutsideControllable { .. } => Some(0),
         Status::Optimal => None,
     };
+    let speed_at_box = sol.profile.as_ref().is_some_and(|p| {
+        p.x()
+            .iter()
+            .any(|&x| x >= opts.tol.max_x * (1.0 - stance_topp::tol::BOX_TOUCH))
+    });
     let s_final = k_final.grid().to_vec();
     let com = s_final.iter().map(|&s| curve.eval(s).p).collect();
     let feasible_sets = (0..s_final.len())
@@ -518,6 +545,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         feasible_sets,
         rows_per_point: u.len(),
         giwc_certified: giwc.certified,
+        speed_at_box,
         between,
         refinement,
         samples,

@@ -298,3 +298,38 @@ fn angular_momentum_terms_change_the_retiming_and_are_supported_by_forces() {
     let e = retime(&bad).unwrap_err().to_string();
     assert!(e.contains("l2"), "{e}");
 }
+
+/// A CoM path that does not move leaves the speed unbounded: the answer is decided by the
+/// solver's box, which the output now says (it used to look like an ordinary optimum of
+/// 0.2 ms); knots so close that the derivatives overflow are an error naming the knots.
+#[test]
+fn unbounded_or_overflowing_paths_are_reported() {
+    let mut s = spec(
+        "double-support",
+        vec![[0.0, 0.0, 0.8], [0.0, 0.0, 0.8]],
+        DiscretizationName::Interpolation,
+    );
+    let r = retime(&s).unwrap();
+    assert!(r.speed_at_box);
+    s.path.waypoints = vec![[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]];
+    assert!(!retime(&s).unwrap().speed_at_box);
+    s.path.knots = Some(vec![0.0, 1e-300]);
+    let e = retime(&s).unwrap_err().to_string();
+    assert!(e.contains("knots"), "{e}");
+}
+
+/// The facade's errors carry the inner error in their message only, so an error chain (the CLI
+/// prints `{:#}`) does not repeat it.
+#[test]
+fn inner_errors_are_not_repeated_as_sources() {
+    use std::error::Error;
+    let mut s = spec(
+        "double-support",
+        vec![[0.0, 0.0, 1e200], [0.0, 0.0, -1e200]],
+        DiscretizationName::Interpolation,
+    );
+    s.grid_points = 3;
+    let e = retime(&s).unwrap_err();
+    assert!(matches!(e, stance::StanceError::Topp(_)), "{e}");
+    assert!(e.source().is_none());
+}
