@@ -246,7 +246,8 @@ impl PathSpec {
 pub struct Between {
     /// Largest row value (N; <= 0 means satisfied) over the finer grid.
     pub max_violation_newtons: f64,
-    /// The same as a fraction of the weight `m |g|`.
+    /// The same as a fraction of the weight `m |g|` (not a number, `null` in JSON, for a
+    /// zero gravity).
     pub fraction_of_weight: f64,
     /// Path parameter where it occurs.
     pub at_s: f64,
@@ -464,6 +465,13 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let t_topp = t2.elapsed();
 
     let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    if spec.max_violation_fraction.is_some() && weight <= 0.0 {
+        return Err(StanceError::BadMotion(format!(
+            "max_violation_fraction is a fraction of the weight m |g|, but the scene's gravity \
+             is {:?}; drop max_violation_fraction or give a non-zero gravity",
+            scene.gravity
+        )));
+    }
     let mut k_final = k;
     let mut refinement = None;
     if let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) {

@@ -333,3 +333,23 @@ fn inner_errors_are_not_repeated_as_sources() {
     assert!(matches!(e, stance::StanceError::Topp(_)), "{e}");
     assert!(e.source().is_none());
 }
+
+/// With a zero gravity, a bound given as a fraction of the weight cannot be met: the refinement
+/// used to fail with "bound 0 and scale 0", which names neither field.
+#[test]
+fn a_weight_fraction_without_gravity_is_an_error_naming_the_field() {
+    let mut scene = examples::by_name("double-support").unwrap();
+    scene.gravity = [0.0; 3];
+    let mut s = spec(
+        "double-support",
+        vec![[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]],
+        DiscretizationName::Interpolation,
+    );
+    s.scene = SceneRef::Inline(Box::new(scene));
+    s.max_violation_fraction = Some(0.01);
+    let e = retime(&s).unwrap_err().to_string();
+    assert!(
+        e.contains("max_violation_fraction") && e.contains("gravity"),
+        "{e}"
+    );
+}
