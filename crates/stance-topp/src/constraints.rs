@@ -332,17 +332,9 @@ impl CanonicalConstraints {
         &self.rows
     }
 
-    /// Mutable rows, for producers that refill the same shape in place (see
-    /// [`crate::factored`]); the caller keeps them finite.
-    ///
-    /// ```
-    /// use stance_topp::{CanonicalConstraints, Row};
-    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
-    /// let mut k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
-    /// k.rows_mut()[0].c = -2.0;
-    /// assert_eq!(k.rows_at(0)[0].c, -2.0);
-    /// ```
-    pub fn rows_mut(&mut self) -> &mut [Row] {
+    /// Mutable rows, for the factored form's refill (rows it writes are finite and bounded);
+    /// crate-private so that validated constraints cannot be made non-finite from outside.
+    pub(crate) fn rows_mut(&mut self) -> &mut [Row] {
         &mut self.rows
     }
 

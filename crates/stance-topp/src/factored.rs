@@ -284,26 +284,72 @@ impl FactoredRows {
         let offsets = (0..=n).map(|i| i * m).collect();
         let mut k = CanonicalConstraints::new(self.s.clone(), offsets, vec![Row::default(); n * m])
             .expect("grid validated at construction");
-        self.fill(k.rows_mut());
+        self.fill(k.rows_mut()).expect("shape built just above");
         k
     }
 
-    /// Writes the rows of every grid point into `out` (`N + 1` times `m` rows, grid point after
-    /// grid point): the hot path, no allocation. Panics if `out` has the wrong length (a
-    /// programming error: take it from [`Self::to_constraints`]).
+    /// Rewrites the rows of constraints made by [`Self::to_constraints`] of a factored form with
+    /// the same grid and number of rows (for example after `U` changed), without allocating.
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::InvalidValue`] when `k`'s grid or row counts differ.
     ///
     /// ```
     /// use stance_topp::factored::FactoredRows;
+    /// let w = vec![[[1.0; 6], [0.0; 6], [-1.0; 6]]; 2];
+    /// let f = FactoredRows::new(&[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]], vec![0.0, 1.0], w.clone())
+    ///     .unwrap();
+    /// let mut k = f.to_constraints();
+    /// let g = FactoredRows::new(&[[3.0, 0.0, 0.0, 0.0, 0.0, 0.0]], vec![0.0, 1.0], w).unwrap();
+    /// g.refill(&mut k).unwrap();
+    /// assert_eq!(k.rows_at(1)[0].a, 3.0);
+    /// let other = FactoredRows::new(&[[1.0; 6]], vec![0.0, 2.0], vec![[[0.0; 6]; 3]; 2]).unwrap();
+    /// assert!(other.refill(&mut k).is_err());
+    /// ```
+    pub fn refill(&self, k: &mut CanonicalConstraints) -> Result<(), ToppError> {
+        let m = self.num_rows();
+        if k.grid() != self.s.as_slice() || k.offsets().iter().enumerate().any(|(i, &o)| o != i * m)
+        {
+            return Err(ToppError::InvalidValue {
+                what: "constraints to refill",
+                detail: format!(
+                    "their grid or rows per point differ from this factored form ({} points, {m} \
+                     rows each); build them with to_constraints",
+                    self.s.len()
+                ),
+            });
+        }
+        self.fill(k.rows_mut())
+    }
+
+    /// Writes the rows of every grid point into `out` (`N + 1` times `m` rows, grid point after
+    /// grid point): the hot path, no allocation.
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::Shape`] when `out` does not hold `(N + 1) m` rows.
+    ///
+    /// ```
+    /// use stance_topp::factored::FactoredRows;
+    /// use stance_topp::Row;
     /// let f = FactoredRows::new(&[[1.0, 2.0, 0.0, 0.0, 0.0, 0.0]], vec![0.0, 1.0],
     ///     vec![[[1.0; 6], [0.0; 6], [-1.0; 6]]; 2]).unwrap();
-    /// let mut k = f.to_constraints();
-    /// f.fill(k.rows_mut());
-    /// assert_eq!(k.rows_at(0)[0].a, 3.0);
-    /// assert_eq!(k.rows_at(0)[0].c, -3.0);
+    /// let mut out = vec![Row::default(); 2];
+    /// f.fill(&mut out).unwrap();
+    /// assert_eq!(out[0].a, 3.0);
+    /// assert_eq!(out[0].c, -3.0);
+    /// assert!(f.fill(&mut out[..1]).is_err());
     /// ```
-    pub fn fill(&self, out: &mut [Row]) {
+    pub fn fill(&self, out: &mut [Row]) -> Result<(), ToppError> {
         let m = self.num_rows();
-        assert_eq!(out.len(), m * self.s.len(), "output buffer shape");
+        if out.len() != m * self.s.len() {
+            return Err(ToppError::Shape {
+                what: "output rows (grid points times rows of U)".into(),
+                expected: m * self.s.len(),
+                got: out.len(),
+            });
+        }
         let mode = match (&self.c_force, self.c_tz_zero) {
             (None, _) => CMode::Full,
             (Some(_), false) => CMode::ConstForce,
@@ -315,10 +361,11 @@ impl FactoredRows {
             if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
                 // SAFETY: the CPU supports the features the function is compiled for.
                 unsafe { fill_avx2(&self.cols, c_force, mode, &self.w, out) };
-                return;
+                return Ok(());
             }
         }
         fill_generic(&self.cols, c_force, mode, &self.w, out);
+        Ok(())
     }
 }
 
