@@ -86,8 +86,8 @@
 //!   `tol.max_x` and [`Solution::hit_box`] says so.
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
-//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes about 14 us for 101
-//!   grid points and 172 rows (11.4 us for 137 rows) on the test machine with the AVX2 + FMA
+//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes 14-15.5 us for 101
+//!   grid points and 172 rows (11.4-12.6 us for 137 rows) on the test machine with the AVX2 + FMA
 //!   kernel (portable fallback elsewhere), after exploiting the constant `m g` and vertical
 //!   `g` of eq. 14 (14 multiply-adds per row instead of 18): above the 10 us the issue asked
 //!   for. The fill is then bound by its 24-byte-per-row output (about 30 GB/s measured), so
