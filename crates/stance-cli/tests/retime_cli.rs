@@ -83,6 +83,14 @@ fn retime_rejects_bad_motion_files_with_one_line_and_exit_code_2() {
             "grid_points",
         ),
         (
+            // A typo inside an inline scene: the scene's own error, not "did not match any
+            // variant of untagged enum SceneRef".
+            "scene-typo.json",
+            r#"{"scene": {"mass": 38, "gravty": [0, 0, -9.81], "contacts": []},
+                "path": {"waypoints": [[0,0,0.8],[0.1,0,0.8]]}}"#,
+            "gravty",
+        ),
+        (
             "far-waypoints.json",
             r#"{"scene": "stairs", "path": {"waypoints": [[0,0,1e200],[0,0,-1e200]]}}"#,
             "rescale",
@@ -129,6 +137,36 @@ fn retime_reads_angular_momentum_terms() {
         "whole-body.json",
     );
     assert!((d1 - d0).abs() > 1e-3 * d0, "{d0} vs {d1}");
+}
+
+/// Motion files in TOML, with the scene by name and in full (the scene reference has its own
+/// deserializer, which must work for both formats).
+#[test]
+fn retime_reads_toml_motions() {
+    for (name, scene) in [
+        ("named.toml", "scene = \"double-support\"\n".to_string()),
+        (
+            "inline.toml",
+            "[scene]\nmass = 38.0\n[[scene.contacts]]\nname = \"LF\"\nposition = [0.0, 0.0, 0.0]\n\
+             friction = 0.7\nshape = { rectangle = { half_length = 0.11, half_width = 0.065 } }\n"
+                .to_string(),
+        ),
+    ] {
+        let motion = tmp(name);
+        std::fs::write(
+            &motion,
+            format!("{scene}[path]\nwaypoints = [[0.0, 0.01, 0.8], [0.0, -0.01, 0.8]]\n"),
+        )
+        .unwrap();
+        let out = stance().arg("retime").arg(&motion).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["status"], "optimal", "{name}");
+    }
 }
 
 #[test]

@@ -38,13 +38,36 @@ use crate::StanceError;
 
 /// Where the scene of a motion comes from: a built-in example by name
 /// (`stance_contact::examples::NAMES`) or a full scene.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+///
+/// Read from a string (a name) or a map (a scene, whose own error is reported: an untagged
+/// enum would only say that the data matched no variant).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum SceneRef {
     /// A built-in example scene, e.g. `"box-climbing"`.
     Named(String),
     /// A scene given in full (the scene-file format).
     Inline(Box<Scene>),
+}
+
+impl<'de> Deserialize<'de> for SceneRef {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = SceneRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a built-in example name (string) or a scene (map)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<SceneRef, E> {
+                Ok(SceneRef::Named(v.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<SceneRef, A::Error> {
+                Scene::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(|s| SceneRef::Inline(Box::new(s)))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
 }
 
 impl SceneRef {

@@ -353,3 +353,32 @@ fn a_weight_fraction_without_gravity_is_an_error_naming_the_field() {
         "{e}"
     );
 }
+
+/// Scenes are read by name or in full (TOML: `tests/retime_cli.rs`); a typo inside a full scene is
+/// reported by the scene's own field name.
+#[test]
+fn scene_refs_read_by_name_or_in_full_with_the_scenes_own_errors() {
+    let named: MotionSpec = serde_json::from_str(
+        r#"{"scene": "stairs", "path": {"waypoints": [[0, 0, 0.8], [0.1, 0, 0.8]]}}"#,
+    )
+    .unwrap();
+    assert_eq!(named.scene, SceneRef::Named("stairs".into()));
+    let scene = examples::by_name("double-support").unwrap();
+    let text = format!(
+        r#"{{"scene": {}, "path": {{"waypoints": [[0, 0, 0.8], [0.1, 0, 0.8]]}}}}"#,
+        serde_json::to_string(&scene).unwrap()
+    );
+    let inline: MotionSpec = serde_json::from_str(&text).unwrap();
+    assert_eq!(inline.scene, SceneRef::Inline(Box::new(scene.clone())));
+    let e = serde_json::from_str::<MotionSpec>(
+        r#"{"scene": {"mass": 38, "gravty": [0, 0, -9.81], "contacts": []},
+            "path": {"waypoints": [[0, 0, 0.8], [0.1, 0, 0.8]]}}"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("gravty"), "{e}");
+    let e = serde_json::from_str::<MotionSpec>(r#"{"scene": 3, "path": {"waypoints": []}}"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("example name"), "{e}");
+}
