@@ -106,6 +106,9 @@ fn topp_bad_input_exits_2_with_one_line() {
         ("disc", json!({"s": [0.0, 1.0], "a": [[1.0], [1.0]], "b": [[0.0], [0.0]], "c": [[-1.0], [-1.0]], "discretization": "spline"}).to_string()),
         ("unknown", json!({"s": [0.0, 1.0], "a": [[1.0], [1.0]], "b": [[0.0], [0.0]], "c": [[-1.0], [-1.0]], "sd_stat": 1.0}).to_string()),
         ("notjson", "{".to_string()),
+        // Coefficients that overflow when squared (used to give "optimal" at the LP box).
+        ("huge", json!({"s": [0.0, 1.0], "a": [[1e200], [1e200]], "b": [[0.0], [0.0]], "c": [[-1e200], [-1e200]]}).to_string()),
+        ("span", json!({"s": [0.0, 1.7e308], "a": [[1.0], [1.0]], "b": [[0.0], [0.0]], "c": [[-1.0], [-1.0]]}).to_string()),
     ];
     for (name, text) in cases {
         let f = tmp(&format!("bad_{name}.json"), &text);

@@ -150,7 +150,7 @@ fn main() {
             None,
         )
         .unwrap();
-        let mut kf = f.to_constraints();
+        let kf = f.to_constraints();
         let worst = kf
             .rows()
             .iter()
@@ -163,7 +163,8 @@ fn main() {
                     / y.c.abs().max(1.0)
             })
             .fold(0.0, f64::max);
-        let fill_us = timed_us(2000, || f.fill(std::hint::black_box(kf.rows_mut())));
+        let mut buf = kf.rows().to_vec();
+        let fill_us = timed_us(2000, || f.fill(std::hint::black_box(&mut buf)).unwrap());
         let build_us = timed_us(2000, || {
             std::hint::black_box(
                 FactoredRows::from_samples(

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use crate::constraints::{CanonicalConstraints, Row};
 use crate::error::ToppError;
 use crate::factored::{eq14_vectors, FactoredRows};
-use crate::path::PathCurve;
+use crate::path::{AngularTerms, PathCurve, PathPoint};
 use crate::profile::Profile;
 use crate::solver::{solve_with, Solution, SolveOptions, Status, Workspace};
 
@@ -32,14 +32,16 @@ pub trait ContinuousConstraints {
 }
 
 /// Eq. 14 rows `U w(s)` from a face matrix `U`, a CoM path, a mass and gravity (point-mass
-/// model): a [`ContinuousConstraints`] for contact stability. Rows are in newtons when `U` has
-/// unit-norm rows.
+/// model unless angular-momentum terms are given with [`PathRows::with_angular`]): a
+/// [`ContinuousConstraints`] for contact stability. Rows are in newtons when `U` has unit-norm
+/// rows.
 #[derive(Debug, Clone)]
 pub struct PathRows<P> {
     u: Vec<[f64; 6]>,
     path: P,
     mass: f64,
     gravity: [f64; 3],
+    angular: Option<AngularTerms>,
 }
 
 impl<P: PathCurve> PathRows<P> {
@@ -62,7 +64,47 @@ impl<P: PathCurve> PathRows<P> {
             path,
             mass,
             gravity,
+            angular: None,
         })
+    }
+
+    /// Adds the angular-momentum terms `L' = l1 s'' + l2 s'^2` (whole-body model); their knots
+    /// must cover the path's domain.
+    ///
+    /// ```
+    /// use stance_topp::between::{ContinuousConstraints, PathRows};
+    /// use stance_topp::path::{AngularTerms, Polyline};
+    /// let path = Polyline::new(vec![0.0, 1.0], vec![[0.0; 3], [0.0, 0.0, 1.0]]).unwrap();
+    /// let l = AngularTerms::new(vec![0.0, 1.0], vec![[0.0, 2.0, 0.0]; 2], vec![[0.0; 3]; 2])
+    ///     .unwrap();
+    /// // Row on the torque about y: a = -U (m p_s, m p x p_s + l1) = -l1_y.
+    /// let r = PathRows::new(vec![[0.0, 0.0, 0.0, 0.0, 1.0, 0.0]], path, 1.0, [0.0, 0.0, -9.81])
+    ///     .unwrap()
+    ///     .with_angular(l)
+    ///     .unwrap();
+    /// let mut out = [stance_topp::Row::default()];
+    /// r.eval(0.5, &mut out);
+    /// assert_eq!(out[0].a, -2.0);
+    /// ```
+    pub fn with_angular(mut self, angular: AngularTerms) -> Result<Self, ToppError> {
+        let [p0, p1] = self.path.domain();
+        let [l0, l1] = angular.domain();
+        if l0 > p0 || l1 < p1 {
+            return Err(ToppError::InvalidValue {
+                what: "angular-momentum terms",
+                detail: format!(
+                    "their knots cover [{l0}, {l1}] but the path runs over [{p0}, {p1}]; give \
+                     samples from the start to the end of the path"
+                ),
+            });
+        }
+        self.angular = Some(angular);
+        Ok(self)
+    }
+
+    /// `[l1, l2]` at `s` (zero for the point-mass model).
+    fn angular_at(&self, s: f64) -> [[f64; 3]; 2] {
+        self.angular.as_ref().map_or([[0.0; 3]; 2], |l| l.eval(s))
     }
 
     /// The path.
@@ -88,9 +130,31 @@ impl<P: PathCurve> PathRows<P> {
     /// assert_eq!(r.on_grid(vec![0.0, 0.5, 1.0]).unwrap().num_points(), 3);
     /// ```
     pub fn on_grid(&self, s: Vec<f64>) -> Result<CanonicalConstraints, ToppError> {
-        Ok(
-            FactoredRows::from_path(&self.u, s, &self.path, self.mass, self.gravity)?
-                .to_constraints(),
+        Ok(self.factored_on_grid(s)?.to_constraints())
+    }
+
+    /// The factored rows on a grid (the path and angular terms sampled at every grid point).
+    ///
+    /// ```
+    /// use stance_topp::between::PathRows;
+    /// use stance_topp::path::Polyline;
+    /// let path = Polyline::new(vec![0.0, 1.0], vec![[0.0; 3], [1.0; 3]]).unwrap();
+    /// let r = PathRows::new(vec![[1.0; 6]], path, 1.0, [0.0, 0.0, -9.81]).unwrap();
+    /// assert_eq!(r.factored_on_grid(vec![0.0, 0.5, 1.0]).unwrap().num_rows(), 1);
+    /// ```
+    pub fn factored_on_grid(&self, s: Vec<f64>) -> Result<FactoredRows, ToppError> {
+        let samples: Vec<PathPoint> = s.iter().map(|&si| self.path.eval(si)).collect();
+        let angular: Option<Vec<[[f64; 3]; 2]>> = self
+            .angular
+            .as_ref()
+            .map(|l| s.iter().map(|&si| l.eval(si)).collect());
+        FactoredRows::from_samples(
+            &self.u,
+            s,
+            &samples,
+            self.mass,
+            self.gravity,
+            angular.as_deref(),
         )
     }
 }
@@ -102,7 +166,8 @@ impl<P: PathCurve> ContinuousConstraints for PathRows<P> {
 
     fn eval(&self, s: f64, out: &mut [Row]) {
         let q = self.path.eval(s);
-        let [wa, wb, wc] = eq14_vectors(&q, self.mass, self.gravity, [0.0; 3], [0.0; 3]);
+        let [l1, l2] = self.angular_at(s);
+        let [wa, wb, wc] = eq14_vectors(&q, self.mass, self.gravity, l1, l2);
         let dot = |r: &[f64; 6], v: &[f64; 6]| r.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         for (o, r) in out.iter_mut().zip(&self.u) {
             *o = Row {
@@ -144,7 +209,7 @@ pub struct BetweenReport {
 ///     fn num_rows(&self) -> usize { 1 }
 ///     fn eval(&self, s: f64, out: &mut [Row]) { out[0] = Row { a: 0.0, b: 1.0, c: -1.0 - 4.0 * s * (1.0 - s) }; }
 /// }
-/// let p = Profile::from_states(vec![0.0, 1.0], vec![1.0, 1.0], vec![0.0]);
+/// let p = Profile::from_states(vec![0.0, 1.0], vec![1.0, 1.0], vec![0.0]).unwrap();
 /// let (r, per) = check_between(&p, &Bump, 10, 1.0);
 /// assert!(r.max_violation <= 0.0 && per.len() == 1);
 /// ```

@@ -50,7 +50,7 @@ pub struct CanonicalConstraints {
     u_bounds: Option<Vec<[f64; 2]>>,
 }
 
-fn check_grid(s: &[f64]) -> Result<(), ToppError> {
+pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
     if s.len() < 2 {
         return Err(ToppError::GridTooShort { got: s.len() });
     }
@@ -60,6 +60,16 @@ fn check_grid(s: &[f64]) -> Result<(), ToppError> {
             point: i,
             row: 0,
             value: v,
+        });
+    }
+    let span = s[s.len() - 1] - s[0];
+    if !(2.0 * span).is_finite() {
+        return Err(ToppError::InvalidValue {
+            what: "s",
+            detail: format!(
+                "the grid's span s_N - s_0 = {span:e} overflows when doubled; rescale the path \
+                 parameter"
+            ),
         });
     }
     for i in 1..s.len() {
@@ -158,6 +168,17 @@ impl CanonicalConstraints {
                             point: i,
                             row: j,
                             value: v,
+                        });
+                    }
+                    if v.abs() > crate::tol::MAX_ABS_COEFFICIENT {
+                        return Err(ToppError::InvalidValue {
+                            what,
+                            detail: format!(
+                                "{v:e} at grid point {i}, row {j} exceeds {:e} in magnitude; \
+                                 rescale that row (dividing a row by a positive factor leaves \
+                                 its feasible set unchanged)",
+                                crate::tol::MAX_ABS_COEFFICIENT
+                            ),
                         });
                     }
                 }
@@ -311,17 +332,9 @@ impl CanonicalConstraints {
         &self.rows
     }
 
-    /// Mutable rows, for producers that refill the same shape in place (see
-    /// [`crate::factored`]); the caller keeps them finite.
-    ///
-    /// ```
-    /// use stance_topp::{CanonicalConstraints, Row};
-    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
-    /// let mut k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
-    /// k.rows_mut()[0].c = -2.0;
-    /// assert_eq!(k.rows_at(0)[0].c, -2.0);
-    /// ```
-    pub fn rows_mut(&mut self) -> &mut [Row] {
+    /// Mutable rows, for the factored form's refill (rows it writes are finite and bounded);
+    /// crate-private so that validated constraints cannot be made non-finite from outside.
+    pub(crate) fn rows_mut(&mut self) -> &mut [Row] {
         &mut self.rows
     }
 

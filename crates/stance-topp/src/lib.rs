@@ -86,10 +86,17 @@
 //!   `tol.max_x` and [`Solution::hit_box`] says so.
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
-//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes about 16 us for 101
-//!   grid points and 172 rows (11 us for 105 rows) on the test machine with the AVX2 + FMA
-//!   kernel (portable fallback elsewhere): above the 10 us the issue asked for; 18
-//!   multiply-adds per row at 4 lanes leave little room without AVX-512.
+//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes 14-15.5 us for 101
+//!   grid points and 172 rows (11.4-12.6 us for 137 rows) on the test machine with the AVX2 + FMA
+//!   kernel (portable fallback elsewhere), after exploiting the constant `m g` and vertical
+//!   `g` of eq. 14 (14 multiply-adds per row instead of 18): above the 10 us the issue asked
+//!   for. The fill is then bound by its 24-byte-per-row output (about 30 GB/s measured), so
+//!   10 us holds up to about 120 rows (`bench/peers/topp.md`).
+//! - Row coefficients (and the products of the factored form) are limited to
+//!   [`tol::MAX_ABS_COEFFICIENT`] (1e100) and the LP box to [`tol::MAX_BOX`]: the kernel squares
+//!   them. The zero-row test (`tol.zero_row`) is relative to `max(1, |c|)`, hence absolute for
+//!   small rows: a row whose coefficients are all below about 1e-12 is treated as a constant
+//!   row, whatever it means after rescaling; keep rows in natural units (newtons for the GIWC).
 //! - The greedy forward pass is time-optimal for the continuous problem as the grid is refined,
 //!   not exactly for the discretized one: when rows couple `u` and `x` (`b != 0`), a lower `x_i`
 //!   can allow a larger `u_i`. Measured against a one-shot LP (clarabel, maximizing

@@ -11,6 +11,9 @@
 //!   `h_{k-1} M_{k-1} + 2 (h_{k-1} + h_k) M_k + h_k M_{k+1} = 6 (d_k - d_{k-1})`,
 //!   `d_k = (P_{k+1} - P_k) / h_k`, closed by natural ends (`M = 0`) or clamped ends (given
 //!   tangents, for example zero to start or stop with the path tangent vanishing).
+//! - [`AngularTerms`]: the angular-momentum terms `l1(s)`, `l2(s)` of a whole-body motion
+//!   (`L' = l1 s'' + l2 s'^2`, `L` about the CoM; MATH.md section 6), sampled at knots and
+//!   linear in between (zero for a point-mass model).
 
 use crate::error::ToppError;
 
@@ -95,6 +98,70 @@ impl Polyline {
     pub fn new(knots: Vec<f64>, points: Vec<[f64; 3]>) -> Result<Self, ToppError> {
         check_waypoints(&knots, &points)?;
         Ok(Self { knots, points })
+    }
+}
+
+/// Angular-momentum terms `l1(s)`, `l2(s)` sampled at knots `s_k`, piecewise linear in between
+/// and constant beyond the ends (see the module docs). Units: `L` in N m s, so `l1` and `l2`
+/// in N m s per unit of `s` and per unit of `s` squared over time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AngularTerms {
+    l1: Polyline,
+    l2: Polyline,
+}
+
+impl AngularTerms {
+    /// The terms `l1[k]`, `l2[k]` at `knots[k]` (strictly increasing, at least 2, finite).
+    ///
+    /// ```
+    /// use stance_topp::path::AngularTerms;
+    /// let l = AngularTerms::new(vec![0.0, 1.0], vec![[0.0; 3], [2.0, 0.0, 0.0]],
+    ///     vec![[1.0; 3]; 2]).unwrap();
+    /// assert_eq!(l.eval(0.25), [[0.5, 0.0, 0.0], [1.0; 3]]);
+    /// assert_eq!(l.domain(), [0.0, 1.0]);
+    /// assert!(AngularTerms::new(vec![0.0, 1.0], vec![[0.0; 3]; 2], vec![[0.0; 3]]).is_err());
+    /// ```
+    pub fn new(knots: Vec<f64>, l1: Vec<[f64; 3]>, l2: Vec<[f64; 3]>) -> Result<Self, ToppError> {
+        for (what, got) in [
+            ("angular-momentum term l1 (one per knot)", l1.len()),
+            ("angular-momentum term l2 (one per knot)", l2.len()),
+        ] {
+            if got != knots.len() {
+                return Err(ToppError::Shape {
+                    what: what.into(),
+                    expected: knots.len(),
+                    got,
+                });
+            }
+        }
+        Ok(Self {
+            l1: Polyline::new(knots.clone(), l1)?,
+            l2: Polyline::new(knots, l2)?,
+        })
+    }
+
+    /// Knot range `[s_0, s_K]`.
+    ///
+    /// ```
+    /// use stance_topp::path::AngularTerms;
+    /// let l = AngularTerms::new(vec![0.5, 2.0], vec![[0.0; 3]; 2], vec![[0.0; 3]; 2]).unwrap();
+    /// assert_eq!(l.domain(), [0.5, 2.0]);
+    /// ```
+    pub fn domain(&self) -> [f64; 2] {
+        self.l1.domain()
+    }
+
+    /// `[l1(s), l2(s)]`.
+    ///
+    /// ```
+    /// use stance_topp::path::AngularTerms;
+    /// let l = AngularTerms::new(vec![0.0, 1.0], vec![[0.0; 3], [0.0, 4.0, 0.0]],
+    ///     vec![[0.0; 3]; 2]).unwrap();
+    /// assert_eq!(l.eval(0.5)[0], [0.0, 2.0, 0.0]);
+    /// assert_eq!(l.eval(7.0)[0], [0.0, 4.0, 0.0]); // constant beyond the ends
+    /// ```
+    pub fn eval(&self, s: f64) -> [[f64; 3]; 2] {
+        [self.l1.eval(s).p, self.l2.eval(s).p]
     }
 }
 

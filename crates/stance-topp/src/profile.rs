@@ -10,6 +10,7 @@
 //! `s(t) = s_i + sd_i tau + u_i tau^2 / 2`, `s'(t) = sd_i + u_i tau`, `s''(t) = u_i`.
 
 use crate::constraints::CanonicalConstraints;
+use crate::error::ToppError;
 use crate::solver::Discretization;
 
 /// A time-parameterized profile on the grid.
@@ -35,17 +36,63 @@ pub struct Sample {
 }
 
 impl Profile {
-    /// Builds the profile from the grid, the states `x_i` (`N + 1`, non-negative) and the
-    /// controls `u_i` (`N`), computing the times. `u` must satisfy
-    /// `x_{i+1} = x_i + 2 Delta_i u_i` (the solver guarantees it; here it is not re-checked).
+    /// Builds the profile from the grid (strictly increasing, at least 2 points), the states
+    /// `x_i` (`N + 1`, finite, `>= 0`) and the controls `u_i` (`N`, finite), computing the times.
+    /// `u` should satisfy `x_{i+1} = x_i + 2 Delta_i u_i` (the solver guarantees it; it is not
+    /// re-checked here: the times use `x`, the closed form inside an interval uses `u`).
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError`] when the shapes do not match or a value is not finite, negative (`x`) or
+    /// out of order (`s`).
     ///
     /// ```
     /// use stance_topp::Profile;
     /// // From rest, u = 1 over s in [0, 0.5]: x_1 = 1, time 1.
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// assert!((p.duration() - 1.0).abs() < 1e-15);
+    /// assert!(Profile::from_states(vec![0.0], vec![0.0], vec![]).is_err());
+    /// assert!(Profile::from_states(vec![0.0, 0.5], vec![0.0, -1.0], vec![1.0]).is_err());
     /// ```
-    pub fn from_states(s: Vec<f64>, x: Vec<f64>, u: Vec<f64>) -> Self {
+    pub fn from_states(s: Vec<f64>, x: Vec<f64>, u: Vec<f64>) -> Result<Self, ToppError> {
+        crate::constraints::check_grid(&s)?;
+        for (what, got, expected) in [
+            ("profile states x (one per grid point)", x.len(), s.len()),
+            (
+                "profile controls u (one per interval)",
+                u.len(),
+                s.len() - 1,
+            ),
+        ] {
+            if got != expected {
+                return Err(ToppError::Shape {
+                    what: what.into(),
+                    expected,
+                    got,
+                });
+            }
+        }
+        for (what, v) in [("x", &x), ("u", &u)] {
+            if let Some((i, &bad)) = v.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(ToppError::NotFinite {
+                    what,
+                    point: i,
+                    row: 0,
+                    value: bad,
+                });
+            }
+        }
+        if let Some((i, &bad)) = x.iter().enumerate().find(|(_, v)| **v < 0.0) {
+            return Err(ToppError::InvalidValue {
+                what: "x",
+                detail: format!("x[{i}] = {bad} < 0; x = s'^2 is never negative"),
+            });
+        }
+        Ok(Self::from_valid_states(s, x, u))
+    }
+
+    /// [`Self::from_states`] on data the solver produced (shapes and signs hold by construction).
+    pub(crate) fn from_valid_states(s: Vec<f64>, x: Vec<f64>, u: Vec<f64>) -> Self {
         let mut t = Vec::with_capacity(s.len());
         t.push(0.0);
         for i in 0..s.len() - 1 {
@@ -64,7 +111,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// assert_eq!(p.grid(), &[0.0, 0.5]);
     /// ```
     pub fn grid(&self) -> &[f64] {
@@ -75,7 +122,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// assert_eq!(p.x(), &[0.0, 1.0]);
     /// ```
     pub fn x(&self) -> &[f64] {
@@ -86,7 +133,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// assert_eq!(p.u(), &[1.0]);
     /// ```
     pub fn u(&self) -> &[f64] {
@@ -97,7 +144,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// assert_eq!(p.times()[1], 1.0);
     /// ```
     pub fn times(&self) -> &[f64] {
@@ -108,7 +155,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 4.0], vec![4.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 4.0], vec![4.0]).unwrap();
     /// assert_eq!(p.sd(), vec![0.0, 2.0]);
     /// ```
     pub fn sd(&self) -> Vec<f64> {
@@ -119,7 +166,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 1.0], vec![0.0, 0.0], vec![0.0]);
+    /// let p = Profile::from_states(vec![0.0, 1.0], vec![0.0, 0.0], vec![0.0]).unwrap();
     /// assert!(p.duration().is_infinite());
     /// ```
     pub fn duration(&self) -> f64 {
@@ -130,7 +177,7 @@ impl Profile {
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 1.0, 2.0], vec![0.0, 2.0, 0.0], vec![1.0, -1.0]);
+    /// let p = Profile::from_states(vec![0.0, 1.0, 2.0], vec![0.0, 2.0, 0.0], vec![1.0, -1.0]).unwrap();
     /// assert_eq!(p.first_stall(), None);
     /// ```
     pub fn first_stall(&self) -> Option<usize> {
@@ -143,7 +190,7 @@ impl Profile {
     /// ```
     /// # use stance_topp::Profile;
     /// // u = 1 from rest over [0, 0.5]: s(t) = t^2 / 2.
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// let q = p.at(0.5);
     /// assert!((q.s - 0.125).abs() < 1e-15 && (q.sd - 0.5).abs() < 1e-15 && q.sdd == 1.0);
     /// ```
@@ -168,27 +215,55 @@ impl Profile {
         Sample { t, s, sd, sdd: ui }
     }
 
-    /// Samples the motion every `dt` from 0 to the duration (the end point included). Returns
-    /// `None` when `dt` is not a positive finite number or the duration is infinite.
+    /// Samples the motion every `dt` from 0 to the duration (the end point included).
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::InvalidValue`] when `dt` is not a positive finite number, the duration is
+    /// infinite (a stalled profile), or the samples would exceed
+    /// [`crate::tol::MAX_RESAMPLE_POINTS`] (give a larger `dt`).
     ///
     /// ```
     /// # use stance_topp::Profile;
-    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]);
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
     /// let v = p.resample(0.25).unwrap();
     /// assert_eq!(v.len(), 5);
     /// assert!((v[4].s - 0.5).abs() < 1e-15);
+    /// assert!(p.resample(0.0).is_err() && p.resample(1e-300).is_err());
     /// ```
-    pub fn resample(&self, dt: f64) -> Option<Vec<Sample>> {
+    pub fn resample(&self, dt: f64) -> Result<Vec<Sample>, ToppError> {
         let t_end = self.duration();
-        if !(dt > 0.0 && dt.is_finite() && t_end.is_finite()) {
-            return None;
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(ToppError::InvalidValue {
+                what: "time step",
+                detail: format!("dt = {dt}; give a finite time step > 0"),
+            });
         }
-        let steps = (t_end / dt).floor() as usize;
+        if !t_end.is_finite() {
+            return Err(ToppError::InvalidValue {
+                what: "time step",
+                detail: "the profile stalls (infinite duration): there is nothing to resample"
+                    .into(),
+            });
+        }
+        let steps = (t_end / dt).floor();
+        if steps + 2.0 > crate::tol::MAX_RESAMPLE_POINTS as f64 {
+            return Err(ToppError::InvalidValue {
+                what: "time step",
+                detail: format!(
+                    "dt = {dt} s over a duration of {t_end} s gives more than {} samples; give \
+                     dt >= {:e}",
+                    crate::tol::MAX_RESAMPLE_POINTS,
+                    t_end / (crate::tol::MAX_RESAMPLE_POINTS - 2) as f64
+                ),
+            });
+        }
+        let steps = steps as usize;
         let mut out: Vec<Sample> = (0..=steps).map(|k| self.at(k as f64 * dt)).collect();
         if out.last().is_some_and(|q| q.t < t_end) {
             out.push(self.at(t_end));
         }
-        Some(out)
+        Ok(out)
     }
 
     /// Residuals of every row: `a u + b x + c` (in the rows' own unit; `<= 0` means

@@ -57,3 +57,29 @@ impl Default for Tolerances {
 /// [`crate::between::refine_until`], as a fraction of the scale the caller gives (for contact stability,
 /// `m |g|`). Unit: dimensionless. Default `0.01` (1 % of the robot's weight), the figure.
 pub const DEFAULT_BETWEEN_GRID_FRACTION: f64 = 0.01;
+
+/// Largest number of samples [`crate::Profile::resample`] produces before it refuses the time
+/// step. Unit: samples. Default `1_000_000` (32 MB of samples): a thousand times a typical
+/// resampling (a few seconds at 1 ms); beyond it a tiny `dt` is a mistake that would exhaust
+/// memory rather than a request.
+pub const MAX_RESAMPLE_POINTS: usize = 1_000_000;
+
+/// An LP optimum counts as lying on a side of the bounding box ([`Tolerances::max_u`],
+/// [`Tolerances::max_x`]), and [`crate::Solution::hit_box`] is set, when it is within this
+/// fraction of the side. Unit: dimensionless (relative). Default `1e-12`: the optimum on a box
+/// side is computed from that side to round-off (about 1e-16 relative); any real constraint
+/// stops it much farther away.
+pub const BOX_TOUCH: f64 = 1e-12;
+
+/// Largest absolute value of a row coefficient `a`, `b`, `c` (and of the products of eq. 14's
+/// factored form) that the crate accepts. Unit: that of the rows. Default `1e100`: the LP
+/// kernel squares coefficients and multiplies them by squared points of the box (up to
+/// [`MAX_BOX`]), which must stay below the largest double (about 1.8e308); rows beyond it
+/// overflowed and were then accepted everywhere. Scaling a row by a positive factor does not
+/// change its feasible set, so rescale rows that exceed it.
+pub const MAX_ABS_COEFFICIENT: f64 = 1e100;
+
+/// Largest bounding box [`Tolerances::max_u`], [`Tolerances::max_x`] accepted. Unit:
+/// `1/time^2`. Default `1e30`: with coefficients up to [`MAX_ABS_COEFFICIENT`], the kernel's
+/// squared products stay below about 1e260.
+pub const MAX_BOX: f64 = 1e30;

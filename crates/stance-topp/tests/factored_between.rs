@@ -150,8 +150,92 @@ fn tangent_vanishing_at_the_start() {
             x_lp.iter().map(|v| v.max(0.0)).collect(),
             vec![0.0; 100],
         )
+        .unwrap()
         .duration();
         println!("tangent-vanishing {disc:?}: duration {d:.8}, one-shot LP profile {d_lp:.8}");
         assert!(((d - d_lp) / d_lp).abs() < 1e-5);
+    }
+}
+
+mod angular {
+    use proptest::prelude::*;
+    use stance_topp::between::{ContinuousConstraints, PathRows};
+    use stance_topp::path::{AngularTerms, PathCurve, Polyline};
+    use stance_topp::Row;
+
+    /// Round-off allowed between the eq. 14 rows of the crate and the naive formula written
+    /// here, relative to the sum of the magnitudes of the products (plus 1 N): each side rounds
+    /// about ten times at `EPSILON / 2`; 1e-14 (about 45 `EPSILON`) bounds the difference.
+    const ROWS_AGREE: f64 = 1e-14;
+
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    proptest! {
+        /// With angular-momentum samples, the rows on a grid (factored fill) and the continuous
+        /// rows (check between grid points) both equal the formula
+        /// `a = -U (m p_s, m p x p_s + l1)`, `b = -U (m p_ss, m p x p_ss + l2)`,
+        /// `c = U (m g, m p x g)` with `l1`, `l2` interpolated linearly here, independently.
+        #[test]
+        fn angular_terms_enter_a_and_b_as_in_eq14(
+            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..12),
+            pts in prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), 2..5),
+            l in prop::collection::vec(prop::array::uniform2(prop::array::uniform3(-5.0f64..5.0)), 3),
+            grid_n in 2usize..20,
+        ) {
+            let knots: Vec<f64> = (0..pts.len()).map(|i| i as f64).collect();
+            let s_end = knots[knots.len() - 1];
+            let path = Polyline::new(knots, pts).unwrap();
+            let l_knots = vec![0.0, 0.3 * s_end, s_end];
+            let l1: Vec<[f64; 3]> = l.iter().map(|v| v[0]).collect();
+            let l2: Vec<[f64; 3]> = l.iter().map(|v| v[1]).collect();
+            let (m, g) = (38.0, [0.1, -0.2, -9.81]);
+            let rows = PathRows::new(u.clone(), path.clone(), m, g)
+                .unwrap()
+                .with_angular(AngularTerms::new(l_knots.clone(), l1.clone(), l2.clone()).unwrap())
+                .unwrap();
+            let grid: Vec<f64> = (0..=grid_n).map(|i| s_end * i as f64 / grid_n as f64).collect();
+            let k = rows.on_grid(grid.clone()).unwrap();
+            let mut cont = vec![Row::default(); u.len()];
+            for (i, &s) in grid.iter().enumerate() {
+                let q = path.eval(s);
+                let seg = if s <= l_knots[1] { 0 } else { 1 };
+                let t = (s - l_knots[seg]) / (l_knots[seg + 1] - l_knots[seg]);
+                let lerp = |v: &[[f64; 3]]| [0, 1, 2].map(|d| v[seg][d] + t * (v[seg + 1][d] - v[seg][d]));
+                let (la, lb) = (lerp(&l1), lerp(&l2));
+                let wa = { let c = cross(q.p, q.ps); [0, 1, 2, 3, 4, 5].map(|j| if j < 3 { -m * q.ps[j] } else { -(m * c[j - 3] + la[j - 3]) }) };
+                let wb = { let c = cross(q.p, q.pss); [0, 1, 2, 3, 4, 5].map(|j| if j < 3 { -m * q.pss[j] } else { -(m * c[j - 3] + lb[j - 3]) }) };
+                let wc = { let c = cross(q.p, g); [0, 1, 2, 3, 4, 5].map(|j| if j < 3 { m * g[j] } else { m * c[j - 3] }) };
+                rows.eval(s, &mut cont);
+                for (j, r) in u.iter().enumerate() {
+                    let dot = |w: &[f64; 6]| (0..6).map(|q| r[q] * w[q]).sum::<f64>();
+                    let mag = |w: &[f64; 6]| (0..6).map(|q| (r[q] * w[q]).abs()).sum::<f64>() + 1.0;
+                    let want = [dot(&wa), dot(&wb), dot(&wc)];
+                    let scale = [mag(&wa), mag(&wb), mag(&wc)];
+                    for got in [k.rows_at(i)[j], cont[j]] {
+                        for ((g, e), sc) in [got.a, got.b, got.c].iter().zip(want).zip(scale) {
+                            prop_assert!((g - e).abs() <= ROWS_AGREE * sc, "s {}: {} vs {}", s, g, e);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Samples that do not cover the path are an error that says so.
+    #[test]
+    fn angular_samples_must_cover_the_path() {
+        let path = Polyline::new(vec![0.0, 2.0], vec![[0.0; 3], [1.0; 3]]).unwrap();
+        let l = AngularTerms::new(vec![0.0, 1.0], vec![[0.0; 3]; 2], vec![[0.0; 3]; 2]).unwrap();
+        let e = PathRows::new(vec![[1.0; 6]], path, 1.0, [0.0, 0.0, -9.81])
+            .unwrap()
+            .with_angular(l)
+            .unwrap_err();
+        assert!(e.to_string().contains("cover"), "{e}");
     }
 }

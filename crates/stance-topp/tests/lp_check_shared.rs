@@ -26,6 +26,7 @@ fn shared_instances_match_the_one_shot_lp() {
                 x_lp.iter().map(|v| v.max(0.0)).collect(),
                 vec![0.0; 100],
             )
+            .unwrap()
             .duration();
             let d = sol.duration().unwrap();
             println!(

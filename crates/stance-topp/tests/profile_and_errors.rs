@@ -27,7 +27,7 @@ proptest! {
             }
         }
         let u: Vec<f64> = (0..n - 1).map(|i| (x[i + 1] - x[i]) / (2.0 * (s[i + 1] - s[i]))).collect();
-        let p = Profile::from_states(s.clone(), x.clone(), u);
+        let p = Profile::from_states(s.clone(), x.clone(), u).unwrap();
         prop_assert!(p.duration().is_finite());
         for i in 0..n {
             let q = p.at(p.times()[i]);
@@ -143,4 +143,142 @@ fn bounds_on_x_and_u_are_enforced() {
         .all(|&u| (-1.0 - 1e-12..=1.0 + 1e-12).contains(&u)));
     // Accelerate over 0.125, cruise at 0.5 over 1.75, brake over 0.125: 0.5 + 3.5 + 0.5.
     assert!((p.duration() - 4.5).abs() < 1e-9, "{}", p.duration());
+}
+
+/// A tiny time step used to saturate the sample count (`usize::MAX` samples: a capacity
+/// overflow panic or an exhausted memory); it must be an error that names a usable `dt`.
+#[test]
+fn resample_with_tiny_dt_is_an_error_not_an_allocation() {
+    let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
+    for dt in [1e-300, 1e-9, f64::MIN_POSITIVE] {
+        let e = p.resample(dt).unwrap_err();
+        assert!(e.to_string().contains("give dt >="), "{e}");
+    }
+    // The largest allowed count still works (and is exactly at the limit's side).
+    let dt = p.duration() / (stance_topp::tol::MAX_RESAMPLE_POINTS - 2) as f64;
+    assert!(p.resample(dt * 1.01).unwrap().len() <= stance_topp::tol::MAX_RESAMPLE_POINTS);
+    for dt in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(p.resample(dt).is_err(), "dt {dt}");
+    }
+    // A stalled profile (infinite duration) has nothing to resample.
+    let stalled = Profile::from_states(vec![0.0, 1.0], vec![0.0, 0.0], vec![0.0]).unwrap();
+    assert!(stalled
+        .resample(0.1)
+        .unwrap_err()
+        .to_string()
+        .contains("stalls"));
+}
+
+/// `Profile::from_states` is public: malformed caller data (short grid, wrong lengths, NaN,
+/// negative x, unordered grid) used to index out of bounds or produce NaN times.
+#[test]
+fn profile_from_bad_states_is_an_error_not_a_panic() {
+    let ok = |s: Vec<f64>, x: Vec<f64>, u: Vec<f64>| Profile::from_states(s, x, u);
+    assert!(matches!(
+        ok(vec![], vec![], vec![]),
+        Err(ToppError::GridTooShort { got: 0 })
+    ));
+    assert!(matches!(
+        ok(vec![0.0, 1.0], vec![0.0], vec![0.0]),
+        Err(ToppError::Shape {
+            expected: 2,
+            got: 1,
+            ..
+        })
+    ));
+    assert!(matches!(
+        ok(vec![0.0, 1.0], vec![0.0, 1.0], vec![]),
+        Err(ToppError::Shape {
+            expected: 1,
+            got: 0,
+            ..
+        })
+    ));
+    assert!(matches!(
+        ok(vec![0.0, 1.0], vec![0.0, f64::NAN], vec![0.5]),
+        Err(ToppError::NotFinite {
+            what: "x",
+            point: 1,
+            ..
+        })
+    ));
+    let e = ok(vec![0.0, 1.0], vec![0.0, -1.0], vec![0.5]).unwrap_err();
+    assert!(e.to_string().contains("never negative"), "{e}");
+    assert!(matches!(
+        ok(vec![1.0, 0.0], vec![1.0, 1.0], vec![0.0]),
+        Err(ToppError::GridNotIncreasing { .. })
+    ));
+}
+
+/// `u + x <= 1`, `u >= -1` on `[0, 1]` (3 grid points), every row multiplied by `scale`.
+fn scaled_rows(scale: f64, s: Vec<f64>) -> Result<CanonicalConstraints, ToppError> {
+    let rows = [
+        Row {
+            a: scale,
+            b: scale,
+            c: -scale,
+        },
+        Row {
+            a: -scale,
+            b: 0.0,
+            c: -scale,
+        },
+    ];
+    let n = s.len();
+    CanonicalConstraints::new(s, (0..=n).map(|i| 2 * i).collect(), rows.repeat(n))
+}
+
+/// Rows with coefficients near 1e160 overflowed in the LP kernel (`a^2 + b^2 = inf`), which then
+/// accepted every point: `stance topp` answered "optimal" at the bounding box (s' = 1e4) with
+/// rows violated by 1e8. Scaling a row by a positive factor does not change its feasible set,
+/// so the answer must not depend on it; beyond the limit, an error that says to rescale.
+#[test]
+fn huge_coefficients_are_an_error_not_a_wrong_optimum() {
+    let s = vec![0.0, 0.5, 1.0];
+    let reference = solve(
+        &scaled_rows(1.0, s.clone()).unwrap(),
+        &SolveOptions::default(),
+    )
+    .unwrap()
+    .duration()
+    .unwrap();
+    assert!((reference - 2.0).abs() < 1e-12, "{reference}");
+    // (Rows uniformly below `tol.zero_row` are treated as constant rows by design: no tiny
+    // scale here.)
+    for scale in [1e-6, 1e90, stance_topp::tol::MAX_ABS_COEFFICIENT] {
+        let k = scaled_rows(scale, s.clone()).unwrap();
+        let d = solve(&k, &SolveOptions::default())
+            .unwrap()
+            .duration()
+            .unwrap();
+        assert!((d - reference).abs() < 1e-12, "scale {scale:e}: {d}");
+    }
+    for scale in [1e160, 1e300] {
+        let e = scaled_rows(scale, s.clone()).unwrap_err();
+        assert!(e.to_string().contains("rescale"), "{e}");
+    }
+}
+
+/// A grid whose span overflows when doubled (2 Delta = inf) gave a stalled profile with a
+/// positive speed; the LP box must stay within what the kernel can square.
+#[test]
+fn overflowing_grid_span_and_box_are_errors() {
+    let e = scaled_rows(1.0, vec![0.0, 1e300, 1.7e308]).unwrap_err();
+    assert!(e.to_string().contains("span"), "{e}");
+    let k = scaled_rows(1.0, vec![0.0, 0.5, 1.0]).unwrap();
+    let mut opts = SolveOptions::default();
+    opts.tol.max_x = 1e300;
+    let e = solve(&k, &opts).unwrap_err();
+    assert!(e.to_string().contains("max_x"), "{e}");
+}
+
+/// Finite `U` and eq. 14 vectors whose products exceed the coefficient limit bypassed the
+/// check of the canonical rows (the fill writes them after validation).
+#[test]
+fn factored_rows_whose_products_overflow_are_an_error() {
+    use stance_topp::factored::FactoredRows;
+    let u = [[1e60, 0.0, 0.0, 0.0, 0.0, 0.0]];
+    let w = vec![[[1e60; 6], [0.0; 6], [-1.0; 6]]; 2];
+    let e = FactoredRows::new(&u, vec![0.0, 1.0], w).unwrap_err();
+    assert!(e.to_string().contains("rescale"), "{e}");
 }

@@ -129,6 +129,7 @@ fn duration_of(k: &CanonicalConstraints, x: &[f64]) -> f64 {
         x.iter().map(|v| v.max(0.0)).collect(),
         vec![0.0; n - 1],
     )
+    .unwrap()
     .duration()
 }
 

@@ -4,12 +4,13 @@
 /// value, not an error).
 #[derive(Debug, thiserror::Error)]
 pub enum StanceError {
-    /// The scene or its contacts are invalid.
+    /// The scene or its contacts are invalid. (The inner error is part of the message and is not
+    /// reported again as a `source`, so that an error chain prints it once.)
     #[error("invalid scene: {0}")]
-    Contact(#[from] stance_contact::ContactError),
-    /// The path, grid or rows are invalid.
+    Contact(stance_contact::ContactError),
+    /// The path, grid or rows are invalid (the inner error is in the message, not a `source`).
     #[error("invalid retiming input: {0}")]
-    Topp(#[from] stance_topp::ToppError),
+    Topp(stance_topp::ToppError),
     /// A motion file field is invalid.
     #[error("invalid motion: {0}")]
     BadMotion(String),
@@ -21,4 +22,16 @@ pub enum StanceError {
         /// The known names.
         known: String,
     },
+}
+
+impl From<stance_contact::ContactError> for StanceError {
+    fn from(e: stance_contact::ContactError) -> Self {
+        StanceError::Contact(e)
+    }
+}
+
+impl From<stance_topp::ToppError> for StanceError {
+    fn from(e: stance_topp::ToppError) -> Self {
+        StanceError::Topp(e)
+    }
 }

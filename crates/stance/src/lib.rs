@@ -31,9 +31,14 @@
 //!
 //! # Limitations
 //!
-//! - [`retime`] uses the point-mass model (`L' = 0`) and one stance per motion; chaining
-//!   segments across stance changes is left to the caller (see
-//!   [`stance_topp::end_speed_range`]).
+//! - [`retime::retime`] holds one stance for the whole motion: split a multi-stance motion at
+//!   the contact switches and chain the segments through their end speeds yourself.
+//! - The CoM path is a polyline or a clamped cubic spline through waypoints (rest to rest: the
+//!   spline's end tangents are zero); other paths go through [`stance_topp`] directly.
+//! - Without `angular_momentum` samples the model is a point mass (`L' = 0`); with them, `l1`
+//!   and `l2` are interpolated linearly between samples, so between samples the retiming is
+//!   only as good as that interpolation (sample at least at the grid's resolution where they
+//!   vary fast, e.g. from [`stance_robot::path_terms_along`]).
 //! - The stance's GIWC must be full-dimensional for retiming (a lower-dimensional GIWC, e.g.
 //!   point contacts only, is reported as an error naming the equations).
 //! - The whole-body pipeline of the paper (IK along the path, `l1`, `l2` from the robot model,

@@ -4,12 +4,15 @@
 //!
 //! A stance gives, once, the face form `U_stance` of its gravito-inertial wrench cone
 //! (`U_stance w_GI <= 0`, wrench at the world origin; [`stance_contact::Stance::u_stance`]). Along
-//! a CoM path `p(s)` (point-mass model, `L' = 0`), `p'' = p_s s'' + p_ss s'^2`, so the contact
-//! stability condition becomes, with `u = s''` and `x = s'^2`, the rows
+//! a CoM path `p(s)`, `p'' = p_s s'' + p_ss s'^2`, and for a whole-body motion the rate of the
+//! angular momentum about the CoM is `L' = l1(s) s'' + l2(s) s'^2` (optional samples,
+//! [`AngularSpec`]; `L' = 0` for the point-mass model), so the contact stability condition
+//! becomes, with `u = s''` and `x = s'^2`, the rows
 //!
 //! ```text
-//!     a(s) u + b(s) x + c(s) <= 0                                      (13)
-//!     a = -U (m p_s, m p x p_s),  b = -U (m p_ss, m p x p_ss),  c = U (m g, m p x g)   (14)
+//!     a(s) u + b(s) x + c(s) <= 0                                                     (13)
+//!     a = -U (m p_s, m p x p_s + l1),  b = -U (m p_ss, m p x p_ss + l2),
+//!     c = U (m g, m p x g)                                                            (14)
 //! ```
 //!
 //! produced by [`stance_topp::factored`] and solved by reachability analysis
@@ -25,9 +28,8 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use stance_contact::{GiwcOptions, Scene};
 use stance_topp::between::{check_between, refine_until, PathRows};
-use stance_topp::factored::FactoredRows;
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
-use stance_topp::path::{CubicSpline, PathCurve, Polyline, SplineEnds};
+use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
 use stance_topp::{
     solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Tolerances, Workspace,
 };
@@ -36,13 +38,36 @@ use crate::StanceError;
 
 /// Where the scene of a motion comes from: a built-in example by name
 /// (`stance_contact::examples::NAMES`) or a full scene.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+///
+/// Read from a string (a name) or a map (a scene, whose own error is reported: an untagged
+/// enum would only say that the data matched no variant).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum SceneRef {
     /// A built-in example scene, e.g. `"box-climbing"`.
     Named(String),
     /// A scene given in full (the scene-file format).
     Inline(Box<Scene>),
+}
+
+impl<'de> Deserialize<'de> for SceneRef {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = SceneRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a built-in example name (string) or a scene (map)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<SceneRef, E> {
+                Ok(SceneRef::Named(v.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<SceneRef, A::Error> {
+                Scene::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(|s| SceneRef::Inline(Box::new(s)))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
 }
 
 impl SceneRef {
@@ -95,7 +120,12 @@ pub struct PathSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DiscretizationName {
-    /// Rows of grid point `i` on `(u_i, x_i)` only.
+    /// Rows of grid point `i` on `(u_i, x_i)` only. Beware with the default spline (zero
+    /// tangent at both ends): the rows at `s_0` do not involve `s''`, so the first interval's
+    /// acceleration is bounded only by the next grid point's speed and the profile bounces
+    /// (measured on a 10 cm sway in double support at 101 points: `s'` goes 0, 2.2, 0 over the
+    /// first three points, and the contact wrench is violated by 23 % of the weight between
+    /// grid points, as `between` reports; 4e-7 % with interpolation).
     Collocation,
     /// Also the rows of grid point `i + 1` at `x_i + 2 Delta u_i` (default: tighter between
     /// grid points).
@@ -140,6 +170,27 @@ pub struct MotionSpec {
     /// Resample the retimed trajectory at this time step (s); none by default.
     #[serde(default)]
     pub dt: Option<f64>,
+    /// Angular-momentum terms of a whole-body motion (`L' = l1 s'' + l2 s'^2`); none by default
+    /// (point-mass model, `L' = 0`).
+    #[serde(default)]
+    pub angular_momentum: Option<AngularSpec>,
+}
+
+/// Samples of the angular-momentum terms `l1(s)`, `l2(s)` (about the CoM, world axes; MATH.md
+/// section 6: `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`), linear between
+/// samples. Units: N m s per unit of `s` (`l1`) and per unit of `s` squared (`l2`), so that
+/// `l1 s'' + l2 s'^2` is in N m.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AngularSpec {
+    /// Path parameters of the samples (strictly increasing, covering the path); default: the
+    /// path's knots (one sample per waypoint).
+    #[serde(default)]
+    pub s: Option<Vec<f64>>,
+    /// `l1` at each sample.
+    pub l1: Vec<[f64; 3]>,
+    /// `l2` at each sample.
+    pub l2: Vec<[f64; 3]>,
 }
 
 /// A curve built from a [`PathSpec`].
@@ -177,11 +228,13 @@ impl PathSpec {
     /// assert_eq!(spec.curve().unwrap().domain(), [0.0, 1.0]);
     /// ```
     pub fn curve(&self) -> Result<ComPath, StanceError> {
-        let n = self.waypoints.len();
-        let knots = match &self.knots {
-            Some(k) => k.clone(),
-            None => (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect(),
-        };
+        if self.waypoints.len() < 2 {
+            return Err(StanceError::BadMotion(format!(
+                "path.waypoints has {} point(s); give at least 2 CoM waypoints",
+                self.waypoints.len()
+            )));
+        }
+        let knots = self.knots();
         Ok(match self.interpolation {
             Interpolation::Polyline => {
                 ComPath::Polyline(Polyline::new(knots, self.waypoints.clone())?)
@@ -198,12 +251,31 @@ impl PathSpec {
     }
 }
 
+impl PathSpec {
+    /// The knots: as given, or evenly spaced on `[0, 1]`.
+    ///
+    /// ```
+    /// use stance::retime::{Interpolation, PathSpec};
+    /// let spec = PathSpec { waypoints: vec![[0.0; 3]; 3], knots: None,
+    ///     interpolation: Interpolation::Polyline };
+    /// assert_eq!(spec.knots(), vec![0.0, 0.5, 1.0]);
+    /// ```
+    pub fn knots(&self) -> Vec<f64> {
+        let n = self.waypoints.len();
+        match &self.knots {
+            Some(k) => k.clone(),
+            None => (0..n).map(|i| i as f64 / (n.max(2) - 1) as f64).collect(),
+        }
+    }
+}
+
 /// The largest violation of the contact-stability rows between grid points.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Between {
     /// Largest row value (N; <= 0 means satisfied) over the finer grid.
     pub max_violation_newtons: f64,
-    /// The same as a fraction of the weight `m |g|`.
+    /// The same as a fraction of the weight `m |g|` (not a number, `null` in JSON, for a
+    /// zero gravity).
     pub fraction_of_weight: f64,
     /// Path parameter where it occurs.
     pub at_s: f64,
@@ -250,7 +322,8 @@ pub struct Retiming {
     pub sd: Vec<f64>,
     /// Path acceleration `s''` on each interval (empty without a profile).
     pub sdd: Vec<f64>,
-    /// Time at the grid points (empty without a profile).
+    /// Time at the grid points (empty without a profile; one per grid point, infinite (`null`
+    /// in JSON) after the interval where a stalled profile stops).
     pub t: Vec<f64>,
     /// CoM at the grid points.
     pub com: Vec<[f64; 3]>,
@@ -263,6 +336,12 @@ pub struct Retiming {
     pub rows_per_point: usize,
     /// Whether the GIWC conversion certified its face form.
     pub giwc_certified: bool,
+    /// Whether the profile reached the solver's speed box (`s'^2` = `tol.max_x`, 1e8): the rows
+    /// leave the path speed unbounded there (for example a CoM path that does not move, or knots
+    /// spanning a huge range of `s`), so the box, not contact stability, decided the duration.
+    /// (The acceleration box is reached routinely where the path tangent vanishes, at the ends
+    /// of a rest-to-rest spline, and is not reported.)
+    pub speed_at_box: bool,
     /// Violation between grid points (of the final grid).
     pub between: Option<Between>,
     /// What the refinement did, when asked.
@@ -317,6 +396,35 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
             )));
         }
     }
+    if spec.grid_points > crate::tol::MAX_REFINED_GRID_POINTS {
+        return Err(StanceError::BadMotion(format!(
+            "grid_points is {}; give at most {} (or ask for max_violation_fraction to refine \
+             only where needed)",
+            spec.grid_points,
+            crate::tol::MAX_REFINED_GRID_POINTS
+        )));
+    }
+    if !(1..=crate::tol::MAX_SAMPLES_PER_INTERVAL).contains(&spec.samples_per_interval) {
+        return Err(StanceError::BadMotion(format!(
+            "samples_per_interval is {}; give 1 to {}",
+            spec.samples_per_interval,
+            crate::tol::MAX_SAMPLES_PER_INTERVAL
+        )));
+    }
+    if let Some(dt) = spec.dt {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "dt is {dt}; give a finite time step > 0"
+            )));
+        }
+    }
+    if let Some(bound) = spec.max_violation_fraction {
+        if !(bound.is_finite() && bound > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "max_violation_fraction is {bound}; give a finite fraction > 0 (e.g. 0.01)"
+            )));
+        }
+    }
     let scene = spec.scene.scene()?;
     let curve = spec.path.curve()?;
     let [s0, s1] = curve.domain();
@@ -347,9 +455,29 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
         .collect();
 
+    // Knots too close together (or waypoints too far apart) overflow the path's derivatives:
+    // say so rather than report a non-finite row.
+    for &s in [s0, s1].iter().chain(&grid) {
+        let q = curve.eval(s);
+        if q.p
+            .iter()
+            .chain(&q.ps)
+            .chain(&q.pss)
+            .any(|v| !v.is_finite())
+        {
+            return Err(StanceError::BadMotion(format!(
+                "the CoM path or its derivatives are not finite at s = {s}: the knots are too \
+                 close together for the waypoints' distances; spread the knots (e.g. over [0, 1])"
+            )));
+        }
+    }
+    let mut rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
+    if let Some(l) = &spec.angular_momentum {
+        let knots = l.s.clone().unwrap_or_else(|| spec.path.knots());
+        rows = rows.with_angular(AngularTerms::new(knots, l.l1.clone(), l.l2.clone())?)?;
+    }
     let t1 = Instant::now();
-    let factored = FactoredRows::from_path(&u, grid.clone(), &curve, scene.mass, scene.gravity)?;
-    let k = factored.to_constraints();
+    let k = rows.factored_on_grid(grid.clone())?.to_constraints();
     let t_abc = t1.elapsed();
 
     let disc = match spec.discretization {
@@ -365,15 +493,16 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let t_topp = t2.elapsed();
 
     let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
-    let rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
+    if spec.max_violation_fraction.is_some() && weight <= 0.0 {
+        return Err(StanceError::BadMotion(format!(
+            "max_violation_fraction is a fraction of the weight m |g|, but the scene's gravity \
+             is {:?}; drop max_violation_fraction or give a non-zero gravity",
+            scene.gravity
+        )));
+    }
     let mut k_final = k;
     let mut refinement = None;
     if let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) {
-        if !(bound.is_finite() && bound > 0.0) {
-            return Err(StanceError::BadMotion(format!(
-                "max_violation_fraction is {bound}; give a finite fraction > 0 (e.g. 0.01)"
-            )));
-        }
         let rep = refine_until(
             &rows,
             grid,
@@ -401,6 +530,11 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         Status::StartOutsideControllable { .. } => Some(0),
         Status::Optimal => None,
     };
+    let speed_at_box = sol.profile.as_ref().is_some_and(|p| {
+        p.x()
+            .iter()
+            .any(|&x| x >= opts.tol.max_x * (1.0 - stance_topp::tol::BOX_TOUCH))
+    });
     let s_final = k_final.grid().to_vec();
     let com = s_final.iter().map(|&s| curve.eval(s).p).collect();
     let feasible_sets = (0..s_final.len())
@@ -409,19 +543,15 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let (between, sd, sdd, t, samples) = match &sol.profile {
         Some(p) => {
             let (rep, _) = check_between(p, &rows, spec.samples_per_interval, weight);
+            // A stalled profile (infinite duration) has no finite-time trajectory to sample.
             let samples = match spec.dt {
-                Some(dt) if dt.is_finite() && dt > 0.0 => p
+                Some(dt) if p.duration().is_finite() => p
                     .resample(dt)
-                    .unwrap_or_default()
+                    .map_err(|e| StanceError::BadMotion(format!("dt: {e}")))?
                     .iter()
                     .map(|q| [q.t, q.s, q.sd, q.sdd])
                     .collect(),
-                Some(dt) => {
-                    return Err(StanceError::BadMotion(format!(
-                        "dt is {dt}; give a finite time step > 0"
-                    )))
-                }
-                None => Vec::new(),
+                _ => Vec::new(),
             };
             (
                 Some(Between {
@@ -431,11 +561,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
                 }),
                 p.sd(),
                 p.u().to_vec(),
-                p.times()
-                    .iter()
-                    .copied()
-                    .filter(|t| t.is_finite())
-                    .collect(),
+                p.times().to_vec(),
                 samples,
             )
         }
@@ -455,6 +581,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         feasible_sets,
         rows_per_point: u.len(),
         giwc_certified: giwc.certified,
+        speed_at_box,
         between,
         refinement,
         samples,

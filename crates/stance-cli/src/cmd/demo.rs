@@ -176,6 +176,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
             max_violation_fraction: None,
             samples_per_interval: 10,
             dt: None,
+            angular_momentum: None,
         };
         let r = retime(&spec)?;
         let plot = args.out.join(format!("phase-{name}.svg"));

@@ -3,7 +3,10 @@
 //! `MOTION` (JSON, or TOML for `.toml`): `{"scene": <scene object or example name>, "path":
 //! {"waypoints": [[x, y, z], ...], "knots"?: [...], "interpolation"?: "spline" | "polyline"},
 //! "grid_points"?: 101, "sd_start"?: 0, "sd_end"?: 0, "discretization"?: "interpolation" |
-//! "collocation", "max_violation_fraction"?: 0.01, "samples_per_interval"?: 10, "dt"?: 0.01}`.
+//! "collocation", "max_violation_fraction"?: 0.01, "samples_per_interval"?: 10, "dt"?: 0.01,
+//! "angular_momentum"?: {"s"?: [...], "l1": [[x, y, z], ...], "l2": [...]}}` (the optional
+//! angular-momentum terms `L' = l1 s'' + l2 s'^2` of a whole-body motion, linear between samples taken
+//! at `s`, by default at the path knots).
 //! Output: the retimed trajectory as JSON (status, duration, grid, `sd`, `sdd`, `t`, CoM,
 //! controllable and feasible sets of `x = s'^2`, violation between grid points in newtons and as
 //! a fraction of the weight, timings `t_u`, `t_abc`, `t_topp`). `--plot FILE.svg|FILE.png` draws

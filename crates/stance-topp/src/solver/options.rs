@@ -145,6 +145,17 @@ impl SolveOptions {
                 });
             }
         }
+        for (name, v) in [("tol.max_u", t.max_u), ("tol.max_x", t.max_x)] {
+            if v > crate::tol::MAX_BOX {
+                return Err(ToppError::InvalidValue {
+                    what: "tolerances",
+                    detail: format!(
+                        "{name} = {v:e} exceeds {:e}; give a smaller bounding box",
+                        crate::tol::MAX_BOX
+                    ),
+                });
+            }
+        }
         Ok(())
     }
 }

@@ -193,7 +193,7 @@ pub fn solve_with(
         u[i] = (x_next - xi) / two_delta;
         x[i + 1] = x_next;
     }
-    let profile = Profile::from_states(s.to_vec(), x, u);
+    let profile = Profile::from_valid_states(s.to_vec(), x, u);
     let status = match profile.first_stall() {
         Some(index) => Status::Stalled { index },
         None => Status::Optimal,
@@ -375,8 +375,8 @@ fn x_range(
     else {
         return None;
     };
-    // The box side counts as touched when an optimum lies on it (to 1e-12 relative).
-    let near = |v: f64, side: f64| (v.abs() - side).abs() <= 1e-12 * side;
+    // The box side counts as touched when an optimum lies on it (to BOX_TOUCH relative).
+    let near = |v: f64, side: f64| (v.abs() - side).abs() <= crate::tol::BOX_TOUCH * side;
     if near(x_hi, tol.max_x) || near(u_hi, tol.max_u) || near(u_lo, tol.max_u) {
         *hit_box = true;
     }
