@@ -31,7 +31,7 @@ use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
 use stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Tolerances, Workspace,
+    solve_with, CanonicalConstraints, Discretization, SolveOptions, Tolerances, Workspace,
 };
 
 use crate::StanceError;
@@ -522,14 +522,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         sol = rep.solution;
     }
 
-    let index = match sol.status {
-        Status::FeasibleSetEmpty { index }
-        | Status::ControllableSetEmpty { index }
-        | Status::ForwardPassFailed { index }
-        | Status::Stalled { index } => Some(index),
-        Status::StartOutsideControllable { .. } => Some(0),
-        Status::Optimal => None,
-    };
+    let index = sol.status.grid_index();
     let speed_at_box = sol.profile.as_ref().is_some_and(|p| {
         p.x()
             .iter()

@@ -78,14 +78,7 @@ pub fn run(args: ToppArgs) -> Result<()> {
     for _ in 1..args.common.repeat {
         sol = solve_with(&k, &opts, &mut ws)?;
     }
-    let index = match sol.status {
-        Status::FeasibleSetEmpty { index }
-        | Status::ControllableSetEmpty { index }
-        | Status::ForwardPassFailed { index }
-        | Status::Stalled { index } => Some(index),
-        Status::StartOutsideControllable { .. } => Some(0),
-        Status::Optimal => None,
-    };
+    let index = sol.status.grid_index();
     let finite = |v: f64| v.is_finite().then_some(v);
     let out = match &sol.profile {
         Some(p) => ToppOutput {

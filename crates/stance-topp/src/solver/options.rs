@@ -217,6 +217,26 @@ impl Status {
             Status::Stalled { .. } => "stalled",
         }
     }
+
+    /// The grid point where the failure was found (0 for a start state outside `K_0`), or
+    /// `None` when optimal.
+    ///
+    /// ```
+    /// use stance_topp::Status;
+    /// assert_eq!(Status::Optimal.grid_index(), None);
+    /// assert_eq!(Status::ControllableSetEmpty { index: 7 }.grid_index(), Some(7));
+    /// assert_eq!(Status::StartOutsideControllable { x_start: 1.0, lo: 0.0, hi: 0.5 }.grid_index(), Some(0));
+    /// ```
+    pub fn grid_index(&self) -> Option<usize> {
+        match *self {
+            Status::FeasibleSetEmpty { index }
+            | Status::ControllableSetEmpty { index }
+            | Status::ForwardPassFailed { index }
+            | Status::Stalled { index } => Some(index),
+            Status::StartOutsideControllable { .. } => Some(0),
+            Status::Optimal => None,
+        }
+    }
 }
 
 /// Work counters of a solve (to measure the warm start honestly).
