@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
 use stance::stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, SolveOptions, Status, Workspace,
+    solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace,
 };
 
 use super::io::{read_input, write_output, Common};
