@@ -233,7 +233,7 @@ fn cyclic_cones_in_higher_dimensions() {
             }
             (0..k).fold(1, |acc, i| acc * (n - i) / (i + 1))
         }
-        if e % 2 == 0 {
+        if e.is_multiple_of(2) {
             let m = e / 2;
             binom(n - m, m) * n / (n - m)
         } else {
