@@ -385,6 +385,14 @@ fn count_open_ridges(
     let mut lambda = vec![0.0; t];
     // Counts the facets containing `ridge` (generator indices); 2 expected.
     let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
+        if fwd == 1 {
+            // At most 64 facets: one register, starting from the set of all facets.
+            let mut a = if nf == 64 { u64::MAX } else { (1u64 << nf) - 1 };
+            for &i in ridge {
+                a &= by_gen[i];
+            }
+            return a.count_ones();
+        }
         acc.fill(u64::MAX);
         for &i in ridge {
             for (a, b) in acc.iter_mut().zip(&by_gen[i * fwd..(i + 1) * fwd]) {

@@ -144,15 +144,20 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
     let sv = sv_all[..r].to_vec();
     let mut w = vec![0.0; kept.len() * r];
     let mut equation_residual: f64 = 0.0;
+    let mut row = vec![0.0; d];
     for (t, &i) in kept.iter().enumerate() {
-        let row = v.row(i);
-        for c in 0..r {
-            let qc = &q[c * d..(c + 1) * d];
-            w[t * r + c] = qc.iter().zip(row.iter()).map(|(a, b)| a * b).sum::<f64>() / sv[c];
+        for (x, y) in row.iter_mut().zip(v.row(i).iter()) {
+            *x = *y;
         }
-        normalize(&mut w[t * r..(t + 1) * r]);
+        let wt = &mut w[t * r..(t + 1) * r];
+        for ((o, qc), &s) in wt.iter_mut().zip(q.chunks_exact(d)).zip(&sv) {
+            *o = qc.iter().zip(&row).map(|(a, b)| a * b).sum::<f64>() / s;
+        }
+        normalize(wt);
         for e in 0..d - r {
-            equation_residual = equation_residual.max(equations.row(e).dot(&row).abs() / maxn);
+            let ev = equations.row(e);
+            let dot: f64 = ev.iter().zip(&row).map(|(a, b)| a * b).sum();
+            equation_residual = equation_residual.max(dot.abs() / maxn);
         }
     }
     let mut distinct: Vec<usize> = Vec::with_capacity(kept.len());
