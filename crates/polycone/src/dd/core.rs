@@ -524,19 +524,14 @@ impl DdCore {
         // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2, then no third ray r with
         // Z(p) ∩ Z(n) ⊆ Z(r). The rays tight on every row of Z(p) ∩ Z(n) are the AND of the
         // transposed incidence `col[row]` (a bitset over the `n` current rays, `rw` words).
+        // Building that transposed incidence costs about `n * k` bit operations; scanning the
+        // `n` zero sets for a blocker costs `n` per candidate. The first `k` candidates scan,
+        // later ones (many rays, many candidates) use the transposed incidence, built then.
         let need = k.saturating_sub(2) as u32;
         let n = self.n;
         let rw = bitset::words_for(n);
-        self.col.clear();
-        self.col.resize(self.m * rw, 0);
-        for (i, &zi) in self.z[..n].iter().enumerate() {
-            let mut w = zi;
-            while w != 0 {
-                let b = w.trailing_zeros() as usize;
-                w &= w - 1;
-                self.col[b * rw + i / 64] |= 1u64 << (i % 64);
-            }
-        }
+        let mut col_built = false;
+        let mut scanned = 0;
         self.acc.clear();
         self.acc.resize(rw, 0);
         // The AND starts from the set of all current rays (no bit past ray n - 1: with an empty
@@ -557,7 +552,16 @@ impl DdCore {
                     continue;
                 }
                 self.pairs_tested += 1;
-                let blocked = if rw == 1 {
+                let blocked = if scanned < k {
+                    scanned += 1;
+                    z.iter()
+                        .enumerate()
+                        .any(|(r, &zr)| common & !zr == 0 && r != p && r != q)
+                } else if rw == 1 {
+                    if !col_built {
+                        build_transposed(z, self.m, rw, &mut self.col);
+                        col_built = true;
+                    }
                     let mut acc = last_mask;
                     let mut w = common;
                     while w != 0 {
@@ -568,6 +572,10 @@ impl DdCore {
                     acc &= !(1u64 << p) & !(1u64 << q);
                     acc != 0
                 } else {
+                    if !col_built {
+                        build_transposed(z, self.m, rw, &mut self.col);
+                        col_built = true;
+                    }
                     self.acc.fill(u64::MAX);
                     self.acc[rw - 1] = last_mask;
                     let mut w = common;
@@ -608,6 +616,22 @@ impl DdCore {
         std::mem::swap(&mut self.x, &mut self.next_x);
         std::mem::swap(&mut self.z, &mut self.next_z);
         Ok(())
+    }
+}
+
+/// The transposed incidence of one-word zero sets `z` (one per ray): for each of the `m` rows,
+/// the bitset (`rw` words) of the rays tight on it, into `col`.
+#[inline(always)]
+fn build_transposed(z: &[u64], m: usize, rw: usize, col: &mut Vec<u64>) {
+    col.clear();
+    col.resize(m * rw, 0);
+    for (i, &zi) in z.iter().enumerate() {
+        let mut w = zi;
+        while w != 0 {
+            let b = w.trailing_zeros() as usize;
+            w &= w - 1;
+            col[b * rw + i / 64] |= 1u64 << (i % 64);
+        }
     }
 }
 
