@@ -263,9 +263,10 @@ impl Incidence {
             // Pointed: L^perp is all of R^r; the whitened coordinates serve as they are.
             let mut inc = vec![0u64; nf * gw];
             let mut by_gen = vec![0u64; ng * fwd];
-            for f in 0..nf {
-                for i in 0..ng {
-                    if slack[(f, i)].abs() <= tol.incidence {
+            // `slack` is column-major (`nf x ng`): walk it column by column.
+            for i in 0..ng {
+                for (f, s) in slack.column(i).iter().enumerate() {
+                    if s.abs() <= tol.incidence {
                         inc[f * gw + i / 64] |= 1 << (i % 64);
                         by_gen[i * fwd + f / 64] |= 1 << (f % 64);
                     }

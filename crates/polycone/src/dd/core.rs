@@ -595,18 +595,20 @@ impl DdCore {
                 }
                 let (sp, sq) = (self.slack[p], self.slack[q]);
                 let start = self.next_x.len();
+                self.next_x.resize(start + k, 0.0);
                 let (xp, xq) = (&self.x[p * k..(p + 1) * k], &self.x[q * k..(q + 1) * k]);
+                let out = &mut self.next_x[start..start + k];
                 let mut nn = 0.0;
-                for (&a, &b) in xq.iter().zip(xp) {
+                for ((o, &a), &b) in out.iter_mut().zip(xq).zip(xp) {
                     let v = sp * a - sq * b;
-                    self.next_x.push(v);
+                    *o = v;
                     nn += v * v;
                 }
                 if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
                     return Err(DdFailure::Cancellation);
                 }
                 let inv = 1.0 / nn.sqrt();
-                for v in &mut self.next_x[start..start + k] {
+                for v in out.iter_mut() {
                     *v *= inv;
                 }
                 self.next_z.push(common | bit);
