@@ -263,9 +263,10 @@ impl Incidence {
             // Pointed: L^perp is all of R^r; the whitened coordinates serve as they are.
             let mut inc = vec![0u64; nf * gw];
             let mut by_gen = vec![0u64; ng * fwd];
-            for f in 0..nf {
-                for i in 0..ng {
-                    if slack[(f, i)].abs() <= tol.incidence {
+            // `slack` is column-major (`nf x ng`): walk it column by column.
+            for i in 0..ng {
+                for (f, s) in slack.column(i).iter().enumerate() {
+                    if s.abs() <= tol.incidence {
                         inc[f * gw + i / 64] |= 1 << (i % 64);
                         by_gen[i * fwd + f / 64] |= 1 << (f % 64);
                     }
@@ -385,6 +386,14 @@ fn count_open_ridges(
     let mut lambda = vec![0.0; t];
     // Counts the facets containing `ridge` (generator indices); 2 expected.
     let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
+        if fwd == 1 {
+            // At most 64 facets: one register, starting from the set of all facets.
+            let mut a = if nf == 64 { u64::MAX } else { (1u64 << nf) - 1 };
+            for &i in ridge {
+                a &= by_gen[i];
+            }
+            return a.count_ones();
+        }
         acc.fill(u64::MAX);
         for &i in ridge {
             for (a, b) in acc.iter_mut().zip(&by_gen[i * fwd..(i + 1) * fwd]) {

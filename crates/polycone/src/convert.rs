@@ -237,24 +237,24 @@ impl Workspace {
             return Err(ConeError::Uncertified(certificate.failure_reason()));
         }
         // Facets in world coordinates, sorted lexicographically.
-        let mut facets: Vec<Vec<f64>> = (0..nf)
-            .map(|f| {
-                let mut u = vec![0.0; d];
-                wh.facet_to_world(&fw[f * r..(f + 1) * r], &mut u);
-                u
-            })
-            .collect();
+        let facets = &mut self.scratch;
+        facets.clear();
+        facets.resize(nf * d, 0.0);
+        for (u_w, u) in fw.chunks_exact(r.max(1)).zip(facets.chunks_exact_mut(d)) {
+            wh.facet_to_world(u_w, u);
+        }
         let mut order: Vec<usize> = (0..nf).collect();
-        order.sort_by(|&a, &b| {
-            facets[a]
+        order.sort_unstable_by(|&a, &b| {
+            facets[a * d..(a + 1) * d]
                 .iter()
-                .zip(&facets[b])
+                .zip(&facets[b * d..(b + 1) * d])
                 .map(|(x, y)| x.total_cmp(y))
                 .find(|o| o.is_ne())
                 .unwrap_or(std::cmp::Ordering::Equal)
+                // Equal rows are interchangeable; the index keeps the order total.
+                .then(a.cmp(&b))
         });
-        let facets_m = DMatrix::from_fn(nf, d, |i, j| facets[order[i]][j]);
-        facets.clear();
+        let facets_m = DMatrix::from_fn(nf, d, |i, j| facets[order[i] * d + j]);
         // Lineality in world coordinates.
         let mut lw = DMatrix::zeros(l, d);
         let mut x = vec![0.0; d];

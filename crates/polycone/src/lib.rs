@@ -66,11 +66,13 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is only x2 (16 generators) to x5 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x9 to x28 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at; about half of the time is the
-//!   completeness check (small double descriptions per facet, see
-//!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table.
+//! - Speed: the certified tolerance mode is only x3 (16 generators) to x6 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x11 to x15 at 48 and 64
+//!   generators), short of the x10 / x30 aimed at; about a third of the time on small cones is
+//!   the completeness check (small double descriptions per facet, see
+//!   [`DdOptions::check_completeness`]), the rest is spread over the double description, the
+//!   preconditioning SVD and the certificate's bookkeeping. `bench/peers/cones.md` has the
+//!   measured table.
 //! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders
 //!   of magnitude slower than cddlib's GMP mode on large cones (seconds for 32 generators and
 //!   ~280 facets).

@@ -54,12 +54,34 @@ pub(crate) fn rank_of<'a>(
         buf.extend_from_slice(v);
         n += 1;
     }
+    // Fixed-length inner loops for the common dimensions (see `crate::dd` for the same idea).
+    match k {
+        3 => rank_in_place::<3>(buf, n, 3, target, eps),
+        4 => rank_in_place::<4>(buf, n, 4, target, eps),
+        5 => rank_in_place::<5>(buf, n, 5, target, eps),
+        6 => rank_in_place::<6>(buf, n, 6, target, eps),
+        7 => rank_in_place::<7>(buf, n, 7, target, eps),
+        _ => rank_in_place::<0>(buf, n, k, target, eps),
+    }
+}
+
+/// The pivoted Gram-Schmidt of [`rank_of`] on `n` vectors stored in `buf`; `K` is `k` when
+/// fixed at compile time (`K = 0`: dynamic).
+fn rank_in_place<const K: usize>(
+    buf: &mut [f64],
+    n: usize,
+    k: usize,
+    target: usize,
+    eps: f64,
+) -> usize {
+    let k = if K == 0 { k } else { K };
     let mut rank = 0;
     while rank < k.min(target) {
         let mut best = usize::MAX;
         let mut best_nn = eps * eps;
-        for i in rank..n {
-            let nn: f64 = buf[i * k..(i + 1) * k].iter().map(|x| x * x).sum();
+        for (i, v) in buf[rank * k..n * k].chunks_exact(k).enumerate() {
+            let i = i + rank;
+            let nn: f64 = v.iter().map(|x| x * x).sum();
             if nn > best_nn {
                 best_nn = nn;
                 best = i;
@@ -77,16 +99,15 @@ pub(crate) fn rank_of<'a>(
         let q = rank;
         rank += 1;
         let inv = 1.0 / best_nn.sqrt();
-        for t in 0..k {
-            buf[q * k + t] *= inv;
+        let (head, rest) = buf[..n * k].split_at_mut(rank * k);
+        let qv = &mut head[q * k..];
+        for x in qv.iter_mut() {
+            *x *= inv;
         }
-        for i in rank..n {
-            let mut d = 0.0;
-            for t in 0..k {
-                d += buf[i * k + t] * buf[q * k + t];
-            }
-            for t in 0..k {
-                buf[i * k + t] -= d * buf[q * k + t];
+        for v in rest.chunks_exact_mut(k) {
+            let d: f64 = v.iter().zip(qv.iter()).map(|(a, b)| a * b).sum();
+            for (a, b) in v.iter_mut().zip(qv.iter()) {
+                *a -= d * b;
             }
         }
     }

@@ -32,8 +32,10 @@ use crate::tol::Tolerances;
 pub(crate) struct Whitened {
     /// Dimension of `span(V)`.
     pub r: usize,
-    /// `r x d`, orthonormal rows spanning `span(V)`.
-    pub q: DMatrix<f64>,
+    /// Dimension of the input space.
+    pub d: usize,
+    /// `r x d`, orthonormal rows spanning `span(V)`, row-major.
+    pub q: Vec<f64>,
     /// The `r` singular values kept.
     pub sv: Vec<f64>,
     /// `(d - r) x d`, orthonormal rows: the equations.
@@ -58,9 +60,9 @@ impl Whitened {
     /// Maps a whitened facet normal back: `u = Q^T S^{-1} u_w`, normalized.
     pub fn facet_to_world(&self, u_w: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for c in 0..self.r {
-            let f = u_w[c] / self.sv[c];
-            for (o, qv) in out.iter_mut().zip(self.q.row(c).iter()) {
+        for ((&u, &s), q) in u_w.iter().zip(&self.sv).zip(self.q.chunks_exact(self.d)) {
+            let f = u / s;
+            for (o, qv) in out.iter_mut().zip(q) {
                 *o += f * qv;
             }
         }
@@ -69,9 +71,13 @@ impl Whitened {
 
     /// Maps a facet normal `u` to whitened coordinates: `u_w = S Q u`, normalized.
     pub fn facet_from_world(&self, u: &[f64], out: &mut [f64]) {
-        for c in 0..self.r {
-            let qu: f64 = self.q.row(c).iter().zip(u).map(|(a, b)| a * b).sum();
-            out[c] = self.sv[c] * qu;
+        for ((o, &s), q) in out
+            .iter_mut()
+            .zip(&self.sv)
+            .zip(self.q.chunks_exact(self.d))
+        {
+            let qu: f64 = q.iter().zip(u).map(|(a, b)| a * b).sum();
+            *o = s * qu;
         }
         normalize(out);
     }
@@ -79,9 +85,9 @@ impl Whitened {
     /// Maps a whitened point back: `x = Q^T S y` (not normalized).
     pub fn point_to_world(&self, y: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for c in 0..self.r {
-            let f = y[c] * self.sv[c];
-            for (o, qv) in out.iter_mut().zip(self.q.row(c).iter()) {
+        for ((&y, &s), q) in y.iter().zip(&self.sv).zip(self.q.chunks_exact(self.d)) {
+            let f = y * s;
+            for (o, qv) in out.iter_mut().zip(q) {
                 *o += f * qv;
             }
         }
@@ -114,7 +120,8 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
     if kept.is_empty() {
         return Whitened {
             r: 0,
-            q: DMatrix::zeros(0, d),
+            d,
+            q: Vec::new(),
             sv: Vec::new(),
             equations: DMatrix::identity(d, d),
             kept,
@@ -129,19 +136,28 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
     }
     let (sv_all, vt) = sorted_svd(&vk);
     let r = numerical_rank(&sv_all, tol.rank);
-    let q = vt.rows(0, r).into_owned();
+    let mut q = Vec::with_capacity(r * d);
+    for c in 0..r {
+        q.extend(vt.row(c).iter());
+    }
     let equations = vt.rows(r, d - r).into_owned();
     let sv = sv_all[..r].to_vec();
     let mut w = vec![0.0; kept.len() * r];
     let mut equation_residual: f64 = 0.0;
+    let mut row = vec![0.0; d];
     for (t, &i) in kept.iter().enumerate() {
-        let row = v.row(i);
-        for c in 0..r {
-            w[t * r + c] = q.row(c).dot(&row) / sv[c];
+        for (x, y) in row.iter_mut().zip(v.row(i).iter()) {
+            *x = *y;
         }
-        normalize(&mut w[t * r..(t + 1) * r]);
+        let wt = &mut w[t * r..(t + 1) * r];
+        for ((o, qc), &s) in wt.iter_mut().zip(q.chunks_exact(d)).zip(&sv) {
+            *o = qc.iter().zip(&row).map(|(a, b)| a * b).sum::<f64>() / s;
+        }
+        normalize(wt);
         for e in 0..d - r {
-            equation_residual = equation_residual.max(equations.row(e).dot(&row).abs() / maxn);
+            let ev = equations.row(e);
+            let dot: f64 = ev.iter().zip(&row).map(|(a, b)| a * b).sum();
+            equation_residual = equation_residual.max(dot.abs() / maxn);
         }
     }
     let mut distinct: Vec<usize> = Vec::with_capacity(kept.len());
@@ -158,6 +174,7 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
     }
     Whitened {
         r,
+        d,
         q,
         sv,
         equations,

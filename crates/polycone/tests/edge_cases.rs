@@ -248,3 +248,37 @@ fn regression_huge_and_tiny_generators() {
         );
     }
 }
+
+/// More than 64 constraint rows: the zero sets take several words and the double description
+/// takes its multi-word path (every test above stays within one word). Known answers: a
+/// polygonal cone over `n` points of a circle has `n` facets and `n` extreme generators; the
+/// cone over `n` points of the moment curve in `R^3` (cyclic polytope `C(n, 3)`) has
+/// `2n - 4` facets. Both directions are checked.
+#[test]
+fn more_than_64_rows_take_the_multi_word_path() {
+    let n = 100;
+    let circle = DMatrix::from_fn(n, 3, |i, j| {
+        let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        [1.0, a.cos(), a.sin()][j]
+    });
+    let r = span_to_face(&circle, &opts()).unwrap();
+    assert!(r.certificate.certified);
+    assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
+    assert_eq!(r.face.facets.nrows(), n);
+    assert_eq!(r.extreme_generators, (0..n).collect::<Vec<_>>());
+    // Back: 100 facet rows in 3-D give the 100 generators again.
+    let back = face_to_span(&r.face, &opts()).unwrap();
+    assert!(back.certificate.certified);
+    assert_eq!(back.span.generators.nrows(), n);
+
+    let n = 70;
+    let cyclic = DMatrix::from_fn(n, 4, |i, j| {
+        let t = -1.0 + 2.0 * i as f64 / (n - 1) as f64;
+        t.powi(j as i32)
+    });
+    let r = span_to_face(&cyclic, &opts()).unwrap();
+    assert!(r.certificate.certified);
+    assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
+    assert_eq!(r.face.facets.nrows(), 2 * n - 4);
+    assert_eq!(r.extreme_generators.len(), n);
+}

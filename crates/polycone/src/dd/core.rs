@@ -4,6 +4,9 @@
 
 use super::bitset;
 
+/// Dimensions up to this use stack buffers for small per-call vectors.
+const MAX_STACK_K: usize = 16;
+
 /// Why the iteration stopped without an answer.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum DdFailure {
@@ -49,6 +52,10 @@ pub(crate) struct DdCore {
     cand: Vec<(u32, u32)>,
     /// Number of adjacency candidates examined in the last run (for profiling).
     pub pairs_tested: usize,
+    /// Tests only: take the multi-word path even when one word would do, to check the
+    /// one-word fast path against it.
+    #[cfg(test)]
+    force_multi_word: bool,
 }
 
 impl DdCore {
@@ -80,8 +87,31 @@ impl DdCore {
         if k == 0 {
             return Ok(());
         }
-        self.choose_basis(a, m, k, eps_rank)?;
-        self.initial_rays(a, k)?;
+        // Monomorphized copies for the common dimensions (3 to 8; the wrench cones of the paper
+        // are 6-D, their facets 5-D): fixed-length inner loops unroll; others take the generic
+        // path (`K = 0`).
+        match k {
+            3 => self.run_k::<3>(a, m, eps_zero, eps_rank),
+            4 => self.run_k::<4>(a, m, eps_zero, eps_rank),
+            5 => self.run_k::<5>(a, m, eps_zero, eps_rank),
+            6 => self.run_k::<6>(a, m, eps_zero, eps_rank),
+            7 => self.run_k::<7>(a, m, eps_zero, eps_rank),
+            8 => self.run_k::<8>(a, m, eps_zero, eps_rank),
+            _ => self.run_k::<0>(a, m, eps_zero, eps_rank),
+        }
+    }
+
+    /// [`Self::run`] with the dimension `k = K` fixed at compile time (`K = 0`: `self.k`).
+    fn run_k<const K: usize>(
+        &mut self,
+        a: &[f64],
+        m: usize,
+        eps_zero: f64,
+        eps_rank: f64,
+    ) -> Result<(), DdFailure> {
+        let k = dim::<K>(self.k);
+        self.choose_basis::<K>(a, m, eps_rank)?;
+        self.initial_rays::<K>(a)?;
         // Insertion order: the rows not in the basis, in input order.
         self.order.clear();
         for j in 0..m {
@@ -92,7 +122,7 @@ impl DdCore {
         let order = std::mem::take(&mut self.order);
         let mut result = Ok(());
         for &j in &order {
-            if let Err(e) = self.add_row(&a[j * k..(j + 1) * k], j, eps_zero) {
+            if let Err(e) = self.add_row::<K>(&a[j * k..(j + 1) * k], j, eps_zero) {
                 result = Err(e);
                 break;
             }
@@ -106,26 +136,33 @@ impl DdCore {
     }
 
     /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm.
-    fn choose_basis(
+    fn choose_basis<const K: usize>(
         &mut self,
         a: &[f64],
         m: usize,
-        k: usize,
         eps_rank: f64,
     ) -> Result<(), DdFailure> {
+        let k = dim::<K>(self.k);
         self.resid.clear();
         self.resid.extend_from_slice(a);
         self.in_basis.clear();
         self.in_basis.resize(m, false);
         self.basis.clear();
+        let mut q = [0.0f64; MAX_STACK_K];
+        let mut q_heap = Vec::new();
+        let q: &mut [f64] = if k <= MAX_STACK_K {
+            &mut q[..k]
+        } else {
+            q_heap.resize(k, 0.0);
+            &mut q_heap
+        };
         for _ in 0..k {
             let mut best = usize::MAX;
             let mut best_norm = -1.0;
-            for i in 0..m {
-                if self.in_basis[i] {
+            for (i, (r, &used)) in self.resid.chunks_exact(k).zip(&self.in_basis).enumerate() {
+                if used {
                     continue;
                 }
-                let r = &self.resid[i * k..(i + 1) * k];
                 let nn: f64 = r.iter().map(|v| v * v).sum();
                 if nn > best_norm {
                     best_norm = nn;
@@ -139,20 +176,16 @@ impl DdCore {
             self.in_basis[best] = true;
             self.basis.push(best);
             // q = resid_best / |resid_best|; orthogonalize the others against it.
-            let (q_start, q_end) = (best * k, (best + 1) * k);
-            for t in q_start..q_end {
-                self.resid[t] *= inv;
+            for (qv, &rv) in q.iter_mut().zip(&self.resid[best * k..(best + 1) * k]) {
+                *qv = rv * inv;
             }
-            for i in 0..m {
-                if self.in_basis[i] {
+            for (r, &used) in self.resid.chunks_exact_mut(k).zip(&self.in_basis) {
+                if used {
                     continue;
                 }
-                let mut d = 0.0;
-                for t in 0..k {
-                    d += self.resid[i * k + t] * self.resid[q_start + t];
-                }
-                for t in 0..k {
-                    self.resid[i * k + t] -= d * self.resid[q_start + t];
+                let d: f64 = r.iter().zip(q.iter()).map(|(x, y)| x * y).sum();
+                for (x, y) in r.iter_mut().zip(q.iter()) {
+                    *x -= d * y;
                 }
             }
         }
@@ -160,7 +193,8 @@ impl DdCore {
     }
 
     /// Rays of the simplicial cone `{x : A_K x <= 0}`: the columns of `-A_K^{-1}`.
-    fn initial_rays(&mut self, a: &[f64], k: usize) -> Result<(), DdFailure> {
+    fn initial_rays<const K: usize>(&mut self, a: &[f64]) -> Result<(), DdFailure> {
+        let k = dim::<K>(self.k);
         let w = 2 * k;
         self.aug.clear();
         self.aug.resize(k * w, 0.0);
@@ -185,17 +219,17 @@ impl DdCore {
                 }
             }
             let inv = 1.0 / self.aug[c * w + c];
-            for t in 0..w {
-                self.aug[c * w + t] *= inv;
+            let (above, rest) = self.aug.split_at_mut(c * w);
+            let (pivot, below) = rest.split_at_mut(w);
+            // Columns before `c` are already zero in the pivot row: start at `c`.
+            for v in &mut pivot[c..] {
+                *v *= inv;
             }
-            for r in 0..k {
-                if r == c {
-                    continue;
-                }
-                let f = self.aug[r * w + c];
+            for row in above.chunks_exact_mut(w).chain(below.chunks_exact_mut(w)) {
+                let f = row[c];
                 if f != 0.0 {
-                    for t in 0..w {
-                        self.aug[r * w + t] -= f * self.aug[c * w + t];
+                    for (x, y) in row[c..].iter_mut().zip(&pivot[c..]) {
+                        *x -= f * y;
                     }
                 }
             }
@@ -226,8 +260,20 @@ impl DdCore {
     }
 
     /// One double description step: intersects the current cone with `{x : row . x <= 0}`.
-    fn add_row(&mut self, row: &[f64], j: usize, eps_zero: f64) -> Result<(), DdFailure> {
-        let (k, words) = (self.k, self.words);
+    fn add_row<const K: usize>(
+        &mut self,
+        row: &[f64],
+        j: usize,
+        eps_zero: f64,
+    ) -> Result<(), DdFailure> {
+        #[cfg(test)]
+        let one_word = self.words == 1 && !self.force_multi_word;
+        #[cfg(not(test))]
+        let one_word = self.words == 1;
+        if one_word {
+            return self.add_row_one_word::<K>(row, j, eps_zero);
+        }
+        let (k, words) = (dim::<K>(self.k), self.words);
         self.slack.clear();
         self.plus.clear();
         self.minus.clear();
@@ -409,6 +455,205 @@ impl DdCore {
         self.n = next_n;
         Ok(())
     }
+
+    /// [`Self::add_row`] when every zero set fits one word (`m <= 64`, the common case): the
+    /// same steps on plain `u64` masks, without per-pair slices.
+    fn add_row_one_word<const K: usize>(
+        &mut self,
+        row: &[f64],
+        j: usize,
+        eps_zero: f64,
+    ) -> Result<(), DdFailure> {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("popcnt") {
+                // SAFETY: the CPU supports `popcnt`, checked just above.
+                return unsafe { self.add_row_one_word_popcnt::<K>(row, j, eps_zero) };
+            }
+        }
+        self.add_row_one_word_body::<K>(row, j, eps_zero)
+    }
+
+    /// [`Self::add_row_one_word_body`] compiled with the `popcnt` instruction.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "popcnt")]
+    unsafe fn add_row_one_word_popcnt<const K: usize>(
+        &mut self,
+        row: &[f64],
+        j: usize,
+        eps_zero: f64,
+    ) -> Result<(), DdFailure> {
+        self.add_row_one_word_body::<K>(row, j, eps_zero)
+    }
+
+    #[inline(always)]
+    fn add_row_one_word_body<const K: usize>(
+        &mut self,
+        row: &[f64],
+        j: usize,
+        eps_zero: f64,
+    ) -> Result<(), DdFailure> {
+        let k = dim::<K>(self.k);
+        let bit = 1u64 << j;
+        self.slack.clear();
+        self.plus.clear();
+        self.minus.clear();
+        self.zero.clear();
+        for (i, x) in self.x.chunks_exact(k).take(self.n).enumerate() {
+            let s: f64 = row.iter().zip(x).map(|(u, v)| u * v).sum();
+            self.slack.push(s);
+            if s > eps_zero {
+                self.plus.push(i as u32);
+            } else if s < -eps_zero {
+                self.minus.push(i as u32);
+            } else {
+                self.zero.push(i as u32);
+            }
+        }
+        if self.plus.is_empty() {
+            for &i in &self.zero {
+                self.z[i as usize] |= bit;
+            }
+            return Ok(());
+        }
+        self.next_x.clear();
+        self.next_z.clear();
+        // Keep R- and R0 (the latter now tight on row j).
+        for &i in &self.minus {
+            let i = i as usize;
+            self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
+            self.next_z.push(self.z[i]);
+        }
+        for &i in &self.zero {
+            let i = i as usize;
+            self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
+            self.next_z.push(self.z[i] | bit);
+        }
+        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2, then no third ray r with
+        // Z(p) ∩ Z(n) ⊆ Z(r). The rays tight on every row of Z(p) ∩ Z(n) are the AND of the
+        // transposed incidence `col[row]` (a bitset over the `n` current rays, `rw` words).
+        // Building that transposed incidence costs about `n * k` bit operations; scanning the
+        // `n` zero sets for a blocker costs `n` per candidate. The first `k` candidates scan,
+        // later ones (many rays, many candidates) use the transposed incidence, built then.
+        let need = k.saturating_sub(2) as u32;
+        let n = self.n;
+        let rw = bitset::words_for(n);
+        let mut col_built = false;
+        let mut scanned = 0;
+        self.acc.clear();
+        self.acc.resize(rw, 0);
+        // The AND starts from the set of all current rays (no bit past ray n - 1: with an empty
+        // common zero set, as always in 2-D, nothing else would clear them).
+        let last_mask = if n.is_multiple_of(64) {
+            u64::MAX
+        } else {
+            (1u64 << (n % 64)) - 1
+        };
+        let z = &self.z[..n];
+        for &p in &self.plus {
+            let p = p as usize;
+            let zp = z[p];
+            for &q in &self.minus {
+                let q = q as usize;
+                let common = zp & z[q];
+                if common.count_ones() < need {
+                    continue;
+                }
+                self.pairs_tested += 1;
+                let blocked = if scanned < k {
+                    scanned += 1;
+                    z.iter()
+                        .enumerate()
+                        .any(|(r, &zr)| common & !zr == 0 && r != p && r != q)
+                } else if rw == 1 {
+                    if !col_built {
+                        build_transposed(z, self.m, rw, &mut self.col);
+                        col_built = true;
+                    }
+                    let mut acc = last_mask;
+                    let mut w = common;
+                    while w != 0 {
+                        let b = w.trailing_zeros() as usize;
+                        w &= w - 1;
+                        acc &= self.col[b];
+                    }
+                    acc &= !(1u64 << p) & !(1u64 << q);
+                    acc != 0
+                } else {
+                    if !col_built {
+                        build_transposed(z, self.m, rw, &mut self.col);
+                        col_built = true;
+                    }
+                    self.acc.fill(u64::MAX);
+                    self.acc[rw - 1] = last_mask;
+                    let mut w = common;
+                    while w != 0 {
+                        let b = w.trailing_zeros() as usize;
+                        w &= w - 1;
+                        for (a, c) in self.acc.iter_mut().zip(&self.col[b * rw..(b + 1) * rw]) {
+                            *a &= c;
+                        }
+                    }
+                    self.acc[p / 64] &= !(1u64 << (p % 64));
+                    self.acc[q / 64] &= !(1u64 << (q % 64));
+                    self.acc.iter().any(|&w| w != 0)
+                };
+                if blocked {
+                    continue;
+                }
+                let (sp, sq) = (self.slack[p], self.slack[q]);
+                let start = self.next_x.len();
+                self.next_x.resize(start + k, 0.0);
+                let (xp, xq) = (&self.x[p * k..(p + 1) * k], &self.x[q * k..(q + 1) * k]);
+                let out = &mut self.next_x[start..start + k];
+                let mut nn = 0.0;
+                for ((o, &a), &b) in out.iter_mut().zip(xq).zip(xp) {
+                    let v = sp * a - sq * b;
+                    *o = v;
+                    nn += v * v;
+                }
+                if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
+                    return Err(DdFailure::Cancellation);
+                }
+                let inv = 1.0 / nn.sqrt();
+                for v in out.iter_mut() {
+                    *v *= inv;
+                }
+                self.next_z.push(common | bit);
+            }
+        }
+        self.n = self.next_z.len();
+        std::mem::swap(&mut self.x, &mut self.next_x);
+        std::mem::swap(&mut self.z, &mut self.next_z);
+        Ok(())
+    }
+}
+
+/// The transposed incidence of one-word zero sets `z` (one per ray): for each of the `m` rows,
+/// the bitset (`rw` words) of the rays tight on it, into `col`.
+#[inline(always)]
+fn build_transposed(z: &[u64], m: usize, rw: usize, col: &mut Vec<u64>) {
+    col.clear();
+    col.resize(m * rw, 0);
+    for (i, &zi) in z.iter().enumerate() {
+        let mut w = zi;
+        while w != 0 {
+            let b = w.trailing_zeros() as usize;
+            w &= w - 1;
+            col[b * rw + i / 64] |= 1u64 << (i % 64);
+        }
+    }
+}
+
+/// The dimension: `K` when fixed at compile time, else `k`.
+#[inline(always)]
+fn dim<const K: usize>(k: usize) -> usize {
+    if K == 0 {
+        k
+    } else {
+        debug_assert_eq!(k, K);
+        K
+    }
 }
 
 /// Pairs `(i, j)` of `plus` and `minus` zero sets (`words` words each, contiguous) sharing at
@@ -463,4 +708,80 @@ unsafe fn candidate_pairs_popcnt(
     out: &mut Vec<(u32, u32)>,
 ) {
     candidate_pairs_portable(zp, zn, words, need, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (64-bit LCG), enough for test inputs.
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    /// Unit rows; with `degenerate`, coordinates are rounded to a coarse grid so that many
+    /// rays are tight on more than `k - 1` rows (the blocker test matters then).
+    fn rows(rng: &mut Lcg, m: usize, k: usize, degenerate: bool) -> Vec<f64> {
+        let mut a = Vec::with_capacity(m * k);
+        for _ in 0..m {
+            let start = a.len();
+            for _ in 0..k {
+                let v = rng.next();
+                a.push(if degenerate { (v * 2.0).round() } else { v });
+            }
+            let nn: f64 = a[start..].iter().map(|x| x * x).sum();
+            if nn == 0.0 {
+                a[start] = 1.0;
+            }
+            let inv = 1.0 / a[start..].iter().map(|x| x * x).sum::<f64>().sqrt();
+            a[start..].iter_mut().for_each(|x| *x *= inv);
+        }
+        a
+    }
+
+    /// The one-word fast path (plain `u64` masks, blockers scanned then looked up in a lazily
+    /// built transposed incidence) against the multi-word path (slices, candidate list,
+    /// transposed incidence or scan): the same rays, bit for bit, in the same order, and the
+    /// same zero sets, on generic and degenerate inputs in dimensions 2 to 9.
+    #[test]
+    fn one_word_path_matches_multi_word_path() {
+        let mut rng = Lcg(7);
+        let mut compared = 0;
+        for case in 0..400 {
+            let k = 2 + case % 8;
+            let m = k + 1 + (case * 7) % 40;
+            let a = rows(&mut rng, m, k, case % 3 == 0);
+            let mut fast = DdCore::default();
+            let mut slow = DdCore {
+                force_multi_word: true,
+                ..DdCore::default()
+            };
+            let rf = fast.run(&a, m, k, 1e-9, 1e-10);
+            let rs = slow.run(&a, m, k, 1e-9, 1e-10);
+            assert_eq!(rf, rs, "case {case}");
+            if rf.is_err() {
+                continue;
+            }
+            assert_eq!(fast.n, slow.n, "case {case}");
+            assert_eq!(fast.pairs_tested, slow.pairs_tested, "case {case}");
+            for i in 0..fast.n {
+                let (xf, xs) = (fast.ray(i), slow.ray(i));
+                assert!(
+                    xf.iter().zip(xs).all(|(p, q)| p.to_bits() == q.to_bits()),
+                    "case {case} ray {i}"
+                );
+                assert_eq!(fast.z[i], slow.z[i], "case {case} ray {i}");
+            }
+            compared += 1;
+        }
+        // Most inputs have full column rank: the comparison is not vacuous.
+        assert!(compared > 300, "{compared}");
+    }
 }
