@@ -191,27 +191,89 @@ proptest! {
 
     #[test]
     fn hull3_round_trip((a, b) in halfspaces3()) {
-        let opts = PolytopeOptions::default();
-        let poly = polyhedron_from_halfspaces(&a, &b, &opts).unwrap();
-        prop_assume!(poly.status == RegionStatus::Bounded);
-        // Clusters of vertices make facets that are coplanar only to rounding (a quad may come back
-        // as two triangles): keep vertices apart here.
-        let v = &poly.vertices;
-        let min_sep = (0..v.len())
-            .flat_map(|i| (i + 1..v.len()).map(move |j| (i, j)))
-            .map(|(i, j)| ((v[i][0] - v[j][0]).powi(2) + (v[i][1] - v[j][1]).powi(2) + (v[i][2] - v[j][2]).powi(2)).sqrt())
-            .fold(f64::INFINITY, f64::min);
-        prop_assume!(min_sep > 1e-3);
-        let hull = hull3(&poly.vertices, &opts).unwrap();
-        prop_assert_eq!(hull.vertices.len(), poly.vertices.len());
-        prop_assert_eq!(hull.faces.len(), poly.faces.len());
-        for (n, d) in &hull.planes {
-            let found = poly.planes.iter().any(|(m, e)| {
-                (n[0] - m[0]).abs() + (n[1] - m[1]).abs() + (n[2] - m[2]).abs() + (d - e).abs() < 1e-7
-            });
-            prop_assert!(found, "hull plane {:?} {} not a face of the polyhedron", n, d);
-        }
+        hull3_round_trip_case(&a, &b)?;
     }
+}
+
+/// Half-spaces -> polyhedron -> `hull3` of its vertices gives back the same faces. Plane offsets
+/// are compared relative to the size of the polyhedron: a plane fitted through vertices at
+/// distance `r` from the origin carries an offset error proportional to `r` (the same scaling
+/// as the vertex tolerances of the brute-force tests above).
+fn hull3_round_trip_case(a: &[[f64; 3]], b: &[f64]) -> Result<(), TestCaseError> {
+    let opts = PolytopeOptions::default();
+    let poly = polyhedron_from_halfspaces(a, b, &opts).unwrap();
+    prop_assume!(poly.status == RegionStatus::Bounded);
+    // Clusters of vertices make facets that are coplanar only to rounding (a quad may come back
+    // as two triangles): keep vertices apart here.
+    let v = &poly.vertices;
+    let scale = v
+        .iter()
+        .flat_map(|p| p.iter().map(|x| x.abs()))
+        .fold(1.0, f64::max);
+    let min_sep = (0..v.len())
+        .flat_map(|i| (i + 1..v.len()).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            ((v[i][0] - v[j][0]).powi(2)
+                + (v[i][1] - v[j][1]).powi(2)
+                + (v[i][2] - v[j][2]).powi(2))
+            .sqrt()
+        })
+        .fold(f64::INFINITY, f64::min);
+    prop_assume!(min_sep > 1e-3);
+    let hull = hull3(&poly.vertices, &opts).unwrap();
+    prop_assert_eq!(hull.vertices.len(), poly.vertices.len());
+    prop_assert_eq!(hull.faces.len(), poly.faces.len());
+    for (n, d) in &hull.planes {
+        let found = poly.planes.iter().any(|(m, e)| {
+            (n[0] - m[0]).abs() + (n[1] - m[1]).abs() + (n[2] - m[2]).abs() + (d - e).abs() / scale
+                < 1e-7
+        });
+        prop_assert!(
+            found,
+            "hull plane {:?} {} not a face of the polyhedron",
+            n,
+            d
+        );
+    }
+    Ok(())
+}
+
+/// Found by proptest: a polyhedron with vertices 2 km from the origin; the hull's plane offsets
+/// differ from the input's by 1.2e-6 m (6e-10 relative), which the round-trip test compared
+/// with an absolute 1e-7.
+#[test]
+fn regression_hull3_round_trip_far_vertices() {
+    let a = [
+        [
+            -0.4697358662224341,
+            -0.8828012420200645,
+            0.0031910926170841463,
+        ],
+        [
+            -0.9361209038090397,
+            -0.3133545792705108,
+            -0.15964510985917346,
+        ],
+        [-0.6460684069143499, 0.7632795120970783, 0.0],
+        [-0.7893899490148999, -0.3403624738848521, 0.5108981256231393],
+        [-0.1669439416783118, 0.8647340595388566, 0.4736715387379291],
+        [-0.9150577348993584, 0.1783089870269515, 0.36176684058420555],
+        [
+            0.4900906572028414,
+            0.8716700484033102,
+            0.0015730349829637619,
+        ],
+    ];
+    let b = [
+        0.792519987468679,
+        0.8714950343023092,
+        0.45128524708427314,
+        1.9865530951185457,
+        0.9004685706874486,
+        1.651470597862961,
+        0.8146463260159146,
+    ];
+    hull3_round_trip_case(&a, &b).unwrap();
 }
 
 #[test]
