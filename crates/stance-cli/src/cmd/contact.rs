@@ -377,7 +377,7 @@ fn hull_of(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// Plots with plotters, SVG or PNG by file extension: axes in metres with tick labels when a font
 /// is available (see `cmd::plot`), otherwise grid lines every power of ten (0.1 m, 1 m, ...)
 /// that gives 4 to 40 lines and no text; contact footprints in grey, regions in blue. The region plot shows its projections on (x, y), (x, z), (y, z).
-mod plot {
+pub(crate) mod plot {
     use std::path::Path;
 
     use anyhow::{anyhow, Result};

@@ -5,7 +5,7 @@
 //! retiming of a CoM motion under contact stability (GIWC -> TOPP) with its violation between
 //! grid points; for box climbing the robust static-equilibrium polyhedron and a batch of one
 //! million robust CoM tests; and the centroidal quantities of the project's small humanoid.
-//! Phase-plane plots go to `--out DIR` (default `stance-demo`).
+//! Plots (static-equilibrium polygons, the robust region, phase planes) go to `--out DIR` (default `stance-demo`).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -93,6 +93,11 @@ pub fn run(args: DemoArgs) -> Result<()> {
         let eq = StaticEquilibrium::new(giwc, scene.gravity, &Default::default())?;
         let poly = eq.polygon(0.0)?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
+        super::contact::plot::polygon(
+            &args.out.join(format!("polygon-{name}.svg")),
+            &scene.stance()?,
+            &poly,
+        )?;
         let v = &poly.vertices;
         let area = 0.5
             * (0..v.len())
@@ -115,6 +120,12 @@ pub fn run(args: DemoArgs) -> Result<()> {
     let t = Instant::now();
     let region = RobustRegion::new(box_giwc, &gravities, &Default::default())?;
     let region_ms = t.elapsed().as_secs_f64() * 1e3;
+    let box_scene = examples::box_climbing();
+    super::contact::plot::region(
+        &args.out.join("region-box-climbing.svg"),
+        &box_scene.stance()?,
+        &region,
+    )?;
     let n = 1_000_000;
     let points: Vec<[f64; 3]> = (0..n)
         .map(|i| {
@@ -220,7 +231,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     )?;
     writeln!(
         o,
-        "\nPhase-plane plots (x = s'^2 against s): {}",
+        "\nPlots (static-equilibrium polygons, the robust region, phase planes x = s'^2 against s): {}",
         args.out.display()
     )?;
     super::io::print_text(&o)
