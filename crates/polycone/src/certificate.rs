@@ -45,8 +45,8 @@
 //! `|lambda_i| <= incidence * min |lambda_j|` (over non-zero `lambda_j`) is zero, because the
 //! slack of `g_j` on the normal `y` of the candidate ridge `G \ {i, j}` is
 //! `|y . g_j| = |lambda_i| |y . g_i| / |lambda_j| <= |lambda_i| / |lambda_j|` (from
-//! `sum lambda_q (y . g_q) = 0`), so such a `g_j` is incident within `incidence`, the merge of
-//! the double description. Any entry between the two, or a rank deficiency, defers the facet
+//! `sum lambda_q (y . g_q) = 0`), so such a `g_j` is incident within `incidence`, the epsilon of
+//! the tolerance contract (the tests check that the double description agrees). Any entry between the two, or a rank deficiency, defers the facet
 //! to the double description (never a guess). The unit tests check the closed form against
 //! the double description ridge by ridge on random configurations (generic, redundant
 //! interior generator, generator on a ridge, not pointed) and bit for bit on whole
@@ -575,7 +575,7 @@ fn count_open_ridges(
 /// non-zero `lambda_i` all have one sign (the cone contains a line: not pointed). Entries with
 /// `|lambda_i| > support_rank` are non-zero; entries with `|lambda_i| <= incidence * min |lambda_j|`
 /// (over the non-zero ones) are zero (the slack they leave on the ridge normal is at most
-/// `incidence`: merged, as the double description would). `None` (decide with a double
+/// `incidence`: merged, the tolerance contract). `None` (decide with a double
 /// description instead) when the vectors have rank below `k` or an entry lies between the two.
 fn near_simplicial_ridges(
     rows: &[f64],
@@ -784,10 +784,12 @@ mod tests {
         }
     }
 
-    /// `k + 1` vectors of `R^k` of one of four kinds: 0 generic (any signs, possibly not
+    /// `k + 1` vectors of `R^k` of one of six kinds: 0 generic (any signs, possibly not
     /// pointed), 1 pointed (first coordinate positive), 2 pointed with the last vector a
     /// positive combination of the others (redundant, interior), 3 pointed with the last
-    /// vector a positive combination of two others (on a ridge: a zero entry of `lambda`).
+    /// vector a positive combination of two others (it lies on a 2-face: `lambda` vanishes on
+    /// the other `k - 2`), 4 and 5: kind 3 with the last vector moved by `1e-12` (zeros merged)
+    /// and `1e-8` (between the two thresholds, or clear) in a pseudo-random direction.
     fn config(kind: u8, k: usize, raw: &[f64], w: &[f64]) -> Vec<f64> {
         let mut v: Vec<f64> = raw[..(k + 1) * k].to_vec();
         if kind >= 1 {
@@ -803,10 +805,17 @@ mod tests {
         };
         match kind {
             2 => combine(&mut v, k),
-            3 => combine(&mut v, 2),
+            3..=5 => combine(&mut v, 2),
             _ => {}
         }
         unit_rows(&mut v, k);
+        if kind >= 4 {
+            let size = if kind == 4 { 1e-12 } else { 1e-8 };
+            for c in 0..k {
+                v[k * k + c] += size * raw[41 - c];
+            }
+            unit_rows(&mut v, k);
+        }
         v
     }
 
@@ -817,7 +826,7 @@ mod tests {
         #[test]
         fn closed_form_ridges_match_the_double_description(
             k in 2usize..=6,
-            kind in 0u8..4,
+            kind in 0u8..6,
             raw in proptest::collection::vec(-1.0f64..1.0, 42),
             w in proptest::collection::vec(0.05f64..1.0, 6),
         ) {
