@@ -45,12 +45,13 @@
 //! `|lambda_i| <= incidence * min |lambda_j|` (over non-zero `lambda_j`) is zero, because the
 //! slack of `g_j` on the normal `y` of the candidate ridge `G \ {i, j}` is
 //! `|y . g_j| = |lambda_i| |y . g_i| / |lambda_j| <= |lambda_i| / |lambda_j|` (from
-//! `sum lambda_q (y . g_q) = 0`), so such a `g_j` is incident within `incidence`, the epsilon of
-//! the tolerance contract (the tests check that the double description agrees). Any entry between the two, or a rank deficiency, defers the facet
-//! to the double description (never a guess). The unit tests check the closed form against
-//! the double description ridge by ridge on random configurations (generic, redundant
-//! interior generator, generator on a ridge, not pointed) and bit for bit on whole
-//! conversions of the golden and stress cones.
+//! `sum lambda_q (y . g_q) = 0`), so such a `g_j` is incident within `incidence`, the epsilon
+//! of the tolerance contract. Any entry between the two thresholds, or a rank deficiency,
+//! defers the facet to the double description (never a guess). The unit tests check the
+//! closed form against the double description ridge by ridge on random configurations
+//! (generic, redundant interior generator, generator on a 2-face, entries of `lambda` moved
+//! by `1e-12` and `1e-8`, not pointed) and bit for bit on whole conversions of the golden and
+//! stress cones, counting how many facets each path decided.
 //!
 //! A face form missing facets (the failure of cddlib's float mode described in the crate docs)
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
@@ -572,11 +573,12 @@ fn count_open_ridges(
 /// pairs `(i, j)` (`i <= j`, indices into `rows`) such that the ridges of `cone(g)` are exactly
 /// `G \ {g_i, g_j}` (module doc, "Near-simplicial facets"): `i < j` with
 /// `lambda_i lambda_j < 0`, and `i = j` with `lambda_i = 0`. Returns `Some(false)` when the
-/// non-zero `lambda_i` all have one sign (the cone contains a line: not pointed). Entries with
-/// `|lambda_i| > support_rank` are non-zero; entries with `|lambda_i| <= incidence * min |lambda_j|`
-/// (over the non-zero ones) are zero (the slack they leave on the ridge normal is at most
-/// `incidence`: merged, the tolerance contract). `None` (decide with a double
-/// description instead) when the vectors have rank below `k` or an entry lies between the two.
+/// non-zero `lambda_i` all have one sign (the cone contains a line: not pointed). Entries
+/// with `|lambda_i| > support_rank` are non-zero; entries with
+/// `|lambda_i| <= incidence * min |lambda_j|` (over the non-zero ones) are zero (the slack
+/// they leave on the ridge normal is at most `incidence`: merged, the tolerance contract).
+/// `None` (decide with a double description instead) when the vectors have rank below `k`
+/// or an entry lies between the two.
 fn near_simplicial_ridges(
     rows: &[f64],
     k: usize,
