@@ -41,17 +41,26 @@
 //! check fails. A generator in the interior of `F` has the sign opposite to all others: it is
 //! in every ridge but no ridge drops only it, as expected.
 //!
-//! Signs are decided with the incidence tolerances: `|lambda_i| > support_rank` is non-zero;
-//! `|lambda_i| <= incidence * min |lambda_j|` (over non-zero `lambda_j`) is zero, because the
-//! slack of `g_j` on the normal `y` of the candidate ridge `G \ {i, j}` is
-//! `|y . g_j| = |lambda_i| |y . g_i| / |lambda_j| <= |lambda_i| / |lambda_j|` (from
-//! `sum lambda_q (y . g_q) = 0`), so such a `g_j` is incident within `incidence`, the epsilon
-//! of the tolerance contract. Any entry between the two thresholds, or a rank deficiency,
-//! defers the facet to the double description (never a guess). The unit tests check the
-//! closed form against the double description ridge by ridge on random configurations
-//! (generic, redundant interior generator, generator on a 2-face, entries of `lambda` moved
-//! by `1e-12` and `1e-8`, not pointed) and bit for bit on whole conversions of the golden and
-//! stress cones, counting how many facets each path decided.
+//! Signs are decided with the incidence tolerances, with a margin of ten (the ratio
+//! `certificate / incidence`) on each side of the double description's threshold. By Cramer,
+//! `lambda_q = ± det(G \ {g_q}) / c` with `c = sqrt(sum_q det(G \ {g_q})^2)`. For a ridge
+//! `R = G \ {i, j}` with unit normal `y`, `|det(G \ {g_i})| = vol(R) |y . g_j|` and the
+//! `k - 1` unit vectors of `R` have `vol(R) <= 1` (Hadamard), so `|y . g_j| >= c |lambda_i|`
+//! and, from `lambda_i (y . g_i) + lambda_j (y . g_j) = 0`, `|y . g_i| >= c |lambda_j|`: every
+//! generator off a ridge has slack at least `c min |lambda|` over the non-zero entries (for
+//! `R = G \ {i}`, `lambda_i = 0`, likewise `|y . g_i| >= c |lambda_j|` for any `j`). So
+//! `lambda_i` is non-zero when `c |lambda_i| >= certificate` (all such slacks are at least ten
+//! times `incidence`). Conversely, if `lambda_i` is tiny but not zero, the ridges `G \ {i, j}`
+//! it creates leave `g_j` a slack `|lambda_i| |y . g_i| / |lambda_j| <= |lambda_i| / |lambda_j|`,
+//! which the double description merges: `lambda_i` counts as zero when
+//! `|lambda_i| <= (incidence / 10) min |lambda_j|` (written `incidence^2 / certificate`). Any
+//! entry between the two, or a rank deficiency, defers the facet to the double description
+//! (never a guess). The unit tests check the closed form against the double description ridge
+//! by ridge on random configurations (generic, redundant interior generator, generator on a
+//! 2-face, entries of `lambda` moved by `1e-12` and `1e-8`, not pointed) and bit for bit on
+//! whole conversions of the golden and stress cones, counting how many facets each path
+//! decided. (A first version that called `|lambda_i| > support_rank` non-zero, without the
+//! factor `c`, disagreed with the double description on a `1e-8` case.)
 //!
 //! A face form missing facets (the failure of cddlib's float mode described in the crate docs)
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
@@ -574,11 +583,11 @@ fn count_open_ridges(
 /// `G \ {g_i, g_j}` (module doc, "Near-simplicial facets"): `i < j` with
 /// `lambda_i lambda_j < 0`, and `i = j` with `lambda_i = 0`. Returns `Some(false)` when the
 /// non-zero `lambda_i` all have one sign (the cone contains a line: not pointed). Entries
-/// with `|lambda_i| > support_rank` are non-zero; entries with
-/// `|lambda_i| <= incidence * min |lambda_j|` (over the non-zero ones) are zero (the slack
-/// they leave on the ridge normal is at most `incidence`: merged, the tolerance contract).
-/// `None` (decide with a double description instead) when the vectors have rank below `k`
-/// or an entry lies between the two.
+/// with `c |lambda_i| >= certificate` are non-zero, entries with
+/// `|lambda_i| <= (incidence^2 / certificate) min |lambda_j|` (over the non-zero ones) are
+/// zero (module doc: margins of ten around the double description's `incidence`). `None`
+/// (decide with a double description instead) when the vectors have rank below `k` or an
+/// entry lies between the two.
 fn near_simplicial_ridges(
     rows: &[f64],
     k: usize,
@@ -588,18 +597,21 @@ fn near_simplicial_ridges(
     drops: &mut Vec<(usize, usize)>,
 ) -> Option<bool> {
     drops.clear();
-    dependency(rows, k, tol.support_rank, lambda, scratch)?;
+    let c = dependency(rows, k, tol.support_rank, lambda, scratch)?;
     let m = k + 1;
     let lambda = &lambda[..m];
+    // Non-zero: every slack it implies off a ridge is at least `certificate` (ten times
+    // `incidence`); zero: the slacks it implies are at most `incidence^2 / certificate` (a
+    // tenth of `incidence`). Margins of ten either way, so that the double description,
+    // deciding at `incidence`, takes the same decisions despite rounding.
     let min_nonzero = lambda
         .iter()
         .map(|x| x.abs())
-        .filter(|&x| x > tol.support_rank)
+        .filter(|&x| c * x >= tol.certificate)
         .fold(f64::INFINITY, f64::min);
-    let zero_cut = tol.incidence * min_nonzero;
-    // Signs: 1, -1, or 0; an unclear entry defers to the double description.
+    let zero_cut = tol.incidence * (tol.incidence / tol.certificate) * min_nonzero;
     let sign = |x: f64| -> Option<i8> {
-        if x.abs() > tol.support_rank {
+        if c * x.abs() >= tol.certificate {
             Some(if x > 0.0 { 1 } else { -1 })
         } else if x.abs() <= zero_cut {
             Some(0)
@@ -665,15 +677,19 @@ fn force_dd() -> bool {
 
 /// The linear dependency `lambda` (unit norm) of `k + 1` vectors of `R^k` (`rows`, row-major)
 /// of rank `k`, by Gaussian elimination with partial pivoting on the `k x (k + 1)` matrix whose
-/// columns are the vectors. `None` when the rank is below `k` (pivot at most `eps`).
+/// columns are the vectors. Also returns `c = sqrt(sum_q det(G \ {g_q})^2)` (so that
+/// `|det(G \ {g_q})| = c |lambda_q|`: `lambda` is the vector of signed cofactors divided by
+/// `c`), from the product of the pivots. `None` when the rank is below `k` (pivot at most
+/// `eps`).
 fn dependency(
     rows: &[f64],
     k: usize,
     eps: f64,
     lambda: &mut [f64],
     m: &mut Vec<f64>,
-) -> Option<()> {
+) -> Option<f64> {
     let n = k + 1;
+    let mut det = 1.0;
     m.clear();
     m.resize(k * n, 0.0);
     for i in 0..n {
@@ -708,6 +724,7 @@ fn dependency(
         for t in 0..n {
             m.swap(p * n + t, row * n + t);
         }
+        det *= m[row * n + c].abs();
         let inv = 1.0 / m[row * n + c];
         for t in 0..n {
             m[row * n + t] *= inv;
@@ -733,8 +750,8 @@ fn dependency(
     for r in 0..k {
         lambda[piv_col[r]] = -m[r * n + free];
     }
-    normalize(&mut lambda[..n]);
-    Some(())
+    // With `lambda_free = 1`, `lambda` is the cofactor vector divided by `det(G \ {g_free})`.
+    Some(normalize(&mut lambda[..n]) * det)
 }
 
 #[cfg(test)]
@@ -872,7 +889,7 @@ mod tests {
         let (mut lambda, mut scratch) = (vec![0.0; k + 1], Vec::new());
         match dependency(rows, k, tol.support_rank, &mut lambda, &mut scratch) {
             None => true,
-            Some(()) => lambda.iter().any(|x| x.abs() <= 1e3 * tol.support_rank),
+            Some(c) => lambda.iter().any(|x| c * x.abs() <= 1e3 * tol.certificate),
         }
     }
 
