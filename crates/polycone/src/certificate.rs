@@ -965,6 +965,30 @@ mod tests {
         for roll in [1.0, 0.1] {
             out.push((format!("rolled_{roll}deg"), two([0.0; 3], 0.0, roll, foot)));
         }
+        // Random stances: 2 to 4 contacts at pseudo-random positions and rolls (xorshift).
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for case in 0..12 {
+            let contacts: Vec<_> = (0..2 + case % 3)
+                .map(|_| {
+                    let p = [0.5 * next(), 0.5 * next(), 0.2 * next()];
+                    (
+                        p,
+                        0.6 * next(),
+                        [0.05 + 0.05 * next().abs(), 0.03 + 0.03 * next().abs()],
+                    )
+                })
+                .collect();
+            out.push((
+                format!("random_{case}"),
+                giwc(&contacts, 0.5 + 0.3 * next().abs()),
+            ));
+        }
         out
     }
 
