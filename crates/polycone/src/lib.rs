@@ -68,10 +68,11 @@
 //!
 //! - Speed: the certified tolerance mode is only x3 (16 generators) to x6 (32 and more,
 //!   median) faster than cddlib's float mode on 6-D wrench cones (x11 to x15 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at; about a third of the time on small cones is
-//!   the completeness check (small double descriptions per facet, see
-//!   [`DdOptions::check_completeness`]), the rest is spread over the double description, the
-//!   preconditioning SVD and the certificate's bookkeeping. `bench/peers/cones.md` has the
+//!   generators), short of the x10 / x30 aimed at. The certificate takes about 70 % of the
+//!   instructions of a 16-generator conversion (callgrind): 44 % in the small double
+//!   descriptions per facet of the completeness check (facets with more tight generators than
+//!   the closed forms cover; see [`DdOptions::check_completeness`]), the rest in its
+//!   bookkeeping; the main double description takes 11 % and the preconditioning 12 %. `bench/peers/cones.md` has the
 //!   measured table.
 //! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders
 //!   of magnitude slower than cddlib's GMP mode on large cones (seconds for 32 generators and
@@ -128,8 +129,8 @@ pub struct DdOptions {
     /// answer for the input as given instead (slower; its certificate says
     /// [`Arithmetic::Exact`]). Default `true`.
     pub exact_fallback: bool,
-    /// Run the completeness check of the certificate (the ridge check, about two thirds of the
-    /// time of a conversion). When `false`, soundness and support are still checked but the
+    /// Run the completeness check of the certificate (the ridge check, about half of the
+    /// instructions of a small conversion). When `false`, soundness and support are still checked but the
     /// result is never `certified` (and an uncertified result is returned, not an error, as
     /// if `allow_uncertified` were set). Default `true`.
     pub check_completeness: bool,
