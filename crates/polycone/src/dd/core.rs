@@ -59,6 +59,37 @@ pub(crate) struct DdCore {
 }
 
 impl DdCore {
+    /// Appends to `next_x` the new ray on the hyperplane of the row being added, combining the
+    /// adjacent rays `p` (slack > 0) and `q` (slack < 0): `slack_p x_q - slack_q x_p`, normalized.
+    /// (An associated function over the three buffers, so that callers may hold other fields.)
+    #[inline(always)]
+    fn push_combination(
+        slack: &[f64],
+        x: &[f64],
+        next_x: &mut Vec<f64>,
+        [p, q, k]: [usize; 3],
+    ) -> Result<(), DdFailure> {
+        let (sp, sq) = (slack[p], slack[q]);
+        let start = next_x.len();
+        next_x.resize(start + k, 0.0);
+        let (xp, xq) = (&x[p * k..(p + 1) * k], &x[q * k..(q + 1) * k]);
+        let out = &mut next_x[start..start + k];
+        let mut nn = 0.0;
+        for ((o, &a), &b) in out.iter_mut().zip(xq).zip(xp) {
+            let v = sp * a - sq * b;
+            *o = v;
+            nn += v * v;
+        }
+        if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
+            return Err(DdFailure::Cancellation);
+        }
+        let inv = 1.0 / nn.sqrt();
+        for v in out.iter_mut() {
+            *v *= inv;
+        }
+        Ok(())
+    }
+
     /// Ray `i` as a slice.
     #[inline]
     pub fn ray(&self, i: usize) -> &[f64] {
@@ -359,21 +390,7 @@ impl DdCore {
                 if blocked {
                     continue;
                 }
-                let (sp, sq) = (self.slack[p], self.slack[q]);
-                let start = self.next_x.len();
-                let mut nn = 0.0;
-                for t in 0..k {
-                    let v = sp * self.x[q * k + t] - sq * self.x[p * k + t];
-                    self.next_x.push(v);
-                    nn += v * v;
-                }
-                if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
-                    return Err(DdFailure::Cancellation);
-                }
-                let inv = 1.0 / nn.sqrt();
-                for v in &mut self.next_x[start..start + k] {
-                    *v *= inv;
-                }
+                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
                 let zs = self.next_z.len();
                 self.next_z.extend_from_slice(&self.tmp);
                 bitset::set(&mut self.next_z[zs..zs + words], j);
@@ -429,21 +446,7 @@ impl DdCore {
                 if self.acc.iter().any(|&w| w != 0) {
                     continue;
                 }
-                let (sp, sq) = (self.slack[p], self.slack[q]);
-                let start = self.next_x.len();
-                let mut nn = 0.0;
-                for t in 0..k {
-                    let v = sp * self.x[q * k + t] - sq * self.x[p * k + t];
-                    self.next_x.push(v);
-                    nn += v * v;
-                }
-                if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
-                    return Err(DdFailure::Cancellation);
-                }
-                let inv = 1.0 / nn.sqrt();
-                for v in &mut self.next_x[start..start + k] {
-                    *v *= inv;
-                }
+                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
                 let zs = self.next_z.len();
                 self.next_z.extend_from_slice(&self.tmp);
                 bitset::set(&mut self.next_z[zs..zs + words], j);
@@ -601,24 +604,7 @@ impl DdCore {
                 if blocked {
                     continue;
                 }
-                let (sp, sq) = (self.slack[p], self.slack[q]);
-                let start = self.next_x.len();
-                self.next_x.resize(start + k, 0.0);
-                let (xp, xq) = (&self.x[p * k..(p + 1) * k], &self.x[q * k..(q + 1) * k]);
-                let out = &mut self.next_x[start..start + k];
-                let mut nn = 0.0;
-                for ((o, &a), &b) in out.iter_mut().zip(xq).zip(xp) {
-                    let v = sp * a - sq * b;
-                    *o = v;
-                    nn += v * v;
-                }
-                if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
-                    return Err(DdFailure::Cancellation);
-                }
-                let inv = 1.0 / nn.sqrt();
-                for v in out.iter_mut() {
-                    *v *= inv;
-                }
+                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
                 self.next_z.push(common | bit);
             }
         }
