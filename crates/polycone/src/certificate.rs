@@ -66,7 +66,7 @@
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
 //! is `d - r`.
 
-use crate::dd::{DdCore, DdFailure};
+use crate::dd::{DdCore, DdFailure, Scan, SmallDd};
 use crate::linalg::{dot, normalize, rank_of};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
@@ -142,12 +142,150 @@ impl Certificate {
     }
 }
 
+/// Reusable buffers of the certificate (part of [`crate::Workspace`]): once warm, certifying a
+/// cone of the same size does not allocate, apart from the returned lists.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CertScratch {
+    /// The double description of facets that have neither closed form, and of the lineality
+    /// check.
+    pub(crate) small: DdCore,
+    /// The same, for the small per-facet conversions.
+    tiny: SmallDd,
+    /// Generators transposed (`r x ng`): the slack loop runs along contiguous generators.
+    gt: Vec<f64>,
+    /// Slacks `u . g` (`nf x ng`, row-major), whitened coordinates.
+    slack: Vec<f64>,
+    /// Generators and facets in `L^perp` coordinates (non-pointed cones only).
+    gp: Vec<f64>,
+    fp: Vec<f64>,
+    in_l: Vec<bool>,
+    /// Incidence bitsets, both ways (see [`Incidence`]).
+    inc: Vec<u64>,
+    by_gen: Vec<u64>,
+    /// Per-facet work of the ridge check.
+    members: Vec<usize>,
+    rows: Vec<f64>,
+    ridge: Vec<usize>,
+    neighbours: Vec<u64>,
+    cand: Vec<u32>,
+    acc: Vec<u64>,
+    drops: Vec<(usize, usize)>,
+    lambda: Vec<f64>,
+    vbuf: Vec<f64>,
+    /// Linear algebra scratch.
+    buf: Vec<f64>,
+}
+
+/// Most rays the fixed-size double description of a facet keeps before handing over to the
+/// general one (facets of the paper's cones need about ten).
+const TINY_MAX_RAYS: usize = 256;
+
+/// Lanes of the slack loop: generators are processed in blocks of this many, so that the
+/// products, the running maximum and the incidence flags vectorize.
+const LANES: usize = 8;
+
+/// Slacks `s = u . g` of `nf` unit facets `fw` (`nf x r`) against `ng` generators given
+/// transposed in `gt` (`r x ng`), into `slack` (`nf x ng`, row-major). Returns the largest slack
+/// (at least 0). When `inc` is `Some((inc, gw, eps))`, also sets bit `i` of facet `f`'s `gw`-word
+/// row of `inc` for every `|s| <= eps`.
+fn slacks(
+    fw: &[f64],
+    gt: &[f64],
+    r: usize,
+    ng: usize,
+    slack: &mut Vec<f64>,
+    inc: Option<(&mut [u64], usize, f64)>,
+) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the CPU has AVX2 and FMA, checked just above.
+            return unsafe { slacks_avx2(fw, gt, r, ng, slack, inc) };
+        }
+    }
+    slacks_body(fw, gt, r, ng, slack, inc)
+}
+
+/// [`slacks_body`] compiled for AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn slacks_avx2(
+    fw: &[f64],
+    gt: &[f64],
+    r: usize,
+    ng: usize,
+    slack: &mut Vec<f64>,
+    inc: Option<(&mut [u64], usize, f64)>,
+) -> f64 {
+    slacks_body(fw, gt, r, ng, slack, inc)
+}
+
+#[inline(always)]
+fn slacks_body(
+    fw: &[f64],
+    gt: &[f64],
+    r: usize,
+    ng: usize,
+    slack: &mut Vec<f64>,
+    mut inc: Option<(&mut [u64], usize, f64)>,
+) -> f64 {
+    let nf = fw.len().checked_div(r).unwrap_or(0);
+    slack.clear();
+    slack.resize(nf * ng, 0.0);
+    let mut lane_max = [0.0f64; LANES];
+    for (f, (u, s_row)) in fw
+        .chunks_exact(r.max(1))
+        .zip(slack.chunks_exact_mut(ng.max(1)))
+        .enumerate()
+    {
+        if r == 0 || ng == 0 {
+            break;
+        }
+        // Blocks of LANES generators: the sums stay in registers across the r coordinates.
+        let full = ng / LANES * LANES;
+        for b in (0..full).step_by(LANES) {
+            let mut acc = [0.0f64; LANES];
+            for (c, &uc) in u.iter().enumerate() {
+                let g = &gt[c * ng + b..c * ng + b + LANES];
+                for (a, &gv) in acc.iter_mut().zip(g) {
+                    *a += uc * gv;
+                }
+            }
+            s_row[b..b + LANES].copy_from_slice(&acc);
+            for (m, &s) in lane_max.iter_mut().zip(&acc) {
+                *m = if s > *m { s } else { *m };
+            }
+        }
+        for i in full..ng {
+            let s: f64 = u
+                .iter()
+                .enumerate()
+                .map(|(c, &uc)| uc * gt[c * ng + i])
+                .sum();
+            s_row[i] = s;
+            lane_max[0] = if s > lane_max[0] { s } else { lane_max[0] };
+        }
+        if let Some((inc, gw, eps)) = inc.as_mut() {
+            let row = &mut inc[f * *gw..(f + 1) * *gw];
+            for (wi, chunk) in s_row.chunks(64).enumerate() {
+                let mut w = 0u64;
+                for (b, &s) in chunk.iter().enumerate() {
+                    w |= ((s.abs() <= *eps) as u64) << b;
+                }
+                row[wi] = w;
+            }
+        }
+    }
+    lane_max.iter().copied().fold(0.0, f64::max)
+}
+
 /// Certifies whitened facets `fw` (`nf x r`, unit rows) against the whitened generators.
 /// `perp` (`t x r`, orthonormal rows) spans the facets, `lin` (`(r - t) x r`, orthonormal rows)
 /// its complement, the claimed lineality space.
-#[allow(clippy::too_many_arguments)]
 /// Returns the certificate and the extreme generators (indices into `wh.kept`, see
 /// [`Incidence::extreme`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn certify_whitened(
     wh: &Whitened,
     fw: &[f64],
@@ -156,26 +294,38 @@ pub(crate) fn certify_whitened(
     tol: &Tolerances,
     arithmetic: Arithmetic,
     check_completeness: bool,
-    check: &mut DdCore,
-    scratch: &mut Vec<f64>,
+    cs: &mut CertScratch,
 ) -> (Certificate, Vec<usize>) {
     let r = wh.r;
     let nf = fw.len().checked_div(r).unwrap_or(0);
     let t = perp.len().checked_div(r).unwrap_or(0);
     let l = lin.len().checked_div(r).unwrap_or(0);
     let ng = wh.kept.len();
+    let pointed = t == r;
+    let gw = ng.div_ceil(64).max(1);
+    let fwd = nf.div_ceil(64).max(1);
 
-    // Slacks of every generator on every facet (unit vectors): S = F W^T, one matrix product.
-    let slack = if nf > 0 && ng > 0 && r > 0 {
-        let fm = nalgebra::DMatrix::from_row_slice(nf, r, fw);
-        let wm = nalgebra::DMatrix::from_row_slice(ng, r, &wh.w);
-        fm * wm.transpose()
-    } else {
-        nalgebra::DMatrix::zeros(nf, ng)
-    };
+    // Slacks of every generator on every facet (unit vectors), and for a pointed cone the
+    // incidence in the same sweep.
+    cs.gt.clear();
+    cs.gt.resize(r * ng, 0.0);
+    for i in 0..ng {
+        for (c, &g) in wh.gen(i).iter().enumerate() {
+            cs.gt[c * ng + i] = g;
+        }
+    }
+    cs.inc.clear();
+    cs.inc.resize(nf * gw, 0);
+    let max_violation = slacks(
+        fw,
+        &cs.gt,
+        r,
+        ng,
+        &mut cs.slack,
+        pointed.then_some((&mut cs.inc[..], gw, tol.incidence)),
+    );
 
     // 1. Soundness.
-    let max_violation = slack.iter().copied().fold(0.0, f64::max);
     let soundness = max_violation <= tol.certificate && wh.equation_residual <= tol.certificate;
 
     // 2. Support: tight generators, projected on the facet's hyperplane, have rank r - 1.
@@ -183,34 +333,34 @@ pub(crate) fn certify_whitened(
     // L^perp), so the loop here only runs without it.
     let merged_support = check_completeness && t >= 3 && ok_dims(t, nf);
     let mut unsupported_facets = Vec::new();
-    let mut proj = Vec::new();
-    for f in 0..nf {
-        if merged_support {
-            break;
-        }
-        let u = &fw[f * r..(f + 1) * r];
-        proj.clear();
-        let mut cnt = 0;
-        for i in 0..ng {
-            let s = slack[(f, i)];
-            if s.abs() <= tol.incidence {
-                let g = wh.gen(i);
-                for c in 0..r {
-                    proj.push(g[c] - s * u[c]);
+    if !merged_support {
+        let mut proj = std::mem::take(&mut cs.rows);
+        for f in 0..nf {
+            let u = &fw[f * r..(f + 1) * r];
+            proj.clear();
+            let mut cnt = 0;
+            for i in 0..ng {
+                let s = cs.slack[f * ng + i];
+                if s.abs() <= tol.incidence {
+                    let g = wh.gen(i);
+                    for c in 0..r {
+                        proj.push(g[c] - s * u[c]);
+                    }
+                    cnt += 1;
                 }
-                cnt += 1;
+            }
+            let rank = rank_of(
+                (0..cnt).map(|i| &proj[i * r..(i + 1) * r]),
+                r,
+                r - 1,
+                tol.support_rank,
+                &mut cs.buf,
+            );
+            if rank + 1 != r {
+                unsupported_facets.push(f);
             }
         }
-        let rank = rank_of(
-            (0..cnt).map(|i| &proj[i * r..(i + 1) * r]),
-            r,
-            r - 1,
-            tol.support_rank,
-            scratch,
-        );
-        if rank + 1 != r {
-            unsupported_facets.push(f);
-        }
+        cs.rows = proj;
     }
 
     // 3. Lineality: generators in L positively span L.
@@ -232,18 +382,63 @@ pub(crate) fn certify_whitened(
                 m += 1;
             }
         }
-        lineality = match check.run(&rows, m, l, tol.incidence, tol.support_rank) {
-            Ok(()) => check.n == 0,
+        lineality = match cs.small.run(&rows, m, l, tol.incidence, tol.support_rank) {
+            Ok(()) => cs.small.n == 0,
             Err(_) => false,
         };
     }
 
     // 4. Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
-    let inc = Incidence::new(wh, fw, perp, t, tol, &slack);
+    if !pointed {
+        project_incidence(wh, fw, perp, t, tol, cs);
+    }
+    cs.by_gen.clear();
+    cs.by_gen.resize(ng * fwd, 0);
+    for f in 0..nf {
+        for wi in 0..gw {
+            let mut w = cs.inc[f * gw + wi];
+            while w != 0 {
+                let i = wi * 64 + w.trailing_zeros() as usize;
+                w &= w - 1;
+                cs.by_gen[i * fwd + f / 64] |= 1 << (f % 64);
+            }
+        }
+    }
+    let (gp, fp): (&[f64], &[f64]) = if pointed {
+        (&wh.w, fw)
+    } else {
+        (&cs.gp, &cs.fp)
+    };
+    let in_l: &[bool] = if pointed { &[] } else { &cs.in_l };
+    let inc = Incidence {
+        t,
+        nf,
+        gp,
+        fp,
+        in_l,
+        gw,
+        fwd,
+        inc: &cs.inc,
+        by_gen: &cs.by_gen,
+    };
+    let mut work = RidgeWork {
+        small: &mut cs.small,
+        tiny: &mut cs.tiny,
+        members: &mut cs.members,
+        rows: &mut cs.rows,
+        ridge: &mut cs.ridge,
+        neighbours: &mut cs.neighbours,
+        cand: &mut cs.cand,
+        acc: &mut cs.acc,
+        drops: &mut cs.drops,
+        lambda: &mut cs.lambda,
+        vbuf: &mut cs.vbuf,
+        buf: &mut cs.buf,
+    };
     let open_ridges = if !check_completeness {
         usize::MAX
     } else if ok_dims(t, nf) {
-        count_open_ridges(&inc, t, tol, check, scratch, &mut unsupported_facets)
+        count_open_ridges(&inc, tol, &mut work, &mut unsupported_facets)
     } else {
         usize::MAX
     };
@@ -279,105 +474,76 @@ fn ok_dims(t: usize, nf: usize) -> bool {
     }
 }
 
-/// Generator-facet incidence in `L^perp` coordinates (dimension `t`), as bitsets both ways.
-pub(crate) struct Incidence {
+/// For a cone with lineality, generators and facets projected on `L^perp` (`t` orthonormal
+/// rows `perp`) and normalized, into `cs.gp`, `cs.fp`, with the generators lying in `L`
+/// flagged in `cs.in_l`, and the incidence recomputed there into `cs.inc`.
+fn project_incidence(
+    wh: &Whitened,
+    fw: &[f64],
+    perp: &[f64],
     t: usize,
-    ng: usize,
+    tol: &Tolerances,
+    cs: &mut CertScratch,
+) {
+    let r = wh.r;
+    let ng = wh.kept.len();
+    let nf = fw.len().checked_div(r).unwrap_or(0);
+    let gw = ng.div_ceil(64).max(1);
+    cs.gp.clear();
+    cs.gp.resize(ng * t, 0.0);
+    cs.in_l.clear();
+    cs.in_l.resize(ng, false);
+    for i in 0..ng {
+        let g = wh.gen(i);
+        for b in 0..t {
+            cs.gp[i * t + b] = dot(&perp[b * r..(b + 1) * r], g);
+        }
+        if normalize(&mut cs.gp[i * t..(i + 1) * t]) <= tol.certificate {
+            cs.in_l[i] = true;
+        }
+    }
+    cs.fp.clear();
+    cs.fp.resize(nf * t, 0.0);
+    for f in 0..nf {
+        for b in 0..t {
+            cs.fp[f * t + b] = dot(&perp[b * r..(b + 1) * r], &fw[f * r..(f + 1) * r]);
+        }
+        normalize(&mut cs.fp[f * t..(f + 1) * t]);
+    }
+    cs.inc.clear();
+    cs.inc.resize(nf * gw, 0);
+    for f in 0..nf {
+        let u = &cs.fp[f * t..(f + 1) * t];
+        for i in 0..ng {
+            if !cs.in_l[i] && dot(u, &cs.gp[i * t..(i + 1) * t]).abs() <= tol.incidence {
+                cs.inc[f * gw + i / 64] |= 1 << (i % 64);
+            }
+        }
+    }
+}
+
+/// Generator-facet incidence in `L^perp` coordinates (dimension `t`), as bitsets both ways.
+pub(crate) struct Incidence<'a> {
+    t: usize,
     nf: usize,
     /// Generators (unit, `ng x t`), facets (unit, `nf x t`).
-    gp: Vec<f64>,
-    fp: Vec<f64>,
-    /// Generator lies in the lineality space (projection ~ 0).
-    in_l: Vec<bool>,
+    gp: &'a [f64],
+    fp: &'a [f64],
+    /// Generator lies in the lineality space (projection ~ 0); empty when pointed (none does).
+    in_l: &'a [bool],
     gw: usize,
     fwd: usize,
     /// `nf x gw`: generators tight on each facet.
-    inc: Vec<u64>,
+    inc: &'a [u64],
     /// `ng x fwd`: facets tight on each generator.
-    by_gen: Vec<u64>,
+    by_gen: &'a [u64],
 }
 
-impl Incidence {
-    fn new(
-        wh: &Whitened,
-        fw: &[f64],
-        perp: &[f64],
-        t: usize,
-        tol: &Tolerances,
-        slack: &nalgebra::DMatrix<f64>,
-    ) -> Self {
-        let r = wh.r;
-        let ng = wh.kept.len();
-        let nf = fw.len().checked_div(r).unwrap_or(0);
-        let gw = ng.div_ceil(64).max(1);
-        let fwd = nf.div_ceil(64).max(1);
-        if t == r {
-            // Pointed: L^perp is all of R^r; the whitened coordinates serve as they are.
-            let mut inc = vec![0u64; nf * gw];
-            let mut by_gen = vec![0u64; ng * fwd];
-            // `slack` is column-major (`nf x ng`): walk it column by column.
-            for i in 0..ng {
-                for (f, s) in slack.column(i).iter().enumerate() {
-                    if s.abs() <= tol.incidence {
-                        inc[f * gw + i / 64] |= 1 << (i % 64);
-                        by_gen[i * fwd + f / 64] |= 1 << (f % 64);
-                    }
-                }
-            }
-            return Self {
-                t,
-                ng,
-                nf,
-                gp: wh.w.clone(),
-                fp: fw.to_vec(),
-                in_l: vec![false; ng],
-                gw,
-                fwd,
-                inc,
-                by_gen,
-            };
-        }
-        let mut gp = vec![0.0; ng * t];
-        let mut in_l = vec![false; ng];
-        for i in 0..ng {
-            let g = wh.gen(i);
-            for b in 0..t {
-                gp[i * t + b] = dot(&perp[b * r..(b + 1) * r], g);
-            }
-            if normalize(&mut gp[i * t..(i + 1) * t]) <= tol.certificate {
-                in_l[i] = true;
-            }
-        }
-        let mut fp = vec![0.0; nf * t];
-        for f in 0..nf {
-            for b in 0..t {
-                fp[f * t + b] = dot(&perp[b * r..(b + 1) * r], &fw[f * r..(f + 1) * r]);
-            }
-            normalize(&mut fp[f * t..(f + 1) * t]);
-        }
-        let mut inc = vec![0u64; nf * gw];
-        let mut by_gen = vec![0u64; ng * fwd];
-        for f in 0..nf {
-            let u = &fp[f * t..(f + 1) * t];
-            for i in 0..ng {
-                if !in_l[i] && dot(u, &gp[i * t..(i + 1) * t]).abs() <= tol.incidence {
-                    inc[f * gw + i / 64] |= 1 << (i % 64);
-                    by_gen[i * fwd + f / 64] |= 1 << (f % 64);
-                }
-            }
-        }
-        Self {
-            t,
-            ng,
-            nf,
-            gp,
-            fp,
-            in_l,
-            gw,
-            fwd,
-            inc,
-            by_gen,
-        }
+impl Incidence<'_> {
+    /// Generator `i` lies in the lineality space.
+    #[inline]
+    fn in_l(&self, i: usize) -> bool {
+        self.in_l.get(i).copied().unwrap_or(false)
     }
 
     /// Extreme generators among `candidates` (indices into `kept`), one per extreme ray: `g` is
@@ -393,13 +559,13 @@ impl Incidence {
         let set = |i: usize| &self.by_gen[i * fwd..(i + 1) * fwd];
         let mut out: Vec<usize> = Vec::new();
         for &g in candidates {
-            if self.in_l[g] {
+            if self.in_l(g) {
                 continue;
             }
             let sg = set(g);
             let dominated = candidates.iter().any(|&h| {
                 h != g
-                    && !self.in_l[h]
+                    && !self.in_l(h)
                     && sg.iter().zip(set(h)).all(|(a, b)| a & !b == 0)
                     && sg != set(h)
             });
@@ -412,62 +578,99 @@ impl Incidence {
     }
 }
 
+/// Buffers of [`count_open_ridges`], borrowed from [`CertScratch`].
+struct RidgeWork<'a> {
+    small: &'a mut DdCore,
+    tiny: &'a mut SmallDd,
+    members: &'a mut Vec<usize>,
+    rows: &'a mut Vec<f64>,
+    ridge: &'a mut Vec<usize>,
+    neighbours: &'a mut Vec<u64>,
+    cand: &'a mut Vec<u32>,
+    acc: &'a mut Vec<u64>,
+    drops: &'a mut Vec<(usize, usize)>,
+    lambda: &'a mut Vec<f64>,
+    vbuf: &'a mut Vec<f64>,
+    buf: &'a mut Vec<f64>,
+}
+
+/// The number of claimed facets containing `ridge` (generator indices, a subset of facet `f`'s
+/// tight generators; 2 expected). With one-word incidence rows (`ng <= 64`), `neighbours` holds
+/// the tight sets of the other facets sharing at least `t - 2` generators with `f`, which are
+/// the only ones that can contain a ridge of `f` (a ridge has rank `t - 2`, so at least `t - 2`
+/// generators); otherwise every facet is tested through the per-generator bitsets.
+#[inline]
+fn covered(
+    incd: &Incidence,
+    t: usize,
+    ridge: &[usize],
+    neighbours: &[u64],
+    acc: &mut Vec<u64>,
+) -> usize {
+    let (nf, fwd) = (incd.nf, incd.fwd);
+    if incd.gw == 1 && ridge.len() + 2 >= t {
+        let mask = ridge.iter().fold(0u64, |m, &i| m | 1 << i);
+        return 1 + neighbours.iter().filter(|&&z| mask & !z == 0).count();
+    }
+    let by_gen = incd.by_gen;
+    acc.clear();
+    acc.resize(fwd, u64::MAX);
+    for &i in ridge {
+        for (a, b) in acc.iter_mut().zip(&by_gen[i * fwd..(i + 1) * fwd]) {
+            *a &= b;
+        }
+    }
+    let extra = fwd * 64 - nf;
+    (acc.iter().map(|w| w.count_ones()).sum::<u32>()
+        - if ridge.is_empty() { extra as u32 } else { 0 }) as usize
+}
+
 /// The ridge check of completeness (see the module doc), for `t >= 3` (smaller `t` are decided by
 /// [`ok_dims`]). Returns the number of ridges not covered by exactly two facets.
 fn count_open_ridges(
     incd: &Incidence,
-    t: usize,
     tol: &Tolerances,
-    small: &mut DdCore,
-    scratch: &mut Vec<f64>,
+    w: &mut RidgeWork,
     unsupported: &mut Vec<usize>,
 ) -> usize {
+    let t = incd.t;
     if t < 3 {
         return 0;
     }
-    let Incidence {
-        ng, nf, gw, fwd, ..
-    } = *incd;
-    let (gp, fp, inc, by_gen) = (&incd.gp, &incd.fp, &incd.inc, &incd.by_gen);
+    let Incidence { nf, gw, .. } = *incd;
+    let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
+    let scan = Scan::detect();
     let mut open = 0;
-    let mut members: Vec<usize> = Vec::new();
-    let mut rows: Vec<f64> = Vec::new();
-    let mut acc = vec![0u64; fwd];
-    let mut ridge: Vec<usize> = Vec::new();
-    let mut vbuf = vec![0.0; t];
-    let mut lambda = vec![0.0; t];
-    let mut drops: Vec<(usize, usize)> = Vec::new();
-    // Counts the facets containing `ridge` (generator indices); 2 expected.
-    let covered = |ridge: &[usize], acc: &mut [u64]| -> u32 {
-        if fwd == 1 {
-            // At most 64 facets: one register, starting from the set of all facets.
-            let mut a = if nf == 64 { u64::MAX } else { (1u64 << nf) - 1 };
-            for &i in ridge {
-                a &= by_gen[i];
-            }
-            return a.count_ones();
-        }
-        acc.fill(u64::MAX);
-        for &i in ridge {
-            for (a, b) in acc.iter_mut().zip(&by_gen[i * fwd..(i + 1) * fwd]) {
-                *a &= b;
-            }
-        }
-        let extra = fwd * 64 - nf;
-        acc.iter().map(|w| w.count_ones()).sum::<u32>()
-            - if ridge.is_empty() { extra as u32 } else { 0 }
-    };
+    w.vbuf.clear();
+    w.vbuf.resize(t, 0.0);
+    w.lambda.clear();
+    w.lambda.resize(t, 0.0);
     for f in 0..nf {
+        let members = &mut *w.members;
         members.clear();
-        for i in 0..ng {
-            if inc[f * gw + i / 64] >> (i % 64) & 1 == 1 {
-                members.push(i);
+        for wi in 0..gw {
+            let mut word = inc[f * gw + wi];
+            while word != 0 {
+                members.push(wi * 64 + word.trailing_zeros() as usize);
+                word &= word - 1;
             }
         }
         if members.len() < t - 1 {
             unsupported.push(f);
             open += 1;
             continue;
+        }
+        // The other facets that may share a ridge with this one (one-word rows only).
+        w.neighbours.clear();
+        if gw == 1 {
+            w.cand.clear();
+            scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
+            w.neighbours.extend(
+                w.cand
+                    .iter()
+                    .filter(|&&g| g as usize != f)
+                    .map(|&g| inc[g as usize]),
+            );
         }
         // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
         // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
@@ -476,13 +679,14 @@ fn count_open_ridges(
         let j = (0..t)
             .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
             .unwrap_or(0);
-        let v = &mut vbuf[..];
+        let v = &mut w.vbuf[..];
         v.copy_from_slice(u);
         v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
         let vv = dot(v, v);
         let k = t - 1;
+        let rows = &mut *w.rows;
         rows.clear();
-        for &i in &members {
+        for &i in members.iter() {
             let g = &gp[i * t..(i + 1) * t];
             let c = 2.0 * dot(v, g) / vv;
             let start = rows.len();
@@ -491,6 +695,7 @@ fn count_open_ridges(
             }
             normalize(&mut rows[start..]);
         }
+        let ridge = &mut *w.ridge;
         if members.len() == t - 1 {
             // Simplicial facet (when its generators are independent: support): its ridges drop
             // one generator each.
@@ -499,7 +704,7 @@ fn count_open_ridges(
                 k,
                 k,
                 tol.support_rank,
-                scratch,
+                w.buf,
             ) < k
             {
                 unsupported.push(f);
@@ -516,7 +721,7 @@ fn count_open_ridges(
                         .filter(|&(k, _)| k != drop)
                         .map(|(_, &i)| i),
                 );
-                if covered(&ridge, &mut acc) != 2 {
+                if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
                     open += 1;
                 }
             }
@@ -526,13 +731,13 @@ fn count_open_ridges(
             // One generator more than simplicial: closed form (module doc, "Near-simplicial
             // facets"), unless the dependency has an entry near zero: then the DD below decides.
             let m = members.len();
-            match near_simplicial_ridges(&rows, k, tol, &mut lambda, scratch, &mut drops) {
+            match near_simplicial_ridges(rows, k, tol, w.lambda, w.buf, w.drops) {
                 Some(true) => {
                     record!(closed_form);
-                    for &(a, b) in &drops {
+                    for &(a, b) in w.drops.iter() {
                         ridge.clear();
                         ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
-                        if covered(&ridge, &mut acc) != 2 {
+                        if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
                             open += 1;
                         }
                     }
@@ -549,7 +754,20 @@ fn count_open_ridges(
             }
         }
         record!(dd);
-        match small.run(&rows, members.len(), k, tol.incidence, tol.support_rank) {
+        // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows),
+        // by the fixed-size double description, or the general one beyond its range.
+        let m = members.len();
+        let tiny = &mut *w.tiny;
+        let small = &mut *w.small;
+        let (result, used_tiny) =
+            match tiny.run(rows, m, k, tol.incidence, tol.support_rank, TINY_MAX_RAYS) {
+                Some(r) => (r, true),
+                None => (
+                    small.run(rows, m, k, tol.incidence, tol.support_rank),
+                    false,
+                ),
+            };
+        match result {
             Ok(()) => {}
             Err(DdFailure::RankDeficient) => {
                 unsupported.push(f);
@@ -561,15 +779,22 @@ fn count_open_ridges(
                 continue;
             }
         }
-        for q in 0..small.n {
-            let z = &small.z[q * small.words..(q + 1) * small.words];
+        let nr = if used_tiny { tiny.n() } else { small.n };
+        for q in 0..nr {
+            let z_hi = |loc: usize| -> bool {
+                if used_tiny {
+                    tiny.z[q] >> loc & 1 == 1
+                } else {
+                    small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1
+                }
+            };
             ridge.clear();
             for (loc, &i) in members.iter().enumerate() {
-                if z[loc / 64] >> (loc % 64) & 1 == 1 {
+                if z_hi(loc) {
                     ridge.push(i);
                 }
             }
-            if covered(&ridge, &mut acc) != 2 {
+            if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
                 open += 1;
             }
         }

@@ -16,7 +16,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::certificate::{certify_whitened, Certificate};
+use crate::certificate::{certify_whitened, CertScratch, Certificate};
 use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
@@ -58,7 +58,7 @@ pub struct FaceToSpan {
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     core: DdCore,
-    check: DdCore,
+    check: CertScratch,
     rows: Vec<f64>,
     scratch: Vec<f64>,
 }
@@ -231,7 +231,6 @@ impl Workspace {
             opts.arithmetic,
             opts.check_completeness,
             &mut self.check,
-            &mut self.scratch,
         );
         if !certificate.certified && !opts.allow_uncertified && opts.check_completeness {
             return Err(ConeError::Uncertified(certificate.failure_reason()));
@@ -394,8 +393,7 @@ pub fn certify_span_to_face(
         wh.facet_from_world(&u, &mut fw[f * r..(f + 1) * r]);
     }
     let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
-    let mut check = DdCore::default();
-    let mut scratch = Vec::new();
+    let mut check = CertScratch::default();
     let (mut cert, _) = certify_whitened(
         &wh,
         &fw,
@@ -405,7 +403,6 @@ pub fn certify_span_to_face(
         opts.arithmetic,
         true,
         &mut check,
-        &mut scratch,
     );
     // Equations: annihilate the generators, and as many as the complement of span(V).
     let maxn = (0..generators.nrows())

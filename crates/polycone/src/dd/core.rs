@@ -3,6 +3,7 @@
 //! reused across calls: once warm, a conversion of the same size does not allocate.
 
 use super::bitset;
+use super::scan::Scan;
 
 /// Dimensions up to this use stack buffers for small per-call vectors.
 const MAX_STACK_K: usize = 16;
@@ -50,6 +51,10 @@ pub(crate) struct DdCore {
     zp: Vec<u64>,
     zn: Vec<u64>,
     cand: Vec<(u32, u32)>,
+    /// Candidate indices into `minus` for one ray of `plus` (one-word path).
+    cand_idx: Vec<u32>,
+    /// The compiled variant of the bitset scans this CPU runs.
+    scan: Scan,
     /// Number of adjacency candidates examined in the last run (for profiling).
     pub pairs_tested: usize,
     /// Tests only: take the multi-word path even when one word would do, to check the
@@ -115,6 +120,7 @@ impl DdCore {
         self.x.clear();
         self.z.clear();
         self.pairs_tested = 0;
+        self.scan = Scan::detect();
         if k == 0 {
             return Ok(());
         }
@@ -532,78 +538,27 @@ impl DdCore {
             self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
             self.next_z.push(self.z[i] | bit);
         }
-        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2, then no third ray r with
-        // Z(p) ∩ Z(n) ⊆ Z(r). The rays tight on every row of Z(p) ∩ Z(n) are the AND of the
-        // transposed incidence `col[row]` (a bitset over the `n` current rays, `rw` words).
-        // Building that transposed incidence costs about `n * k` bit operations; scanning the
-        // `n` zero sets for a blocker costs `n` per candidate. The first `k` candidates scan,
-        // later ones (many rays, many candidates) use the transposed incidence, built then.
+        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2 (a vectorized scan of the zero sets of R-,
+        // gathered contiguously), then no third ray r with Z(p) ∩ Z(n) ⊆ Z(r) (a vectorized
+        // count of the current zero sets containing Z(p) ∩ Z(n): p and n always do).
         let need = k.saturating_sub(2) as u32;
         let n = self.n;
-        let rw = bitset::words_for(n);
-        let mut col_built = false;
-        let mut scanned = 0;
-        self.acc.clear();
-        self.acc.resize(rw, 0);
-        // The AND starts from the set of all current rays (no bit past ray n - 1: with an empty
-        // common zero set, as always in 2-D, nothing else would clear them).
-        let last_mask = if n.is_multiple_of(64) {
-            u64::MAX
-        } else {
-            (1u64 << (n % 64)) - 1
-        };
-        let z = &self.z[..n];
+        let scan = self.scan;
+        self.zn.clear();
+        self.zn
+            .extend(self.minus.iter().map(|&q| self.z[q as usize]));
         for &p in &self.plus {
             let p = p as usize;
-            let zp = z[p];
-            for &q in &self.minus {
-                let q = q as usize;
-                let common = zp & z[q];
-                if common.count_ones() < need {
-                    continue;
-                }
+            let zp = self.z[p];
+            self.cand_idx.clear();
+            scan.candidates(zp, &self.zn, need, &mut self.cand_idx);
+            for &qi in &self.cand_idx {
+                let common = zp & self.zn[qi as usize];
                 self.pairs_tested += 1;
-                let blocked = if scanned < k {
-                    scanned += 1;
-                    z.iter()
-                        .enumerate()
-                        .any(|(r, &zr)| common & !zr == 0 && r != p && r != q)
-                } else if rw == 1 {
-                    if !col_built {
-                        build_transposed(z, self.m, rw, &mut self.col);
-                        col_built = true;
-                    }
-                    let mut acc = last_mask;
-                    let mut w = common;
-                    while w != 0 {
-                        let b = w.trailing_zeros() as usize;
-                        w &= w - 1;
-                        acc &= self.col[b];
-                    }
-                    acc &= !(1u64 << p) & !(1u64 << q);
-                    acc != 0
-                } else {
-                    if !col_built {
-                        build_transposed(z, self.m, rw, &mut self.col);
-                        col_built = true;
-                    }
-                    self.acc.fill(u64::MAX);
-                    self.acc[rw - 1] = last_mask;
-                    let mut w = common;
-                    while w != 0 {
-                        let b = w.trailing_zeros() as usize;
-                        w &= w - 1;
-                        for (a, c) in self.acc.iter_mut().zip(&self.col[b * rw..(b + 1) * rw]) {
-                            *a &= c;
-                        }
-                    }
-                    self.acc[p / 64] &= !(1u64 << (p % 64));
-                    self.acc[q / 64] &= !(1u64 << (q % 64));
-                    self.acc.iter().any(|&w| w != 0)
-                };
-                if blocked {
+                if scan.count_supersets(common, &self.z[..n]) > 2 {
                     continue;
                 }
+                let q = self.minus[qi as usize] as usize;
                 Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
                 self.next_z.push(common | bit);
             }
@@ -612,22 +567,6 @@ impl DdCore {
         std::mem::swap(&mut self.x, &mut self.next_x);
         std::mem::swap(&mut self.z, &mut self.next_z);
         Ok(())
-    }
-}
-
-/// The transposed incidence of one-word zero sets `z` (one per ray): for each of the `m` rows,
-/// the bitset (`rw` words) of the rays tight on it, into `col`.
-#[inline(always)]
-fn build_transposed(z: &[u64], m: usize, rw: usize, col: &mut Vec<u64>) {
-    col.clear();
-    col.resize(m * rw, 0);
-    for (i, &zi) in z.iter().enumerate() {
-        let mut w = zi;
-        while w != 0 {
-            let b = w.trailing_zeros() as usize;
-            w &= w - 1;
-            col[b * rw + i / 64] |= 1u64 << (i % 64);
-        }
     }
 }
 

@@ -24,5 +24,9 @@
 
 pub(crate) mod bitset;
 mod core;
+mod scan;
+mod small;
 
 pub(crate) use self::core::{DdCore, DdFailure};
+pub(crate) use self::scan::Scan;
+pub(crate) use self::small::SmallDd;
