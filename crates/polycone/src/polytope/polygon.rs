@@ -68,6 +68,14 @@ impl Polygon {
     }
 }
 
+/// Largest `a . p - b` over the unit-normal rows `lines` (zero rows count as `-b`).
+fn max_violation(lines: &[([f64; 2], f64)], p: [f64; 2]) -> f64 {
+    lines
+        .iter()
+        .map(|(a, b)| a[0] * p[0] + a[1] * p[1] - b)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
 /// A running vertex and the label of its outgoing edge.
 #[derive(Debug, Clone, Copy)]
 struct Vx {
@@ -243,9 +251,17 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 let p = poly[k].p;
                 let scale = (1.0 + p[0].abs().max(p[1].abs())) / det.abs().min(1.0);
                 if (x[0] - p[0]).hypot(x[1] - p[1]) > POLISH_MAX_MOVE * scale {
-                    p
-                } else {
+                    return p;
+                }
+                // Second net: after a merge (above) an edge keeps the line of only one of the
+                // edges it replaced, and the corner on it can then leave the other's half-plane
+                // by more than `dist_tol` (nearly parallel lines amplify it); the clipped point
+                // never does, as merging only drops slivers. Keep whichever violates less.
+                let (vx, vp) = (max_violation(&lines, x), max_violation(&lines, p));
+                if vx <= opts.dist_tol || vx <= vp {
                     x
+                } else {
+                    p
                 }
             })
             .collect();

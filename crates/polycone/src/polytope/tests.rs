@@ -456,7 +456,7 @@ proptest! {
         for v in &poly.vertices {
             prop_assert!(near2(*v, &brute), "vertex {v:?} not a brute vertex");
             for (r, c) in a.iter().zip(&b) {
-                prop_assert!(r[0] * v[0] + r[1] * v[1] - c <= 1e-9);
+                prop_assert!(r[0] * v[0] + r[1] * v[1] - c <= 1e-9, "vertex {v:?} violates a half-plane by {:e}", r[0] * v[0] + r[1] * v[1] - c);
             }
         }
         // Every brute vertex is a polygon vertex or within the merge band of an edge.
