@@ -257,7 +257,7 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
                 // edges it replaced, and the corner on it can then leave the other's half-plane
                 // by more than `dist_tol` (nearly parallel lines amplify it); the clipped point
                 // never does, as merging only drops slivers. Keep whichever violates less.
-                let (vx, vp) = (max_violation(&lines, x), max_violation(&lines, p));
+                let (vx, vp) = (max_violation(lines, x), max_violation(lines, p));
                 if vx <= opts.dist_tol || vx <= vp {
                     x
                 } else {
