@@ -606,11 +606,12 @@ fn covered(
     ridge: &[usize],
     neighbours: &[u64],
     acc: &mut Vec<u64>,
+    scan: Scan,
 ) -> usize {
     let (nf, fwd) = (incd.nf, incd.fwd);
     if incd.gw == 1 && ridge.len() + 2 >= t {
         let mask = ridge.iter().fold(0u64, |m, &i| m | 1 << i);
-        return 1 + neighbours.iter().filter(|&&z| mask & !z == 0).count();
+        return 1 + scan.count_supersets(mask, neighbours);
     }
     let by_gen = incd.by_gen;
     acc.clear();
@@ -686,14 +687,14 @@ fn count_open_ridges(
         let k = t - 1;
         let rows = &mut *w.rows;
         rows.clear();
-        for &i in members.iter() {
+        rows.resize(members.len() * k, 0.0);
+        for (&i, out) in members.iter().zip(rows.chunks_exact_mut(k)) {
             let g = &gp[i * t..(i + 1) * t];
             let c = 2.0 * dot(v, g) / vv;
-            let start = rows.len();
-            for q in (0..t).filter(|&q| q != j) {
-                rows.push(g[q] - c * v[q]);
+            for (o, q) in out.iter_mut().zip((0..j).chain(j + 1..t)) {
+                *o = g[q] - c * v[q];
             }
-            normalize(&mut rows[start..]);
+            normalize(out);
         }
         let ridge = &mut *w.ridge;
         if members.len() == t - 1 {
@@ -721,7 +722,7 @@ fn count_open_ridges(
                         .filter(|&(k, _)| k != drop)
                         .map(|(_, &i)| i),
                 );
-                if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
+                if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
                     open += 1;
                 }
             }
@@ -737,7 +738,7 @@ fn count_open_ridges(
                     for &(a, b) in w.drops.iter() {
                         ridge.clear();
                         ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
-                        if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
+                        if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
                             open += 1;
                         }
                     }
@@ -794,7 +795,7 @@ fn count_open_ridges(
                     ridge.push(i);
                 }
             }
-            if covered(incd, t, ridge, w.neighbours, w.acc) != 2 {
+            if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
                 open += 1;
             }
         }
