@@ -20,11 +20,16 @@
 //!
 //! A step may straddle two grid points (when `m` is not a multiple of 8): its lanes take their
 //! `w` vectors from one or the other (a masked blend, once per grid point), and its rows of `U`
-//! wrap around from `m - 1` to `0`. For that the columns of `U` (and `U_f (m g)`) are stored
-//! 64-byte aligned with their first 8 rows repeated after the last ([`WideColumns`]), so that 8
-//! consecutive entries from any `j < m` are the rows `j, ..., (j + 7) mod m`. The rows before
-//! the first aligned line and after the last whole step (fewer than 8 each) are computed one at
-//! a time with the same operations. For `m < 8` every row is computed that way.
+//! wrap around from `m - 1` to `0`. Within grid point `i`, steps start at rows
+//! `j = r_i (mod 8)`, `r_i = (k_0 - i m) mod 8` (`k_0` the first aligned flat row). Loads that
+//! straddle two cache lines also cost (measured), so the columns of `U` and `U_f (m g)` are
+//! stored once per phase `r = 0, ..., 7`, 64-byte aligned and rotated so that the 8 rows
+//! `j, ..., (j + 7) mod m` of any step of phase `r` are one aligned line ([`WideColumns`], 8
+//! times the size of `U`). The grid points are swept phase after phase (`r_i` repeats with
+//! period `8 / gcd(m mod 8, 8)`) so that one phase of the columns stays in the first-level
+//! cache while the output streams through it. The rows before the first aligned line and after
+//! the last whole step (fewer than 8 each) are computed one at a time with the same
+//! operations. For `m < 8` every row is computed that way.
 
 use std::arch::x86_64::*;
 
@@ -47,36 +52,59 @@ const _: () = assert!(
 #[repr(C, align(64))]
 struct Line([f64; LANES]);
 
-/// Columns of `U` and `U_f (m g)`, 64-byte aligned, each of length `m + 8` (rounded up to whole
-/// lines) with entry `t` holding row `t mod m` (see the module docs).
+/// Columns of `U` and `U_f (m g)` ("sources" 0-5 and 6), 64-byte aligned, once per phase
+/// `r = 0..8`: in phase `r`, entry `x` holds row `(x + r - 8) mod m`, so that the 8 rows
+/// `j, ..., (j + 7) mod m` of a step with `j = r (mod 8)` are the aligned line at `x = j - r + 8`
+/// (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct WideColumns {
-    /// Columns 0..6 of `U`, then `c_force` (zeros when absent).
-    cols: [Vec<Line>; 7],
+    /// Phase after phase, source after source, `lines` lines each.
+    data: Vec<Line>,
+    lines: usize,
     m: usize,
 }
 
+/// Sources per phase: the 6 columns of `U`, then `c_force`.
+const SOURCES: usize = 7;
+
 impl WideColumns {
-    /// From the columns of `U` and `c_force` (empty when absent); `None` when `m < 8` (no step
-    /// fits in one grid point's rows, every row is computed one at a time).
+    /// From the columns of `U` and `c_force` (empty when absent: zeros); `None` when `m < 8`
+    /// (no step fits in one grid point's rows, every row is computed one at a time).
     pub(super) fn new(cols: &[Vec<f64>; 6], c_force: &[f64]) -> Option<Self> {
         let m = cols[0].len();
         if m < LANES {
             return None;
         }
-        let lines = (m + LANES).div_ceil(LANES);
-        let wide = |src: &[f64]| -> Vec<Line> {
-            let mut v = vec![Line([0.0; LANES]); lines];
-            if !src.is_empty() {
-                // Rows 0..m, then rows 0..8 again (m >= 8).
-                for (t, x) in src[..m].iter().chain(&src[..LANES]).enumerate() {
-                    v[t / LANES].0[t % LANES] = *x;
+        // Largest entry read: x + 7 with x = j - r + 8 <= m + 7.
+        let lines = (m + 2 * LANES - 1).div_ceil(LANES);
+        let mut data = vec![Line([0.0; LANES]); LANES * SOURCES * lines];
+        let mut periodic = Vec::with_capacity(2 * m + LANES * lines);
+        for q in 0..SOURCES {
+            let src: &[f64] = if q < 6 { &cols[q] } else { c_force };
+            if src.is_empty() {
+                continue;
+            }
+            // periodic[y] = src[y mod m] for every y the phases read.
+            periodic.clear();
+            while periodic.len() < m + LANES * lines {
+                periodic.extend_from_slice(src);
+            }
+            for r in 0..LANES {
+                // Entry 0 of phase r holds row (r - 8) mod m.
+                let start = (r + LANES * m - LANES) % m;
+                let dst = &mut data[(r * SOURCES + q) * lines..(r * SOURCES + q + 1) * lines];
+                for (line, chunk) in dst.iter_mut().zip(periodic[start..].chunks_exact(LANES)) {
+                    line.0.copy_from_slice(chunk);
                 }
             }
-            v
-        };
-        let cols = std::array::from_fn(|q| if q < 6 { wide(&cols[q]) } else { wide(c_force) });
-        Some(Self { cols, m })
+        }
+        Some(Self { data, lines, m })
+    }
+
+    /// Pointers to the 7 sources of phase `r`.
+    fn phase(&self, r: usize) -> [*const f64; SOURCES] {
+        let p = &self.data[r * SOURCES * self.lines..(r + 1) * SOURCES * self.lines];
+        std::array::from_fn(|q| p[q * self.lines..].as_ptr().cast::<f64>())
     }
 }
 
@@ -134,22 +162,22 @@ unsafe fn interleave_indices() -> [__m512i; 6] {
     ]
 }
 
-/// One step: rows `j, ..., j + 7 (mod m)` of `U` against `w`, written to the three aligned
-/// lines at `o`.
+/// One step: the 8 rows of `U` at entry `x` of a phase of [`WideColumns`] against `w`, written
+/// to the three aligned lines at `o`.
 ///
 /// # Safety
 ///
-/// AVX-512F; `cols` point to [`WideColumns`] columns with `j < m`; `o` is 64-byte aligned and
-/// valid for 24 writes.
+/// AVX-512F; `src` from [`WideColumns::phase`], `x` a multiple of 8 with `x + 8 <= 8 lines`;
+/// `o` 64-byte aligned and valid for 24 writes.
 #[inline(always)]
 unsafe fn step<const C: u8>(
-    cols: &[*const f64; 7],
-    j: usize,
+    src: &[*const f64; SOURCES],
+    x: usize,
     w: &Splat,
     idx: &[__m512i; 6],
     o: *mut f64,
 ) {
-    let u: [__m512d; 6] = std::array::from_fn(|q| _mm512_loadu_pd(cols[q].add(j)));
+    let u: [__m512d; 6] = std::array::from_fn(|q| _mm512_load_pd(src[q].add(x)));
     let dot = |v: &[__m512d; 6]| {
         let mut s = _mm512_mul_pd(u[0], v[0]);
         for q in 1..6 {
@@ -162,12 +190,12 @@ unsafe fn step<const C: u8>(
     let c = match C {
         0 => dot(&w.c),
         1 => {
-            let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_loadu_pd(cols[6].add(j)));
+            let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_load_pd(src[6].add(x)));
             let s = _mm512_fmadd_pd(u[4], w.c[4], s);
             _mm512_fmadd_pd(u[5], w.c[5], s)
         }
         _ => {
-            let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_loadu_pd(cols[6].add(j)));
+            let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_load_pd(src[6].add(x)));
             _mm512_fmadd_pd(u[4], w.c[4], s)
         }
     };
@@ -179,7 +207,7 @@ unsafe fn step<const C: u8>(
     _mm512_store_pd(o.add(2 * LANES), line2);
 }
 
-/// The flat sweep (module docs). `wide` is `None` only when `m < 8`.
+/// The sweep (module docs). `wide` is `None` only when `m < 8`.
 ///
 /// # Safety
 ///
@@ -194,64 +222,65 @@ unsafe fn sweep<const C: u8>(
     out: &mut [Row],
 ) {
     let m = cols[0].len();
+    let n = w.len();
     let total = out.len();
     let one = |k: usize| {
         let j = k % m;
         let u = std::array::from_fn(|q| cols[q][j]);
         row::<true, C>(&u, if C == 0 { 0.0 } else { c_force[j] }, &w[k / m])
     };
-    let Some(wide) = wide.filter(|x| x.m == m) else {
-        for (k, r) in out.iter_mut().enumerate() {
-            *r = one(k);
-        }
-        return;
-    };
-    // First flat row on a 64-byte boundary (`Row` is 24 bytes with 8-byte alignment, so one of
-    // the first 8 rows is).
+    // Steps cover the flat rows head..end: head is the first row on a 64-byte boundary (`Row`
+    // is 24 bytes with 8-byte alignment, so one of the first 8 rows is), end - head a multiple
+    // of 8.
     let base = out.as_ptr() as usize;
     let head = (0..LANES)
         .find(|&k| (base + k * std::mem::size_of::<Row>()).is_multiple_of(64))
-        .unwrap_or(0)
-        .min(total);
+        .unwrap_or(0);
+    let (head, end) = match wide.filter(|x| x.m == m) {
+        Some(_) if total >= head + LANES => (head, head + (total - head) / LANES * LANES),
+        _ => (total, total),
+    };
     for (k, r) in out[..head].iter_mut().enumerate() {
         *r = one(k);
     }
-    let cols_ptr: [*const f64; 7] = std::array::from_fn(|q| wide.cols[q].as_ptr().cast::<f64>());
+    for (k, r) in out.iter_mut().enumerate().skip(end) {
+        *r = one(k);
+    }
+    let Some(wide) = wide.filter(|_| end > head) else {
+        return;
+    };
     let idx = interleave_indices();
     let o = out.as_mut_ptr().cast::<f64>();
-    let (mut k, mut i, mut j) = (head, head / m, head % m);
-    let mut wi = splat(&w[i.min(w.len() - 1)]);
-    while k + LANES <= total {
-        // Whole steps inside grid point i.
-        while j + LANES <= m {
-            // SAFETY: k + 8 <= total (rows k..k+8 of `out`, 64-byte aligned since k - head is a
-            // multiple of 8) and j < m.
-            step::<C>(&cols_ptr, j, &wi, &idx, o.add(3 * k));
-            j += LANES;
-            k += LANES;
-            if k + LANES > total {
-                break;
+    // Grid point i owns the steps starting in its rows; they all start at j = r_i (mod 8) with
+    // r_i = (head - i m) mod 8, which repeats with period 8 / gcd(m mod 8, 8). Grid points of
+    // one phase are swept together so that one phase of the columns stays in the L1 cache.
+    let period = LANES >> (m % LANES).trailing_zeros().min(3);
+    for i0 in 0..period.min(n) {
+        let r = (head + LANES * m - (i0 * m) % LANES) % LANES;
+        let src = wide.phase(r);
+        for i in (i0..n).step_by(period) {
+            let (first, next_first) = (i * m, (i + 1) * m);
+            // First step start >= max(i m, head) congruent to head (mod 8).
+            let mut k = first.max(head);
+            k += (head + LANES * LANES - k % LANES) % LANES;
+            let stop = next_first.min(end);
+            let mut x = k - first + LANES - r;
+            let wi = splat(&w[i]);
+            while k + LANES <= next_first && k < stop {
+                // SAFETY: rows k..k+8 lie in head..end (k < end, end - k a multiple of 8),
+                // 64-byte aligned; x = j - r + 8 with j = k - i m < m.
+                step::<C>(&src, x, &wi, &idx, o.add(3 * k));
+                k += LANES;
+                x += LANES;
+            }
+            if k < stop {
+                // The step straddles grid points i and i + 1 (< n since k + 8 <= end <= total):
+                // lanes next_first - k.. take w_{i+1}; the phase's entries wrap to row 0.
+                let mask = (0xffu32 << (next_first - k)) as __mmask8;
+                let mixed = blend(mask, &wi, &splat(&w[i + 1]));
+                step::<C>(&src, x, &mixed, &idx, o.add(3 * k));
             }
         }
-        if k + LANES > total {
-            break;
-        }
-        // Rows k.. reach grid point i + 1 (< N + 1 since k + 8 <= total).
-        let next = splat(&w[i + 1]);
-        if j < m {
-            // Lanes m - j.. belong to grid point i + 1; their rows of U wrap to 0, 1, ...
-            let mask = (0xffu32 << (m - j)) as __mmask8;
-            step::<C>(&cols_ptr, j, &blend(mask, &wi, &next), &idx, o.add(3 * k));
-            k += LANES;
-            j = j + LANES - m;
-        } else {
-            j -= m;
-        }
-        i += 1;
-        wi = next;
-    }
-    for (kk, r) in out.iter_mut().enumerate().skip(k) {
-        *r = one(kk);
     }
 }
 
