@@ -607,6 +607,26 @@ mod tests {
         Ok(())
     }
 
+    /// Large `U` (the AVX-512 kernel then sweeps the grid in several chunks, with load-phase
+    /// periods 2, 8 and 1), deterministic pseudo-random entries.
+    #[test]
+    fn fill_matches_naive_products_for_large_u() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for (m, n) in [(1100, 21), (1099, 19), (1096, 17)] {
+            let u: Vec<[f64; 6]> = (0..m).map(|_| std::array::from_fn(|_| next())).collect();
+            let w: Vec<[[f64; 6]; 3]> = (0..n)
+                .map(|_| std::array::from_fn(|_| std::array::from_fn(|_| 100.0 * next())))
+                .collect();
+            check_against_naive(&u, &w).unwrap();
+        }
+    }
+
     proptest! {
         /// General `w_c` (full 6-term product for `c`).
         #[test]
