@@ -84,24 +84,32 @@ impl WideColumns {
         }
         // Largest entry read: x + 7 with x = j - r + 8 <= m + 7.
         let lines = (m + 2 * LANES - 1).div_ceil(LANES);
-        let mut data = vec![Line([0.0; LANES]); LANES * SOURCES * lines];
-        let mut periodic = Vec::with_capacity(2 * m + LANES * lines);
-        for q in 0..SOURCES {
-            let src: &[f64] = if q < 6 { &cols[q] } else { c_force };
-            if src.is_empty() {
-                continue;
-            }
-            // periodic[y] = src[y mod m] for every y the phases read.
-            periodic.clear();
-            while periodic.len() < m + LANES * lines {
-                periodic.extend_from_slice(src);
-            }
-            for r in 0..LANES {
-                // Entry 0 of phase r holds row (r - 8) mod m.
-                let start = (r + LANES * m - LANES) % m;
-                let dst = &mut data[(r * SOURCES + q) * lines..(r * SOURCES + q + 1) * lines];
-                for (line, chunk) in dst.iter_mut().zip(periodic[start..].chunks_exact(LANES)) {
-                    line.0.copy_from_slice(chunk);
+        // periodic[q][y] = source q at row y mod m, for every y a phase reads (empty for an
+        // absent c_force, whose phases are zeros).
+        let periodic: Vec<Vec<f64>> = (0..SOURCES)
+            .map(|q| {
+                let src: &[f64] = if q < 6 { &cols[q] } else { c_force };
+                let mut p = Vec::new();
+                while !src.is_empty() && p.len() < m + LANES * lines {
+                    p.extend_from_slice(src);
+                }
+                p
+            })
+            .collect();
+        let mut data = Vec::with_capacity(LANES * SOURCES * lines);
+        for r in 0..LANES {
+            // Entry 0 of phase r holds row (r - 8) mod m.
+            let start = (r + LANES * m - LANES) % m;
+            for p in &periodic {
+                if p.is_empty() {
+                    data.extend(std::iter::repeat_n(Line([0.0; LANES]), lines));
+                } else {
+                    data.extend(
+                        p[start..]
+                            .chunks_exact(LANES)
+                            .take(lines)
+                            .map(|c| Line(std::array::from_fn(|t| c[t]))),
+                    );
                 }
             }
         }
