@@ -183,8 +183,8 @@ pub struct FactoredRows {
     c_force: Option<Vec<f64>>,
     /// The last torque component of `w_c` is zero at every grid point (`p x g` for vertical `g`).
     c_tz_zero: bool,
-    /// The columns again, 64-byte aligned with wrap-around padding, for the AVX-512 kernel
-    /// (`None` for `m < 8`, where that kernel computes rows one at a time).
+    /// The columns again, once per load phase, for the AVX-512 kernel (`None` for `m < 8`,
+    /// where that kernel computes rows one at a time, and on CPUs without AVX-512F).
     #[cfg(target_arch = "x86_64")]
     wide: Option<avx512::WideColumns>,
 }
@@ -284,8 +284,12 @@ impl FactoredRows {
                 .collect()
         });
         let c_tz_zero = w.iter().all(|t| t[2][5] == 0.0);
+        // Only where the AVX-512 kernel can run (8 copies of U, about 3 us for 172 rows).
         #[cfg(target_arch = "x86_64")]
-        let wide = avx512::WideColumns::new(&cols, c_force.as_deref().unwrap_or(&[]));
+        let wide = FillKernel::Avx512
+            .is_available()
+            .then(|| avx512::WideColumns::new(&cols, c_force.as_deref().unwrap_or(&[])))
+            .flatten();
         Ok(Self {
             cols,
             s,
