@@ -12,6 +12,7 @@ against the reference values stored in the instance files.
 Usage (from the repository root):
     STANCE_VENV=/path/to/venv bash scripts/setup-venv.sh --peers   # once
     $STANCE_VENV/bin/python bench/peers/topp.py [--quick]
+    $STANCE_VENV/bin/python bench/peers/topp.py --write-instances INSTANCES.json  # runners' input
 """
 
 import argparse
@@ -102,6 +103,8 @@ def toppra_run(s, a, b, c, disc, reps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="fewer repetitions")
+    ap.add_argument("--write-instances", metavar="PATH",
+                    help="write the instances (the runners' input) to PATH and stop")
     args = ap.parse_args()
     reps100, reps1000 = (10, 3) if args.quick else (40, 8)
 
@@ -126,6 +129,11 @@ def main():
                 r["duration_collocation"] if n == 100 else r["duration_collocation_N1000"])
             refs[(f"{name}_N{n}", "interpolation")] = (
                 r["duration_interpolation"] if n == 100 else r["duration_interpolation_N1000"])
+
+    if args.write_instances:
+        with open(args.write_instances, "w") as f:
+            json.dump({"instances": instances}, f)
+        return
 
     # Rust side (release build of the example runner).
     with tempfile.TemporaryDirectory() as tmp:

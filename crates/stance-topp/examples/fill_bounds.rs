@@ -1,5 +1,6 @@
 //! Probes of what bounds `FactoredRows::fill` (the rows of eq. 14 from `U`), on the instances
-//! `bench/peers/topp.py` writes (see `bench/peers/topp.md`, "Rows from U"):
+//! `bench/peers/topp.py --write-instances INSTANCES.json` writes (see `bench/peers/topp.md`,
+//! "Rows from U"):
 //!
 //! `cargo run --release -p stance-topp --example fill_bounds -- INSTANCES.json`
 //!
