@@ -12,6 +12,7 @@ against the reference values stored in the instance files.
 Usage (from the repository root):
     STANCE_VENV=/path/to/venv bash scripts/setup-venv.sh --peers   # once
     $STANCE_VENV/bin/python bench/peers/topp.py [--quick]
+    $STANCE_VENV/bin/python bench/peers/topp.py --write-instances INSTANCES.json  # runners' input
 """
 
 import argparse
@@ -102,6 +103,8 @@ def toppra_run(s, a, b, c, disc, reps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="fewer repetitions")
+    ap.add_argument("--write-instances", metavar="PATH",
+                    help="write the instances (the runners' input) to PATH and stop")
     args = ap.parse_args()
     reps100, reps1000 = (10, 3) if args.quick else (40, 8)
 
@@ -126,6 +129,11 @@ def main():
                 r["duration_collocation"] if n == 100 else r["duration_collocation_N1000"])
             refs[(f"{name}_N{n}", "interpolation")] = (
                 r["duration_interpolation"] if n == 100 else r["duration_interpolation_N1000"])
+
+    if args.write_instances:
+        with open(args.write_instances, "w") as f:
+            json.dump({"instances": instances}, f)
+        return
 
     # Rust side (release build of the example runner).
     with tempfile.TemporaryDirectory() as tmp:
@@ -183,12 +191,26 @@ def main():
         print(f"| {name} | {disc} | {o['moves']} | {o['inner_steps']} | {o['moves_cold']} | "
               f"{o['inner_steps_cold']} | {o['solve_us']:.1f} | {o['solve_cold_us']:.1f} | {same} |")
     print("\n## Rows from U (eq. 14): fill of a, b, c for all grid points\n")
-    print("| instance | m | grid points | fill median (us) | fill min (us) | eq. 14 vectors and "
-          "setup (us) | max rel diff to the file's rows |")
-    print("|---|---|---|---|---|---|---|")
+    print("Kernel `fill` runs on this CPU: "
+          + ", ".join(sorted({r.get("abc_fill_kernel", "?") for r in abc.values()}))
+          + ". Each available kernel timed on the same warm buffer, 3 interleaved rounds of "
+          "3000 calls: median of the round medians / minimum (us).\n")
+    kernels = [k for k in ("avx512", "avx2-fma", "portable")
+               if any(k in r.get("abc_fill_by_kernel", {}) for r in abc.values())]
+    print("| instance | m | grid points | " + " | ".join(f"{k} (us)" for k in kernels)
+          + " | avx2-fma / avx512 | fused kernels bit-identical | portable max rel diff | "
+          "eq. 14 vectors and setup (us) | max rel diff to the file's rows |")
+    print("|---|---|---|" + "---|" * len(kernels) + "---|---|---|---|---|")
     for name, r in abc.items():
-        print(f"| {name} | {r['rows']} | {r['N'] + 1} | {r['abc_fill_us']:.2f} | "
-              f"{r['abc_fill_min_us']:.2f} | {r['abc_setup_us']:.2f} | {r['abc_max_rel_diff']:.1e} |")
+        byk = r.get("abc_fill_by_kernel", {})
+        cells = " | ".join(f"{byk[k]['median_us']:.2f} / {byk[k]['min_us']:.2f}" if k in byk else "-"
+                           for k in kernels)
+        ratio = (f"{byk['avx2-fma']['median_us'] / byk['avx512']['median_us']:.2f}x"
+                 if "avx2-fma" in byk and "avx512" in byk else "-")
+        print(f"| {name} | {r['rows']} | {r['N'] + 1} | {cells} | {ratio} | "
+              f"{r.get('abc_fused_kernels_identical', '-')} | "
+              f"{r.get('abc_portable_max_rel_diff', float('nan')):.1e} | "
+              f"{r['abc_setup_us']:.2f} | {r['abc_max_rel_diff']:.1e} |")
     print("\n## Between grid points (20 samples per interval) and refinement to 1 % of m|g|\n")
     print("| instance | disc | max violation (N) | % of m g | at s | refine: rounds | "
           "points added | time (ms) | refined duration |")
@@ -200,6 +222,9 @@ def main():
               + (f"{r['ms']:.2f} | {r['duration']:.6f} |" if r else "- | - |"))
     if not ok:
         print("\nDURATIONS DISAGREE: timings above are not comparable", file=sys.stderr)
+        sys.exit(1)
+    if not all(r.get("abc_fused_kernels_identical", True) for r in abc.values()):
+        print("\nFILL KERNELS DISAGREE: the fused kernels' rows differ", file=sys.stderr)
         sys.exit(1)
 
 

@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use stance_topp::between::{check_between, refine_until, PathRows};
-use stance_topp::factored::FactoredRows;
+use stance_topp::factored::{FactoredRows, FillKernel};
 use stance_topp::path::{PathCurve, PathPoint};
 use stance_topp::tol::DEFAULT_BETWEEN_GRID_FRACTION;
 use stance_topp::{solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace};
@@ -163,8 +163,64 @@ fn main() {
                     / y.c.abs().max(1.0)
             })
             .fold(0.0, f64::max);
+        // Every fill kernel this CPU runs, on the same warm buffer: outputs compared first (the
+        // fused ones must agree bit for bit), then timed in 3 interleaved rounds.
+        let kernels: Vec<FillKernel> = [
+            FillKernel::Portable,
+            FillKernel::Avx2Fma,
+            FillKernel::Avx512,
+        ]
+        .into_iter()
+        .filter(|k| k.is_available())
+        .collect();
         let mut buf = kf.rows().to_vec();
-        let fill_us = timed_us(2000, || f.fill(std::hint::black_box(&mut buf)).unwrap());
+        let mut fused_identical = true;
+        let mut portable_rel = 0.0f64;
+        for &kernel in &kernels {
+            f.fill_with(&mut buf, kernel).unwrap();
+            if kernel == FillKernel::Portable {
+                portable_rel = buf
+                    .iter()
+                    .zip(kf.rows())
+                    .map(|(x, y)| {
+                        let d = (x.a - y.a)
+                            .abs()
+                            .max((x.b - y.b).abs())
+                            .max((x.c - y.c).abs());
+                        d / y.a.abs().max(y.b.abs()).max(y.c.abs()).max(1.0)
+                    })
+                    .fold(0.0, f64::max);
+            } else {
+                fused_identical &= buf.as_slice() == kf.rows();
+            }
+        }
+        let mut by_kernel = vec![(Vec::new(), f64::INFINITY); kernels.len()];
+        for _round in 0..3 {
+            for (t, &kernel) in by_kernel.iter_mut().zip(&kernels) {
+                let [med, min] = timed_us(3000, || {
+                    f.fill_with(std::hint::black_box(&mut buf), kernel).unwrap()
+                });
+                t.0.push(med);
+                t.1 = t.1.min(min);
+            }
+        }
+        let by_kernel: serde_json::Map<String, serde_json::Value> = kernels
+            .iter()
+            .zip(&by_kernel)
+            .map(|(k, (meds, min))| {
+                let mut meds = meds.clone();
+                meds.sort_by(f64::total_cmp);
+                (
+                    k.name().to_string(),
+                    serde_json::json!({"median_us": meds[1], "min_us": min, "round_medians_us": meds}),
+                )
+            })
+            .collect();
+        let auto = FillKernel::Auto.resolve();
+        let fill_us = [
+            by_kernel[auto.name()]["median_us"].as_f64().unwrap(),
+            by_kernel[auto.name()]["min_us"].as_f64().unwrap(),
+        ];
         let build_us = timed_us(2000, || {
             std::hint::black_box(
                 FactoredRows::from_samples(
@@ -181,6 +237,9 @@ fn main() {
         out.push(serde_json::json!({
             "name": inst.name, "N": n, "rows": inst.u.len(), "abc_fill_us": fill_us[0],
             "abc_fill_min_us": fill_us[1], "abc_setup_us": build_us[0], "abc_max_rel_diff": worst,
+            "abc_fill_kernel": auto.name(), "abc_fill_by_kernel": by_kernel,
+            "abc_fused_kernels_identical": fused_identical,
+            "abc_portable_max_rel_diff": portable_rel,
         }));
     }
     println!("{}", serde_json::to_string_pretty(&out).unwrap());

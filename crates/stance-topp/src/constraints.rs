@@ -17,7 +17,11 @@
 use crate::error::ToppError;
 
 /// One row `a u + b x + c <= 0`.
+///
+/// `#[repr(C)]`: three `f64` in the order `a, b, c` (24 bytes), which the vectorized fill of
+/// [`crate::factored`] writes directly.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
 pub struct Row {
     /// Coefficient of `u = s''`.
     pub a: f64,

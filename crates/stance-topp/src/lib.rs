@@ -86,12 +86,15 @@
 //!   `tol.max_x` and [`Solution::hit_box`] says so.
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
-//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) takes 14-15.5 us for 101
-//!   grid points and 172 rows (11.4-12.6 us for 137 rows) on the test machine with the AVX2 + FMA
-//!   kernel (portable fallback elsewhere), after exploiting the constant `m g` and vertical
-//!   `g` of eq. 14 (14 multiply-adds per row instead of 18): above the 10 us the issue asked
-//!   for. The fill is then bound by its 24-byte-per-row output (about 30 GB/s measured), so
-//!   10 us holds up to about 120 rows (`bench/peers/topp.md`).
+//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) for 101 grid points takes
+//!   8.6-8.9 us for 137 rows and 9.2-10.6 us for 172 rows (medians on the shared test machine)
+//!   with the AVX-512 kernel, chosen at run time: the issue's 10 us is met for 137 rows, not
+//!   reliably for 172 (above it when the machine is loaded). Elsewhere the AVX2 + FMA kernel (11-12.5 us and 14-15.6 us) or the
+//!   portable one (about 20 and 25 us) runs. The fill is bound by writing its 24-byte rows into
+//!   the second-level cache (the same bytes alone: 6.3-7.3 us for 172 rows) plus the part of
+//!   its 14 multiply-adds per row that does not overlap with them; beyond that cache
+//!   (N = 1000) all kernels are bound by memory (`bench/peers/topp.md`). The AVX-512 kernel
+//!   keeps 8 rotated copies of `U` (8x its size) built once per factored form.
 //! - Row coefficients (and the products of the factored form) are limited to
 //!   [`tol::MAX_ABS_COEFFICIENT`] (1e100) and the LP box to [`tol::MAX_BOX`]: the kernel squares
 //!   them. The zero-row test (`tol.zero_row`) is relative to `max(1, |c|)`, hence absolute for

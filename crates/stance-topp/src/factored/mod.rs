@@ -26,10 +26,107 @@
 //! is the same at every grid point, so `U_f (m g)` is computed once per stance and
 //! `c = U_f (m g) + U_t (m p x g)` costs 3 multiply-adds; and for a vertical `g`, the third
 //! component of `p x g` is exactly zero, which drops one more (14 in all instead of 18).
+//!
+//! # Kernels ([`FillKernel`], chosen at run time)
+//!
+//! - `kernel`: the portable fill and the AVX2 + FMA one (the same source, vectorized over rows
+//!   by the compiler).
+//! - `avx512`: eight rows per step, written as three whole, aligned 64-byte cache lines.
+//!   Measured on the development machine, the fill is bound by writing its 24-byte rows into
+//!   the second-level cache rather than by the multiply-adds; aligning the steps on the output
+//!   (not on the rows of `U`) is what the kernel is built around (see its module docs).
+//!
+//! The kernels with fused multiply-adds give bit-identical rows; the portable one differs from
+//! them by round-off only.
+
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+mod kernel;
 
 use crate::constraints::{CanonicalConstraints, Row};
 use crate::error::ToppError;
 use crate::path::{PathCurve, PathPoint};
+use kernel::{madd, CMode};
+
+/// Which implementation of [`FactoredRows::fill`] runs. All compute the same products; the
+/// ones with fused multiply-adds ([`FillKernel::Avx2Fma`], [`FillKernel::Avx512`]) give
+/// bit-identical rows, the portable one differs from them by round-off (one rounding more per
+/// multiply-add).
+///
+/// ```
+/// use stance_topp::factored::FillKernel;
+/// assert!(FillKernel::Portable.is_available());
+/// assert!(FillKernel::Auto.resolve().is_available());
+/// assert_ne!(FillKernel::Auto.resolve(), FillKernel::Auto);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FillKernel {
+    /// The fastest available on this CPU: [`FillKernel::Avx512`], else
+    /// [`FillKernel::Avx2Fma`], else [`FillKernel::Portable`].
+    Auto,
+    /// Plain Rust, any CPU (vectorized by the compiler for the baseline target).
+    Portable,
+    /// x86-64 with AVX2 and FMA: 4 rows per vector, vectorized by the compiler.
+    Avx2Fma,
+    /// x86-64 with AVX-512F and FMA: 8 rows per step written as three whole cache lines
+    /// (module `avx512`).
+    Avx512,
+}
+
+impl FillKernel {
+    /// Whether this CPU can run the kernel ([`FillKernel::Auto`] always can).
+    ///
+    /// ```
+    /// use stance_topp::factored::FillKernel;
+    /// assert!(FillKernel::Auto.is_available());
+    /// ```
+    pub fn is_available(self) -> bool {
+        match self {
+            FillKernel::Auto | FillKernel::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            FillKernel::Avx2Fma => {
+                std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+            }
+            #[cfg(target_arch = "x86_64")]
+            FillKernel::Avx512 => {
+                std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            FillKernel::Avx2Fma | FillKernel::Avx512 => false,
+        }
+    }
+
+    /// The kernel [`FillKernel::Auto`] stands for on this CPU (other kernels: themselves).
+    ///
+    /// ```
+    /// use stance_topp::factored::FillKernel;
+    /// assert_eq!(FillKernel::Portable.resolve(), FillKernel::Portable);
+    /// ```
+    pub fn resolve(self) -> FillKernel {
+        match self {
+            FillKernel::Auto => [FillKernel::Avx512, FillKernel::Avx2Fma]
+                .into_iter()
+                .find(|k| k.is_available())
+                .unwrap_or(FillKernel::Portable),
+            k => k,
+        }
+    }
+
+    /// A short name (`"auto"`, `"portable"`, `"avx2-fma"`, `"avx512"`).
+    ///
+    /// ```
+    /// use stance_topp::factored::FillKernel;
+    /// assert_eq!(FillKernel::Avx512.name(), "avx512");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            FillKernel::Auto => "auto",
+            FillKernel::Portable => "portable",
+            FillKernel::Avx2Fma => "avx2-fma",
+            FillKernel::Avx512 => "avx512",
+        }
+    }
+}
 
 /// The three 6-vectors of eq. 14 at one path point (see the module docs).
 ///
@@ -86,6 +183,10 @@ pub struct FactoredRows {
     c_force: Option<Vec<f64>>,
     /// The last torque component of `w_c` is zero at every grid point (`p x g` for vertical `g`).
     c_tz_zero: bool,
+    /// The columns again, once per load phase, for the AVX-512 kernel (`None` for `m < 8`,
+    /// where that kernel computes rows one at a time, and on CPUs without AVX-512F).
+    #[cfg(target_arch = "x86_64")]
+    wide: Option<avx512::WideColumns>,
 }
 
 fn check_finite6(what: &'static str, v: &[[f64; 6]]) -> Result<(), ToppError> {
@@ -183,12 +284,20 @@ impl FactoredRows {
                 .collect()
         });
         let c_tz_zero = w.iter().all(|t| t[2][5] == 0.0);
+        // Only where the AVX-512 kernel can run (8 copies of U, about 3 us for 172 rows).
+        #[cfg(target_arch = "x86_64")]
+        let wide = FillKernel::Avx512
+            .is_available()
+            .then(|| avx512::WideColumns::new(&cols, c_force.as_deref().unwrap_or(&[])))
+            .flatten();
         Ok(Self {
             cols,
             s,
             w,
             c_force,
             c_tz_zero,
+            #[cfg(target_arch = "x86_64")]
+            wide,
         })
     }
 
@@ -357,6 +466,31 @@ impl FactoredRows {
     /// assert!(f.fill(&mut out[..1]).is_err());
     /// ```
     pub fn fill(&self, out: &mut [Row]) -> Result<(), ToppError> {
+        self.fill_with(out, FillKernel::Auto)
+    }
+
+    /// [`Self::fill`] with a chosen kernel (for comparisons and tests; [`FillKernel::Auto`] is
+    /// what [`Self::fill`] runs).
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::Shape`] as [`Self::fill`]; [`ToppError::InvalidValue`] when this CPU cannot
+    /// run `kernel` ([`FillKernel::is_available`]).
+    ///
+    /// ```
+    /// use stance_topp::factored::{FactoredRows, FillKernel};
+    /// use stance_topp::Row;
+    /// let u: Vec<[f64; 6]> = (0..11).map(|j| [j as f64, 1.0, 0.0, 0.0, 0.0, 0.0]).collect();
+    /// let f = FactoredRows::new(&u, vec![0.0, 1.0], vec![[[1.0; 6], [0.0; 6], [-1.0; 6]]; 2])
+    ///     .unwrap();
+    /// let mut fast = vec![Row::default(); 22];
+    /// let mut portable = fast.clone();
+    /// f.fill_with(&mut fast, FillKernel::Auto).unwrap();
+    /// f.fill_with(&mut portable, FillKernel::Portable).unwrap();
+    /// assert_eq!(fast, portable); // small integers: no round-off on either path
+    /// assert_eq!(fast[11 + 10].a, 11.0);
+    /// ```
+    pub fn fill_with(&self, out: &mut [Row], which: FillKernel) -> Result<(), ToppError> {
         let m = self.num_rows();
         if out.len() != m * self.s.len() {
             return Err(ToppError::Shape {
@@ -365,128 +499,38 @@ impl FactoredRows {
                 got: out.len(),
             });
         }
+        let which = which.resolve();
+        if !which.is_available() {
+            return Err(ToppError::InvalidValue {
+                what: "fill kernel",
+                detail: format!(
+                    "this CPU cannot run the {} kernel; use FillKernel::Auto",
+                    which.name()
+                ),
+            });
+        }
         let mode = match (&self.c_force, self.c_tz_zero) {
             (None, _) => CMode::Full,
             (Some(_), false) => CMode::ConstForce,
             (Some(_), true) => CMode::ConstForceNoTz,
         };
         let c_force = self.c_force.as_deref().unwrap_or(&[]);
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { fill_avx2(&self.cols, c_force, mode, &self.w, out) };
-                return Ok(());
-            }
+        match which {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: AVX-512F and FMA checked above; `out` has `w.len() m` rows; `c_force`
+            // has `m` entries when `mode` uses it; `wide` was built from `cols` and `c_force`.
+            FillKernel::Avx512 => unsafe {
+                avx512::fill_avx512(&self.cols, c_force, self.wide.as_ref(), mode, &self.w, out)
+            },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: AVX2 and FMA checked above.
+            FillKernel::Avx2Fma => unsafe {
+                kernel::fill_avx2(&self.cols, c_force, mode, &self.w, out)
+            },
+            _ => kernel::fill_portable(&self.cols, c_force, mode, &self.w, out),
         }
-        fill_generic(&self.cols, c_force, mode, &self.w, out);
         Ok(())
     }
-}
-
-/// How the kernel produces `c` (see the module docs, "Cost").
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum CMode {
-    /// `c = U w_c` (6 multiply-adds).
-    Full,
-    /// `c = c_force + U_t w_c,t` (3).
-    ConstForce,
-    /// `c = c_force + U_t[.., 0..2] w_c,t[0..2]` (2): the last torque component is zero.
-    ConstForceNoTz,
-}
-
-/// `a * b + c`, fused when the kernel is compiled with FMA (one rounding, faster), plain
-/// otherwise (a software fused multiply-add would be slow).
-#[inline(always)]
-fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FMA {
-        a.mul_add(b, c)
-    } else {
-        a * b + c
-    }
-}
-
-/// The sweep: for each grid point, for each row `j` (columns of `U` read contiguously),
-/// `a = U_j w_a`, `b = U_j w_b` and `c` as `C` says (`C`: 0 full, 1 constant force, 2 constant
-/// force and zero last torque component).
-#[inline(always)]
-fn fill_kernel<const FMA: bool, const C: u8>(
-    cols: &[Vec<f64>; 6],
-    c_force: &[f64],
-    w: &[[[f64; 6]; 3]],
-    out: &mut [Row],
-) {
-    let m = cols[0].len();
-    if m == 0 {
-        return;
-    }
-    let [c0, c1, c2, c3, c4, c5] = cols;
-    let (c0, c1, c2, c3, c4, c5) = (&c0[..m], &c1[..m], &c2[..m], &c3[..m], &c4[..m], &c5[..m]);
-    let cf = if C == 0 { &[][..] } else { &c_force[..m] };
-    for (wi, rows) in w.iter().zip(out.chunks_exact_mut(m)) {
-        let [wa, wb, wc] = wi;
-        for j in 0..m {
-            let u = [c0[j], c1[j], c2[j], c3[j], c4[j], c5[j]];
-            let dot = |v: &[f64; 6]| {
-                let s = madd::<FMA>(u[1], v[1], u[0] * v[0]);
-                let s = madd::<FMA>(u[2], v[2], s);
-                let s = madd::<FMA>(u[3], v[3], s);
-                let s = madd::<FMA>(u[4], v[4], s);
-                madd::<FMA>(u[5], v[5], s)
-            };
-            let c = match C {
-                0 => dot(wc),
-                1 => {
-                    let s = madd::<FMA>(u[3], wc[3], cf[j]);
-                    let s = madd::<FMA>(u[4], wc[4], s);
-                    madd::<FMA>(u[5], wc[5], s)
-                }
-                _ => madd::<FMA>(u[4], wc[4], madd::<FMA>(u[3], wc[3], cf[j])),
-            };
-            rows[j] = Row {
-                a: dot(wa),
-                b: dot(wb),
-                c,
-            };
-        }
-    }
-}
-
-#[inline(always)]
-fn dispatch<const FMA: bool>(
-    cols: &[Vec<f64>; 6],
-    c_force: &[f64],
-    mode: CMode,
-    w: &[[[f64; 6]; 3]],
-    out: &mut [Row],
-) {
-    match mode {
-        CMode::Full => fill_kernel::<FMA, 0>(cols, c_force, w, out),
-        CMode::ConstForce => fill_kernel::<FMA, 1>(cols, c_force, w, out),
-        CMode::ConstForceNoTz => fill_kernel::<FMA, 2>(cols, c_force, w, out),
-    }
-}
-
-fn fill_generic(
-    cols: &[Vec<f64>; 6],
-    c_force: &[f64],
-    mode: CMode,
-    w: &[[[f64; 6]; 3]],
-    out: &mut [Row],
-) {
-    dispatch::<false>(cols, c_force, mode, w, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn fill_avx2(
-    cols: &[Vec<f64>; 6],
-    c_force: &[f64],
-    mode: CMode,
-    w: &[[[f64; 6]; 3]],
-    out: &mut [Row],
-) {
-    dispatch::<true>(cols, c_force, mode, w, out)
 }
 
 #[cfg(test)]
@@ -499,49 +543,99 @@ mod tests {
     /// six products, or a precomputed part plus three); 8 `EPSILON` bounds their difference.
     const KERNEL_ROUNDOFF: f64 = 8.0 * f64::EPSILON;
 
-    /// Checks the dispatched kernel (AVX2 + FMA where available) and the portable one against a
-    /// naive dot product per row.
+    /// Every kernel this CPU runs, each writing into slices at 8 different offsets of a larger
+    /// buffer (so the AVX-512 kernel meets every alignment of its output), against a naive dot
+    /// product per row; the fused kernels must agree bit for bit.
     fn check_against_naive(u: &[[f64; 6]], w: &[[[f64; 6]; 3]]) -> Result<(), TestCaseError> {
         let s: Vec<f64> = (0..w.len()).map(|i| i as f64).collect();
         let f = FactoredRows::new(u, s, w.to_vec()).unwrap();
-        let k = f.to_constraints();
-        let mut portable = vec![Row::default(); k.rows().len()];
-        let mode = match (&f.c_force, f.c_tz_zero) {
-            (None, _) => CMode::Full,
-            (Some(_), false) => CMode::ConstForce,
-            (Some(_), true) => CMode::ConstForceNoTz,
-        };
-        fill_generic(
-            &f.cols,
-            f.c_force.as_deref().unwrap_or(&[]),
-            mode,
-            &f.w,
-            &mut portable,
-        );
-        for (i, wi) in w.iter().enumerate() {
-            for (j, uj) in u.iter().enumerate() {
-                let dot = |v: &[f64; 6]| (0..6).map(|q| uj[q] * v[q]).sum::<f64>();
-                let mag = |v: &[f64; 6]| (0..6).map(|q| (uj[q] * v[q]).abs()).sum::<f64>();
-                let want = [dot(&wi[0]), dot(&wi[1]), dot(&wi[2])];
-                let scale = [mag(&wi[0]), mag(&wi[1]), mag(&wi[2])];
-                for got in [k.rows_at(i)[j], portable[i * u.len() + j]] {
-                    for ((g, e), sc) in [got.a, got.b, got.c].iter().zip(want).zip(scale) {
-                        prop_assert!(
-                            (g - e).abs() <= KERNEL_ROUNDOFF * sc,
-                            "{g} vs {e} (scale {sc}, mode {mode:?})"
-                        );
+        let total = u.len() * w.len();
+        let mut fused: Option<Vec<Row>> = None;
+        for which in [
+            FillKernel::Portable,
+            FillKernel::Avx2Fma,
+            FillKernel::Avx512,
+        ] {
+            if !which.is_available() {
+                prop_assert!(f
+                    .fill_with(&mut vec![Row::default(); total], which)
+                    .is_err());
+                continue;
+            }
+            let mut buf = vec![Row::default(); total + 8];
+            for off in 0..8 {
+                buf.fill(Row {
+                    a: f64::NAN,
+                    b: f64::NAN,
+                    c: f64::NAN,
+                });
+                f.fill_with(&mut buf[off..off + total], which).unwrap();
+                prop_assert!(buf[..off]
+                    .iter()
+                    .chain(&buf[off + total..])
+                    .all(|r| r.a.is_nan()));
+                let got = &buf[off..off + total];
+                for (i, wi) in w.iter().enumerate() {
+                    for (j, uj) in u.iter().enumerate() {
+                        let dot = |v: &[f64; 6]| (0..6).map(|q| uj[q] * v[q]).sum::<f64>();
+                        let mag = |v: &[f64; 6]| (0..6).map(|q| (uj[q] * v[q]).abs()).sum::<f64>();
+                        let want = [dot(&wi[0]), dot(&wi[1]), dot(&wi[2])];
+                        let scale = [mag(&wi[0]), mag(&wi[1]), mag(&wi[2])];
+                        let r = got[i * u.len() + j];
+                        for ((g, e), sc) in [r.a, r.b, r.c].iter().zip(want).zip(scale) {
+                            prop_assert!(
+                                (g - e).abs() <= KERNEL_ROUNDOFF * sc,
+                                "{g} vs {e} (scale {sc}, kernel {}, point {i}, row {j})",
+                                which.name()
+                            );
+                        }
+                    }
+                }
+                if which != FillKernel::Portable {
+                    match &fused {
+                        None => fused = Some(got.to_vec()),
+                        Some(first) => prop_assert!(
+                            first.as_slice() == got,
+                            "{} differs from the other fused kernel (offset {off})",
+                            which.name()
+                        ),
                     }
                 }
             }
         }
+        let mut auto = vec![Row::default(); total];
+        f.fill(&mut auto).unwrap();
+        if let Some(first) = &fused {
+            prop_assert!(first == &auto);
+        }
         Ok(())
+    }
+
+    /// Large `U` (the AVX-512 kernel then sweeps the grid in several chunks, with load-phase
+    /// periods 2, 8 and 1), deterministic pseudo-random entries.
+    #[test]
+    fn fill_matches_naive_products_for_large_u() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for (m, n) in [(1100, 21), (1099, 19), (1096, 17)] {
+            let u: Vec<[f64; 6]> = (0..m).map(|_| std::array::from_fn(|_| next())).collect();
+            let w: Vec<[[f64; 6]; 3]> = (0..n)
+                .map(|_| std::array::from_fn(|_| std::array::from_fn(|_| 100.0 * next())))
+                .collect();
+            check_against_naive(&u, &w).unwrap();
+        }
     }
 
     proptest! {
         /// General `w_c` (full 6-term product for `c`).
         #[test]
         fn fill_matches_naive_products(
-            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..40),
+            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..60),
             w in prop::collection::vec(prop::array::uniform3(prop::array::uniform6(-100.0f64..100.0)), 2..6),
         ) {
             check_against_naive(&u, &w)?;
@@ -552,7 +646,7 @@ mod tests {
         /// detected and the shortened products agree with the naive ones.
         #[test]
         fn fill_with_eq14_structure_matches_naive_products(
-            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..40),
+            u in prop::collection::vec(prop::array::uniform6(-1.0f64..1.0), 1..60),
             p in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-2.0f64..2.0)), 2..6),
             tilt in prop::array::uniform2(-0.3f64..0.3),
             vertical in any::<bool>(),
