@@ -24,6 +24,11 @@
 //! extreme rays of the pointed polar by double description (the [`dd`] module docs);
 //! [`face_to_span`] is [`span_to_face`] applied to the polar `span([U; E; -E])`.
 //!
+//! Adding generators to a converted cone adds constraint rows to its polar: a [`Continuation`]
+//! keeps the double description state of a conversion and continues it with the new rows
+//! instead of starting over (same answer and certificate as from scratch; the cases that start
+//! over are listed in the [`continuation`] module docs).
+//!
 //! Edge cases: the zero cone (no or only zero generators) has `E = I`; the whole space has no
 //! facet and `L = I`; a half-space has one facet and `d - 1` lineality directions.
 //!
@@ -83,6 +88,10 @@
 //!   fail certification (an error, never a wrong certified cone).
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks.
+//! - [`Continuation`] continues only the double description: each step still preconditions
+//!   all the generators afresh and runs the full certificate on the result (an incremental
+//!   certificate is not done), and a step that enlarges the linear span of the generators (the
+//!   cone was lower-dimensional) is a conversion from scratch.
 //! - The 2-D and 3-D polygon/polyhedron routines live in a separate module (`polytope`).
 
 // Index loops over several parallel arrays read like the math here.
@@ -91,6 +100,7 @@
 pub use nalgebra;
 
 mod certificate;
+pub mod continuation;
 mod convert;
 pub mod dd;
 mod error;
@@ -102,6 +112,7 @@ pub mod precondition;
 pub mod tol;
 
 pub use certificate::Certificate;
+pub use continuation::{Continuation, Restart, Step};
 pub use convert::{
     certify_span_to_face, face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace,
 };

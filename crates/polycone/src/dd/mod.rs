@@ -24,5 +24,6 @@
 
 pub(crate) mod bitset;
 mod core;
+mod resume;
 
 pub(crate) use self::core::{DdCore, DdFailure};

@@ -1,0 +1,375 @@
+//! A continued conversion (`Continuation::add_generators`) against the conversion from scratch
+//! of the same stacked generators, and against the cdd exact references.
+
+mod common;
+
+use common::*;
+use polycone::nalgebra::DMatrix;
+use polycone::{span_to_face, Arithmetic, Continuation, DdOptions, Restart, SpanToFace, Step};
+use proptest::prelude::*;
+
+/// Largest angle between a facet of the continued result and the matching one from scratch.
+const MAX_ANGLE: f64 = 1e-9;
+
+/// Rows `from..to` of `v`.
+fn rows(v: &DMatrix<f64>, from: usize, to: usize) -> DMatrix<f64> {
+    v.rows(from, to - from).into_owned()
+}
+
+/// The continued result equals the conversion from scratch: same facets (as sets, up to
+/// `MAX_ANGLE`; the lexicographic order of both is the same rule on values that differ by
+/// rounding, so rows whose leading coordinates tie up to rounding may swap), same equations
+/// and lineality spaces, same extreme generators, both certified.
+fn assert_same(cont: &SpanToFace, scratch: &SpanToFace, what: &str) {
+    assert!(cont.certificate.certified, "{what}: {:?}", cont.certificate);
+    assert!(scratch.certificate.certified, "{what}: scratch");
+    assert_eq!(
+        cont.certificate.arithmetic, scratch.certificate.arithmetic,
+        "{what}: arithmetic"
+    );
+    assert!(
+        same_rows_up_to_scaling(&cont.face.facets, &scratch.face.facets, MAX_ANGLE).is_some(),
+        "{what}: {} facets continued, {} from scratch",
+        cont.face.facets.nrows(),
+        scratch.face.facets.nrows()
+    );
+    assert_eq!(
+        cont.face.equations.nrows(),
+        scratch.face.equations.nrows(),
+        "{what}: equations"
+    );
+    assert!(
+        same_span(&cont.face.equations, &scratch.face.equations, 1e-9),
+        "{what}: equation span"
+    );
+    assert_eq!(
+        cont.lineality.nrows(),
+        scratch.lineality.nrows(),
+        "{what}: lineality dimension"
+    );
+    assert!(
+        same_span(&cont.lineality, &scratch.lineality, 1e-9),
+        "{what}: lineality span"
+    );
+    assert_eq!(
+        cont.extreme_generators, scratch.extreme_generators,
+        "{what}: extreme generators"
+    );
+}
+
+/// Golden stances built one contact (16 generators) at a time: every step continues (the
+/// first contact is a 6-D rectangle wrench cone, so the span never grows), equals the
+/// conversion from scratch of the generators so far, and the last one equals cdd's exact
+/// reference. Covers a non-pointed end (opposing frictionless walls: 3-D lineality appears at
+/// the last contact) and the whole space (walls with friction: no facet).
+#[test]
+fn golden_stances_one_contact_at_a_time() {
+    let opts = DdOptions::default();
+    for case in [
+        "double_support_flat",
+        "double_support_stairs",
+        "tilted_foot_hand_ledge",
+        "opposing_walls_frictionless",
+        "opposing_walls_friction",
+    ] {
+        let j = load(case);
+        let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+        let n = v.nrows();
+        assert_eq!(n % 16, 0);
+        let mut c = Continuation::new(&rows(&v, 0, 16), &opts).unwrap();
+        assert_eq!(c.last_step(), &Step::FromScratch(Restart::Initial));
+        for end in (32..=n).step_by(16) {
+            let r = c.add_generators(&rows(&v, end - 16, end)).unwrap().clone();
+            assert!(
+                matches!(c.last_step(), Step::Continued { .. }),
+                "{case} at {end}: {:?}",
+                c.last_step()
+            );
+            assert_eq!(c.generators(), &rows(&v, 0, end));
+            let scratch = span_to_face(&rows(&v, 0, end), &opts).unwrap();
+            assert_same(&r, &scratch, &format!("{case} at {end}"));
+        }
+        let reference = &j["reference_cdd_gmp_exact_input"];
+        let ref_facets = normalized(&matrix_f64(&reference["facets_float64"], 6));
+        let r = c.result();
+        assert!(
+            same_rows_up_to_scaling(&r.face.facets, &ref_facets, MAX_ANGLE).is_some(),
+            "{case}: {} facets, cdd {}",
+            r.face.facets.nrows(),
+            ref_facets.nrows()
+        );
+        assert_eq!(
+            r.lineality.nrows(),
+            reference["lineality_dim"].as_u64().unwrap() as usize,
+            "{case}"
+        );
+        assert_eq!(r.face.equations.nrows(), 0, "{case}");
+    }
+}
+
+/// The same golden stances split in two at every contact boundary and at odd places inside
+/// a contact (a partial rectangle is still 6-D after 8 generators of a tilted foot, not
+/// after 4 of a flat one): continued or restarted for a stated reason, always equal to the
+/// conversion from scratch.
+#[test]
+fn golden_stances_split_anywhere() {
+    let opts = DdOptions::default();
+    let mut continued = 0;
+    let mut restarted = 0;
+    for case in [
+        "double_support_flat",
+        "double_support_stairs",
+        "tilted_foot_hand_ledge",
+        "opposing_walls_frictionless",
+    ] {
+        let v = matrix_hex(&load(case)["generators"]["float64_hex"], 6);
+        let n = v.nrows();
+        for split in [1, 3, 5, 8, 11, 16, 19, 24, 29, 31] {
+            let mut c = Continuation::new(&rows(&v, 0, split), &opts).unwrap();
+            let r = c.add_generators(&rows(&v, split, n)).unwrap().clone();
+            match c.last_step() {
+                Step::Continued { rows_added } => {
+                    assert!(*rows_added <= n - split);
+                    continued += 1;
+                }
+                Step::FromScratch(Restart::RankChanged { from, to }) => {
+                    assert!(from < to, "{case} split {split}");
+                    restarted += 1;
+                }
+                other => panic!("{case} split {split}: {other:?}"),
+            }
+            let scratch = span_to_face(&v, &opts).unwrap();
+            assert_same(&r, &scratch, &format!("{case} split {split}"));
+        }
+    }
+    assert!(continued > 10 && restarted > 5, "{continued} {restarted}");
+}
+
+/// A random rectangle contact (positions within 1 m, tilts up to 40 degrees, patches 1 to
+/// 20 cm, friction 0.3 to 1).
+#[allow(clippy::needless_range_loop)] // matrix products read like the math
+fn random_contact(p: [f64; 3], ang: [f64; 3], half: [f64; 2], mu: f64) -> Contact {
+    let mut c = Contact::flat([p[0], p[1], 0.3 * p[2]], half, mu);
+    let r1 = rotation([1.0, 0.0, 0.0], ang[0]);
+    let r2 = rotation([0.0, 1.0, 0.0], ang[1]);
+    let r3 = rotation([0.0, 0.0, 1.0], ang[2]);
+    let mut r12 = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                r12[i][j] += r1[i][k] * r2[k][j];
+            }
+        }
+    }
+    c.rot = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                c.rot[i][j] += r12[i][k] * r3[k][j];
+            }
+        }
+    }
+    c
+}
+
+fn contact_strategy() -> impl Strategy<Value = Contact> {
+    (
+        prop::array::uniform3(-1.0f64..1.0),
+        prop::array::uniform3(-0.7f64..0.7),
+        prop::array::uniform2(0.005f64..0.1),
+        0.3f64..1.0,
+    )
+        .prop_map(|(p, ang, half, mu)| random_contact(p, ang, half, mu))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, .. ProptestConfig::default() })]
+
+    /// Random stances of 1 to 4 rectangles, one contact added at a time after the first:
+    /// every step continues and equals the conversion from scratch (itself checked against
+    /// a membership oracle in `properties.rs`).
+    #[test]
+    fn random_stances_one_contact_at_a_time(
+        contacts in prop::collection::vec(contact_strategy(), 1..=4),
+    ) {
+        let opts = DdOptions::default();
+        let v = giwc_generators(&contacts);
+        let mut c = Continuation::new(&rows(&v, 0, 16), &opts).unwrap();
+        let scratch = span_to_face(&rows(&v, 0, 16), &opts).unwrap();
+        assert_same(c.result(), &scratch, "first contact");
+        for end in (32..=v.nrows()).step_by(16) {
+            let r = c.add_generators(&rows(&v, end - 16, end)).unwrap().clone();
+            prop_assert!(matches!(c.last_step(), Step::Continued { .. }), "{:?}", c.last_step());
+            let scratch = span_to_face(&rows(&v, 0, end), &opts).unwrap();
+            assert_same(&r, &scratch, &format!("at {end}"));
+        }
+    }
+}
+
+/// Five contacts: 64 generators (one-word zero sets) before the fifth, 80 after (two words):
+/// the continuation re-packs the zero sets and still equals the conversion from scratch; so
+/// does a continuation that starts below 64 and crosses with several contacts at once.
+#[test]
+fn crossing_the_one_word_boundary() {
+    let opts = DdOptions::default();
+    let contacts = [
+        random_contact([0.0, 0.3, 0.0], [0.1, 0.0, 0.2], [0.11, 0.065], 0.7),
+        random_contact([0.1, -0.3, 0.5], [0.0, 0.2, -0.3], [0.11, 0.065], 0.6),
+        random_contact([0.5, 0.6, 2.0], [1.2, 0.1, 0.0], [0.05, 0.04], 0.8),
+        random_contact([0.4, -0.6, 1.8], [-1.1, 0.0, 0.4], [0.05, 0.04], 0.5),
+        random_contact([-0.3, 0.0, 0.2], [0.3, -0.3, 0.5], [0.08, 0.03], 0.9),
+    ];
+    let v = giwc_generators(&contacts);
+    assert_eq!(v.nrows(), 80);
+    for (first, steps) in [
+        (64, vec![80]),
+        (48, vec![80]),
+        (16, vec![40, 63, 64, 65, 80]),
+    ] {
+        let mut c = Continuation::new(&rows(&v, 0, first), &opts).unwrap();
+        let mut from = first;
+        for to in steps {
+            let r = c.add_generators(&rows(&v, from, to)).unwrap().clone();
+            assert!(
+                matches!(c.last_step(), Step::Continued { .. }),
+                "{first} -> {to}: {:?}",
+                c.last_step()
+            );
+            let scratch = span_to_face(&rows(&v, 0, to), &opts).unwrap();
+            assert_same(&r, &scratch, &format!("{first} -> {to}"));
+            from = to;
+        }
+    }
+}
+
+/// Two point contacts: a 3-D cone, then a 5-D one (the span grows: from scratch), then a
+/// third point off their line makes it 6-D (from scratch again); a fourth point continues.
+#[test]
+fn point_contacts_grow_the_span() {
+    let opts = DdOptions::default();
+    let point = |x: f64, y: f64, z: f64| {
+        // A rectangle of size zero: its first corner is the point, with 4 pyramid edges.
+        let c = Contact::flat([x, y, z], [0.0, 0.0], 0.7);
+        giwc_generators(&[c]).rows(0, 4).into_owned()
+    };
+    let p1 = point(0.0, 0.0, 0.0);
+    let mut c = Continuation::new(&p1, &opts).unwrap();
+    assert_eq!(c.result().face.equations.nrows(), 3);
+    let steps = [
+        (point(0.3, 0.0, 0.0), Some((3, 5))),
+        (point(0.0, 0.4, 0.1), Some((5, 6))),
+        (point(0.2, 0.3, 0.05), None),
+    ];
+    for (new, restart) in steps {
+        let r = c.add_generators(&new).unwrap().clone();
+        match restart {
+            Some((from, to)) => assert_eq!(
+                c.last_step(),
+                &Step::FromScratch(Restart::RankChanged { from, to })
+            ),
+            None => assert!(matches!(c.last_step(), Step::Continued { .. })),
+        }
+        let scratch = span_to_face(c.generators(), &opts).unwrap();
+        assert_same(&r, &scratch, "points");
+    }
+    // The 5-D cone of the first two points had one equation; the four points have none.
+    assert_eq!(c.result().face.equations.nrows(), 0);
+}
+
+/// Zero and duplicate new generators are dropped as from scratch: adding only those leaves
+/// the cone unchanged with no polar row processed; mixed with a new one, only it counts.
+#[test]
+fn zero_and_duplicate_generators() {
+    let opts = DdOptions::default();
+    let j = load("double_support_stairs");
+    let v = matrix_hex(&j["generators"]["float64_hex"], 6);
+    let first = rows(&v, 0, 16);
+    let mut c = Continuation::new(&first, &opts).unwrap();
+    let before = c.result().clone();
+    // Zero rows and positively scaled copies of earlier generators.
+    let mut junk = DMatrix::zeros(4, 6);
+    junk.row_mut(1).copy_from(&(first.row(3) * 2.5));
+    junk.row_mut(2).copy_from(&first.row(7));
+    let r = c.add_generators(&junk).unwrap().clone();
+    assert_eq!(c.last_step(), &Step::Continued { rows_added: 0 });
+    assert_same(&r, &before, "junk vs before");
+    assert_eq!(r.extreme_generators, before.extreme_generators);
+    assert_same(&r, &span_to_face(c.generators(), &opts).unwrap(), "junk");
+    // The second foot with a duplicate of itself inside, and a zero row.
+    let mut more = DMatrix::zeros(18, 6);
+    more.rows_mut(0, 16).copy_from(&rows(&v, 16, 32));
+    more.row_mut(16).copy_from(&v.row(20));
+    let r = c.add_generators(&more).unwrap().clone();
+    assert_eq!(c.last_step(), &Step::Continued { rows_added: 16 });
+    assert_same(&r, &span_to_face(c.generators(), &opts).unwrap(), "foot");
+    // Adding nothing.
+    let r = c.add_generators(&DMatrix::zeros(0, 6)).unwrap().clone();
+    assert_eq!(c.last_step(), &Step::Continued { rows_added: 0 });
+    assert_eq!(r.face.facets.nrows(), 176);
+}
+
+/// A generator kept at first becomes negligible next to much larger new ones: from scratch
+/// drops it, so the continuation starts over instead of keeping its polar row.
+#[test]
+fn old_generator_becomes_negligible() {
+    let opts = DdOptions::default();
+    let v = DMatrix::from_row_slice(
+        4,
+        3,
+        &[
+            1e-20, 0.0, 1e-20, 1e-20, 1e-20, 1e-20, 0.0, 1e-20, 1e-20, 0.0, 0.0, 1e-20,
+        ],
+    );
+    let mut c = Continuation::new(&v, &opts).unwrap();
+    assert_eq!(c.result().extreme_generators.len(), 4);
+    let big = DMatrix::from_row_slice(3, 3, &[1e-5, 0.0, 1e-5, 0.0, 1e-5, 1e-5, 0.0, 0.0, 1e-5]);
+    let r = c.add_generators(&big).unwrap().clone();
+    assert_eq!(
+        c.last_step(),
+        &Step::FromScratch(Restart::ZeroGeneratorsChanged)
+    );
+    assert_same(
+        &r,
+        &span_to_face(c.generators(), &opts).unwrap(),
+        "negligible",
+    );
+    assert_eq!(r.face.facets.nrows(), 3);
+}
+
+/// Exact arithmetic: every step is an exact conversion from scratch, equal to
+/// `span_to_face` in exact mode.
+#[test]
+fn exact_mode_restarts() {
+    let opts = DdOptions {
+        arithmetic: Arithmetic::Exact,
+        ..DdOptions::default()
+    };
+    let v = matrix_hex(&load("single_support_flat")["generators"]["float64_hex"], 6);
+    let mut c = Continuation::new(&rows(&v, 0, 12), &opts).unwrap();
+    let r = c.add_generators(&rows(&v, 12, 16)).unwrap().clone();
+    assert_eq!(c.last_step(), &Step::FromScratch(Restart::ExactArithmetic));
+    assert_eq!(r.certificate.arithmetic, Arithmetic::Exact);
+    let scratch = span_to_face(&v, &opts).unwrap();
+    assert_eq!(r, scratch);
+}
+
+/// Bad input is an error and leaves the continuation as it was.
+#[test]
+fn bad_input() {
+    let opts = DdOptions::default();
+    let v = DMatrix::<f64>::identity(3, 3);
+    assert!(Continuation::new(&DMatrix::zeros(2, 0), &opts).is_err());
+    assert!(Continuation::new(&DMatrix::from_row_slice(1, 2, &[f64::NAN, 0.0]), &opts).is_err());
+    let mut c = Continuation::new(&v, &opts).unwrap();
+    let e = c.add_generators(&DMatrix::zeros(1, 4)).unwrap_err();
+    assert!(e.to_string().contains("new generators"), "{e}");
+    let e = c
+        .add_generators(&DMatrix::from_row_slice(1, 3, &[0.0, f64::INFINITY, 1.0]))
+        .unwrap_err();
+    assert!(e.to_string().contains("finite"), "{e}");
+    assert_eq!(c.generators(), &v);
+    // Still usable, and it still continues.
+    c.add_generators(&DMatrix::from_row_slice(1, 3, &[-1.0, 1.0, 1.0]))
+        .unwrap();
+    assert_eq!(c.last_step(), &Step::Continued { rows_added: 1 });
+}
