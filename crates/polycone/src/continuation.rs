@@ -13,40 +13,60 @@
 //! **appending generators appends constraint rows to the polar**, which is exactly one step of
 //! the double description per new row. So a conversion that keeps its final state (the extreme
 //! rays of `C°` and their zero sets, [`crate::dd`]) can continue with the new rows instead of
-//! starting over: the work is the iterations of the new rows only.
+//! starting over: the double description work is that of the new rows only.
 //!
-//! Coordinates: the double description state lives in the whitened coordinates of the
-//! conversion it started from (the *frame*, `y = S^{-1} Q x`). Any invertible linear map of
-//! `span(V)` preserves the cone's combinatorics, so the new generators are mapped into the frame
-//! as they are (`S^{-1} Q v'`, normalized), as long as they lie in the same linear span. The
-//! result is then certified exactly as a conversion from scratch is: the generators `[V; V']`
-//! are preconditioned afresh (this decides the rank, the zero and duplicate generators, the
-//! equations), the facets are mapped into those fresh coordinates and the full
-//! [`crate::Certificate`] runs there. The tolerance contract of a continued result is therefore
-//! the same as that of a conversion from scratch, on the same coordinates.
+//! # Coordinates
+//!
+//! The state lives in the whitened coordinates `y = S^{-1} Q x` of the last conversion from
+//! scratch (the *frame*). Any invertible linear map of `span(V)` preserves the cone's
+//! combinatorics, so the new generators are mapped into the frame as they are (`S^{-1} Q v'`,
+//! then normalized), provided they lie in the same linear span. Everything a conversion from
+//! scratch decides from its preconditioning is decided here without a new SVD:
+//!
+//! - **rank**: with `E` the frame's equations (the complement of `span(V)`), `M = [V; V']` has
+//!   `sigma_{r+1}(M) <= |V' E^T|_F` (drop the component off the span: a rank-`r` matrix at that
+//!   distance) and `sigma_r(M) >= sigma_r(V)` (adding rows does not decrease singular values),
+//!   `sigma_1(V) <= sigma_1(M) <= sqrt(sigma_1(V)^2 + |V'|_F^2)`. If
+//!   `|V' E^T|_F <= rank sigma_1(V)` and `sigma_r(V) > rank sqrt(sigma_1(V)^2 + |V'|_F^2)`
+//!   ([`crate::tol::Tolerances::rank`]), a conversion from scratch finds rank `r` as well;
+//!   otherwise the continuation starts over (the span grows, or the decision is close);
+//! - **zero and duplicate generators**: the same rules as [`crate::precondition`] (relative
+//!   to the largest norm of all generators; duplicates compared in the frame);
+//! - **conditioning**: the frame is whitened for `V` (`Y^T Y = I` over its generators), so for
+//!   all the generators `G = Y^T Y = I + sum y y^T` over the added ones (`y` not normalized),
+//!   and the map from the frame to a fresh whitening has condition number
+//!   `kappa = sqrt(cond G) <= sqrt(1 + sum |y|^2)`. Above
+//!   [`crate::tol::Tolerances::continuation_condition`] the continuation starts over.
+//!
+//! The result then gets the full [`crate::Certificate`], in the frame: soundness, support,
+//! lineality and completeness are checked exactly as for a conversion from scratch, with the
+//! tolerances applied to cosines in the frame, which differ from cosines in fresh whitened
+//! coordinates by a factor at most `kappa` either way. The facets are mapped to world
+//! coordinates and sorted by the same rule as from scratch.
 //!
 //! # When a continuation starts over
 //!
 //! The continuation converts `[V; V']` from scratch (and says so in [`Continuation::last_step`],
 //! with the [`Restart`] reason) when continuing is not the same problem:
 //!
-//! - the new generators raise the dimension of the linear span (the cone was lower-dimensional:
-//!   its equations change and the polar gains dimensions) or the rank decision changes;
+//! - the new generators may raise the dimension of the linear span (the cone was
+//!   lower-dimensional: its equations change and the polar gains dimensions), or the rank
+//!   decision is within the bounds above;
 //! - a generator kept before is now a zero generator relative to the larger new ones;
+//! - the frame's condition bound exceeds its tolerance;
 //! - exact arithmetic ([`crate::Arithmetic::Exact`]): the exact engine does not keep a state;
 //! - the previous result came from the exact fallback (no floating-point state to resume);
 //! - the resumed double description fails, or the certificate of the continued result fails
 //!   (then the conversion from scratch runs, with its own exact fallback).
 //!
-//! Duplicate and zero generators among the new ones are dropped as in a conversion from
-//! scratch; a change of lineality with the same linear span needs no restart (the polar, still
-//! pointed in the frame, only loses dimensions, which the double description handles).
+//! A change of lineality within the same linear span needs no restart (the polar, pointed in
+//! the frame, only loses dimensions, which the double description handles).
 
 use nalgebra::DMatrix;
 
 use crate::convert::{exact_polar, Polar, SpanToFace, Workspace};
 use crate::linalg::normalize;
-use crate::precondition::{whiten, Whitened};
+use crate::precondition::Whitened;
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm};
 
 /// Why a [`Continuation`] converted from scratch instead of continuing.
@@ -61,9 +81,15 @@ pub enum Restart {
         /// With them.
         to: usize,
     },
+    /// The new generators are within the rank tolerance of leaving the linear span (the
+    /// bounds of the module docs cannot decide the rank); from scratch found it unchanged.
+    RankUndecided,
     /// A generator kept before is now negligible next to the new ones
     /// ([`crate::tol::Tolerances::zero_generator`]).
     ZeroGeneratorsChanged,
+    /// The condition bound of the frame exceeded
+    /// [`crate::tol::Tolerances::continuation_condition`] (the value).
+    IllConditioned(f64),
     /// Exact arithmetic was asked for: every step is an exact conversion from scratch.
     ExactArithmetic,
     /// The previous result did not leave a floating-point state to resume (it came from the
@@ -89,8 +115,32 @@ pub enum Step {
     FromScratch(Restart),
 }
 
-/// A span -> face conversion that can continue when generators are added (see the module
-/// docs of `continuation` for the math and the cases that start over).
+/// Running quantities of the generators since the frame (input units), for the decisions of
+/// the module docs.
+#[derive(Clone, Debug, Default)]
+struct Track {
+    /// Largest generator norm so far.
+    maxn: f64,
+    /// Smallest norm of a kept generator.
+    min_kept_norm: f64,
+    /// Largest `|e . v|` over equations `e` of the frame and kept generators `v`.
+    max_eq_abs: f64,
+    /// Over the generators added since the frame: `sum |y|^2` (frame coordinates, not
+    /// normalized), `sum |E v|^2`, `sum |v|^2`.
+    sum_y2: f64,
+    sum_out2: f64,
+    sum_v2: f64,
+}
+
+/// Why continuing stopped, before the conversion from scratch.
+enum Stop {
+    Restart(Restart),
+    /// The rank bounds failed: the reason depends on what the conversion from scratch finds.
+    Span,
+}
+
+/// A span -> face conversion that can continue when generators are added (see the
+/// [module docs](self) for the math and the cases that start over).
 ///
 /// ```
 /// use polycone::{nalgebra::DMatrix, Continuation, DdOptions, Step};
@@ -112,14 +162,16 @@ pub struct Continuation {
     generators: DMatrix<f64>,
     /// Buffers; `ws.core` holds the double description state when `resumable`.
     ws: Workspace,
-    /// Coordinates of the state in `ws.core` (the whitening of the last conversion from scratch).
+    /// The whitening of the last conversion from scratch: the coordinates of the state.
     frame: Whitened,
-    /// The fresh preconditioning of `generators` (the coordinates of the current certificate).
+    /// All generators so far in the frame's coordinates (kept, unit rows, distinct): the
+    /// problem the current certificate was checked on.
     current: Whitened,
+    track: Track,
     resumable: bool,
     result: SpanToFace,
     step: Step,
-    /// Scratch for the new polar rows, in the frame.
+    /// Scratch for the new polar rows.
     new_rows: Vec<f64>,
 }
 
@@ -182,13 +234,35 @@ fn from_scratch(
         ws.finish_polar(&wh, fw, opts).map(|p| (p, wh))
     });
     match attempt {
-        Ok((p, wh)) => Ok((polar_into_result(p, d), wh, true)),
+        Ok((p, wh)) => {
+            // The continuation needs the input scale of the singular values.
+            let resumable = wh.scale.is_finite() && wh.scale > 0.0;
+            Ok((polar_into_result(p, d), wh, resumable))
+        }
         Err(ConeError::Uncertified(reason)) if opts.exact_fallback => {
             let p = exact_polar(v, opts)
                 .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))?;
             Ok((polar_into_result(p, d), Whitened::default(), false))
         }
         Err(e) => Err(e),
+    }
+}
+
+/// The running quantities right after a conversion from scratch of `v` with whitening `wh`.
+fn track_of(v: &DMatrix<f64>, wh: &Whitened) -> Track {
+    let norms: Vec<f64> = (0..v.nrows()).map(|i| v.row(i).norm()).collect();
+    let maxn = norms.iter().copied().fold(0.0, f64::max);
+    Track {
+        maxn,
+        min_kept_norm: wh
+            .kept
+            .iter()
+            .map(|&i| norms[i])
+            .fold(f64::INFINITY, f64::min),
+        max_eq_abs: wh.equation_residual * maxn,
+        sum_y2: 0.0,
+        sum_out2: 0.0,
+        sum_v2: 0.0,
     }
 }
 
@@ -224,8 +298,7 @@ impl Continuation {
     /// use polycone::{nalgebra::DMatrix, Continuation, Workspace};
     /// let v = DMatrix::<f64>::identity(3, 3);
     /// let c = Continuation::with_workspace(Workspace::new(), &v, &Default::default()).unwrap();
-    /// let ws: Workspace = c.into_workspace();
-    /// # let _ = ws;
+    /// assert_eq!(c.result().face.facets.nrows(), 3);
     /// ```
     pub fn with_workspace(
         mut ws: Workspace,
@@ -238,6 +311,7 @@ impl Continuation {
             opts: opts.clone(),
             generators: generators.clone(),
             ws,
+            track: track_of(generators, &frame),
             current: frame.clone(),
             frame,
             resumable,
@@ -283,6 +357,21 @@ impl Continuation {
         &self.step
     }
 
+    /// The bound `sqrt(1 + sum |y|^2)` on the condition number of the current coordinates
+    /// relative to a fresh whitening (1 right after a conversion from scratch; see the module
+    /// docs).
+    ///
+    /// ```
+    /// use polycone::{nalgebra::DMatrix, Continuation};
+    /// let mut c = Continuation::new(&DMatrix::<f64>::identity(3, 3), &Default::default()).unwrap();
+    /// assert_eq!(c.condition_bound(), 1.0);
+    /// c.add_generators(&DMatrix::from_row_slice(1, 3, &[-1.0, 1.0, 1.0])).unwrap();
+    /// assert!((c.condition_bound() - 2.0).abs() < 1e-12); // 1 + |(-1, 1, 1)|^2 = 4
+    /// ```
+    pub fn condition_bound(&self) -> f64 {
+        (1.0 + self.track.sum_y2).sqrt()
+    }
+
     /// The options the conversions use.
     ///
     /// ```
@@ -307,7 +396,7 @@ impl Continuation {
     }
 
     /// Adds generators (`q x d`, one per row, finite) and returns the face form of the span of
-    /// all of them: the same answer as [`crate::span_to_face`] on the stacked generators (same
+    /// all of them: the same cone as [`crate::span_to_face`] on the stacked generators (same
     /// facets up to rounding, same order rule, equations, lineality, extreme generators as
     /// indices into [`Continuation::generators`], a full certificate), obtained by continuing
     /// the double description when possible ([`Continuation::last_step`]).
@@ -342,11 +431,22 @@ impl Continuation {
             .resize_vertically(n_old + new.nrows(), 0.0);
         all.rows_mut(n_old, new.nrows()).copy_from(new);
         let outcome = match self.continue_with(&all, n_old) {
-            Ok((result, wh, rows_added)) => {
+            Ok((result, wh, track, rows_added)) => {
                 self.current = wh;
+                self.track = track;
                 Ok((result, Step::Continued { rows_added }))
             }
-            Err(reason) => self.restart(&all, reason),
+            Err(Stop::Restart(reason)) => self.restart(&all, reason),
+            Err(Stop::Span) => {
+                let from = self.frame.r;
+                self.restart(&all, Restart::RankUndecided)
+                    .map(|(res, step)| match self.frame.r {
+                        to if to != from && self.resumable => {
+                            (res, Step::FromScratch(Restart::RankChanged { from, to }))
+                        }
+                        _ => (res, step),
+                    })
+            }
         };
         match outcome {
             Ok((result, step)) => {
@@ -369,85 +469,120 @@ impl Continuation {
         reason: Restart,
     ) -> Result<(SpanToFace, Step), ConeError> {
         let (result, frame, resumable) = from_scratch(&mut self.ws, all, &self.opts)?;
+        self.track = track_of(all, &frame);
         self.current = frame.clone();
         self.frame = frame;
         self.resumable = resumable;
         Ok((result, Step::FromScratch(reason)))
     }
 
-    /// Continues the state with the generators of `all` past row `n_old`; `Err(reason)` when
-    /// it cannot (the caller restarts). On success: the result, its fresh preconditioning and
-    /// the number of polar rows added.
+    /// Continues the state with the generators of `all` past row `n_old`; `Err` when it cannot
+    /// (the caller restarts). On success: the result, the generators in frame coordinates, the
+    /// running quantities and the number of polar rows added.
     fn continue_with(
         &mut self,
         all: &DMatrix<f64>,
         n_old: usize,
-    ) -> Result<(SpanToFace, Whitened, usize), Restart> {
-        let opts = self.opts.clone();
+    ) -> Result<(SpanToFace, Whitened, Track, usize), Stop> {
+        let opts = &self.opts;
+        let tol = &opts.tol;
         if opts.arithmetic == Arithmetic::Exact {
-            return Err(Restart::ExactArithmetic);
+            return Err(Stop::Restart(Restart::ExactArithmetic));
         }
         if !self.resumable {
-            return Err(Restart::NotResumable);
+            return Err(Stop::Restart(Restart::NotResumable));
         }
-        // Fresh preconditioning of all the generators: the rank, zero and duplicate decisions
-        // and the coordinates of the certificate, exactly as from scratch.
-        let wh = whiten(all, &opts.tol);
-        let r = self.frame.r;
-        if wh.r != r {
-            return Err(Restart::RankChanged { from: r, to: wh.r });
+        let frame = &self.frame;
+        let (d, r) = (frame.d, frame.r);
+        let n_new = all.nrows() - n_old;
+        let mut t = self.track.clone();
+        let norms: Vec<f64> = (n_old..all.nrows()).map(|i| all.row(i).norm()).collect();
+        t.maxn = norms.iter().copied().fold(t.maxn, f64::max);
+        if !self.current.kept.is_empty() && t.min_kept_norm <= tol.zero_generator * t.maxn {
+            return Err(Stop::Restart(Restart::ZeroGeneratorsChanged));
         }
-        let old_kept = wh.kept.iter().take_while(|&&i| i < n_old).count();
-        if wh.kept[..old_kept] != self.current.kept[..] {
-            return Err(Restart::ZeroGeneratorsChanged);
-        }
-        // New polar rows: the new distinct generators, mapped into the frame (S^-1 Q v).
-        self.new_rows.clear();
-        let mut rows_added = 0;
-        for &t in &wh.distinct {
-            let i = wh.kept[t];
-            if i < n_old {
+        // Singular values in input units.
+        let sv_in: Vec<f64> = frame.sv.iter().map(|s| s / frame.scale).collect();
+        let mut wh = self.current.clone();
+        let first_new_distinct = wh.distinct.len();
+        let mut y = vec![0.0; r];
+        for (t_new, &norm) in norms.iter().enumerate() {
+            if !(norm > 0.0 && norm > tol.zero_generator * t.maxn) {
                 continue;
             }
-            let start = self.new_rows.len();
-            for (q, &s) in self.frame.q.chunks_exact(self.frame.d).zip(&self.frame.sv) {
-                let y: f64 = q.iter().zip(all.row(i).iter()).map(|(a, b)| a * b).sum();
-                self.new_rows.push(y / s);
+            let i = n_old + t_new;
+            let v = all.row(i);
+            if r == 0 {
+                // A non-zero generator in a zero cone: the span grows.
+                return Err(Stop::Span);
             }
-            let norm = normalize(&mut self.new_rows[start..]);
-            if !(norm.is_finite() && norm > 0.0) {
-                return Err(Restart::DdFailed);
+            let mut out2 = 0.0;
+            for e in 0..d - r {
+                let ev: f64 = frame.equations.row(e).dot(&v);
+                out2 += ev * ev;
+                t.max_eq_abs = t.max_eq_abs.max(ev.abs());
             }
-            rows_added += 1;
+            t.sum_out2 += out2;
+            t.sum_v2 += norm * norm;
+            for ((yc, q), &s) in y.iter_mut().zip(frame.q.chunks_exact(d)).zip(&sv_in) {
+                *yc = q.iter().zip(v.iter()).map(|(a, b)| a * b).sum::<f64>() / s;
+            }
+            t.sum_y2 += normalize(&mut y).powi(2);
+            let kept_index = wh.kept.len();
+            wh.kept.push(i);
+            wh.w.extend_from_slice(&y);
+            let duplicate = wh.distinct.iter().any(|&s| {
+                let g = &wh.w[s * r..(s + 1) * r];
+                let d2: f64 = g.iter().zip(&y).map(|(a, b)| (a - b) * (a - b)).sum();
+                d2 <= tol.duplicate * tol.duplicate
+            });
+            if !duplicate {
+                wh.distinct.push(kept_index);
+            }
         }
+        if n_new > 0 && r > 0 {
+            // The rank bounds of the module docs.
+            let (s1, sr) = (sv_in[0], sv_in[r - 1]);
+            let stays_below = t.sum_out2.sqrt() <= tol.rank * s1;
+            let stays_above = sr > tol.rank * (s1 * s1 + t.sum_v2).sqrt();
+            if !(stays_below && stays_above) {
+                return Err(Stop::Span);
+            }
+        }
+        let kappa = (1.0 + t.sum_y2).sqrt();
+        if kappa.is_nan() || kappa > tol.continuation_condition {
+            return Err(Stop::Restart(Restart::IllConditioned(kappa)));
+        }
+        wh.equation_residual = if t.maxn > 0.0 {
+            t.max_eq_abs / t.maxn
+        } else {
+            0.0
+        };
+        // New polar rows: the new distinct generators, in the frame.
+        self.new_rows.clear();
+        for &k in &wh.distinct[first_new_distinct..] {
+            self.new_rows.extend_from_slice(wh.gen(k));
+        }
+        let rows_added = wh.distinct.len() - first_new_distinct;
         if r > 0 {
             self.ws
                 .core
-                .add_rows(&self.new_rows, rows_added, opts.tol.incidence)
-                .map_err(|_| Restart::DdFailed)?;
+                .add_rows(&self.new_rows, rows_added, tol.incidence)
+                .map_err(|_| Stop::Restart(Restart::DdFailed))?;
         }
-        // The polar rays, frame -> world -> fresh coordinates.
-        let fw_frame = rays_of(&self.ws, r);
-        let nf = fw_frame.len().checked_div(r).unwrap_or(0);
-        let mut fw = vec![0.0; nf * r];
-        let mut u = vec![0.0; wh.d];
-        for (src, dst) in fw_frame
-            .chunks_exact(r.max(1))
-            .zip(fw.chunks_exact_mut(r.max(1)))
-        {
-            self.frame.facet_to_world(src, &mut u);
-            wh.facet_from_world(&u, dst);
-        }
+        let fw = rays_of(&self.ws, r);
         let p = self
             .ws
-            .finish_polar(&wh, fw, &opts)
-            .map_err(|e| Restart::Uncertified(e.to_string()))?;
+            .finish_polar(&wh, fw, opts)
+            .map_err(|e| Stop::Restart(Restart::Uncertified(e.to_string())))?;
         if opts.check_completeness && !p.certificate.certified {
             // Returned uncertified only because `allow_uncertified` is set: from scratch may
             // certify what the continuation could not.
-            return Err(Restart::Uncertified(p.certificate.failure_reason()));
+            return Err(Stop::Restart(Restart::Uncertified(
+                p.certificate.failure_reason(),
+            )));
         }
-        Ok((polar_into_result(p, wh.d), wh, rows_added))
+        Ok((polar_into_result(p, d), wh, t, rows_added))
     }
 }
 
@@ -524,5 +659,130 @@ mod tests {
         assert_eq!(c.last_step(), &Step::FromScratch(Restart::NotResumable));
         assert_eq!(r, crate::span_to_face(&v, &opts).unwrap());
         assert!(c.resumable);
+    }
+}
+
+#[cfg(test)]
+mod timing {
+    use super::*;
+    use crate::precondition::whiten;
+    use std::time::Instant;
+
+    fn med<F: FnMut()>(mut f: F) -> f64 {
+        let mut v: Vec<f64> = (0..3000)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64() * 1e6
+            })
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    }
+
+    pub(super) fn golden(case: &str) -> DMatrix<f64> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../testdata/cones/");
+        let text = std::fs::read_to_string(format!("{path}{case}.json")).unwrap();
+        let j: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let rows: Vec<Vec<f64>> =
+            serde_json::from_value(j["generators"]["float64"].clone()).unwrap();
+        DMatrix::from_fn(rows.len(), 6, |i, k| rows[i][k])
+    }
+
+    /// Where the time goes, by phase, from scratch and continued (the last 16 generators
+    /// added to the others), on the golden stances:
+    /// `cargo test --release -p polycone --lib timing -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn breakdown() {
+        for case in [
+            "double_support_flat",
+            "double_support_stairs",
+            "tilted_foot_hand_ledge",
+            "opposing_walls_frictionless",
+        ] {
+            let v = golden(case);
+            let n = v.nrows();
+            let first = v.rows(0, n - 16).into_owned();
+            let last = v.rows(n - 16, 16).into_owned();
+            let opts = DdOptions::default();
+            let tol = opts.tol;
+            let mut ws = Workspace::new();
+            let t_whiten = med(|| {
+                std::hint::black_box(whiten(&v, &tol));
+            });
+            let wh = whiten(&v, &tol);
+            let mut a = Vec::new();
+            for &i in &wh.distinct {
+                a.extend_from_slice(wh.gen(i));
+            }
+            let m = wh.distinct.len();
+            let t_dd = med(|| {
+                ws.core.run(&a, m, wh.r, tol.incidence, tol.rank).unwrap();
+            });
+            let pairs_scratch = ws.core.pairs_tested;
+            let fw = rays_of(&ws, wh.r);
+            let t_finish = med(|| {
+                std::hint::black_box(ws.finish_polar(&wh, fw.clone(), &opts).unwrap());
+            });
+            let t_total = med(|| {
+                std::hint::black_box(ws.span_to_face(&v, &opts).unwrap());
+            });
+            let base = Continuation::new(&first, &opts).unwrap();
+            let mut c = base.clone();
+            c.add_generators(&last).unwrap();
+            assert!(matches!(c.last_step(), Step::Continued { .. }));
+            let t_clone = med(|| {
+                std::hint::black_box(base.clone());
+            });
+            let t_cont = med(|| {
+                c.clone_from(&base);
+                c.add_generators(&last).unwrap();
+            });
+            let t_clone_from = med(|| {
+                c.clone_from(&base);
+            });
+            // The continued DD alone, and the certificate on its result.
+            c.clone_from(&base);
+            c.add_generators(&last).unwrap();
+            let mut core = base.ws.core.clone();
+            let rows_new = c.new_rows.clone();
+            let cnt = rows_new.len() / wh.r;
+            let t_dd_cont = med(|| {
+                core.clone_from(&base.ws.core);
+                core.add_rows(&rows_new, cnt, tol.incidence).unwrap();
+            }) - med(|| core.clone_from(&base.ws.core));
+            let fwc = rays_of(&c.ws, wh.r);
+            let t_finish_cont = med(|| {
+                std::hint::black_box(c.ws.finish_polar(&c.current, fwc.clone(), &opts).unwrap());
+            });
+            eprintln!(
+                "{case}: {n} generators, {} facets; from scratch {t_total:.1} us = whiten {t_whiten:.1} + dd {t_dd:.1} ({pairs_scratch} pairs) + certificate and output {t_finish:.1}; \
+                 continued {:.1} us (dd {t_dd_cont:.1}, certificate and output {t_finish_cont:.1}), clone {t_clone:.1}, kappa bound {:.2}",
+                fw.len() / wh.r,
+                t_cont - t_clone_from,
+                c.condition_bound(),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod profile {
+    use super::*;
+
+    /// A loop of continued steps on the stairs stance, for a profiler:
+    /// `cargo test --release -p polycone --lib profile_loop -- --ignored`.
+    #[test]
+    #[ignore]
+    fn profile_loop() {
+        let v = super::timing::golden("double_support_stairs");
+        let base = Continuation::new(&v.rows(0, 16).into_owned(), &DdOptions::default()).unwrap();
+        let last = v.rows(16, 16).into_owned();
+        let mut c = base.clone();
+        for _ in 0..20000 {
+            c.clone_from(&base);
+            std::hint::black_box(c.add_generators(&last).unwrap());
+        }
     }
 }

@@ -40,6 +40,17 @@ pub struct Tolerances {
     /// the hyperplane leave residuals below it), well below the separation of distinct
     /// generators of a physical stance after preconditioning.
     pub support_rank: f64,
+    /// Largest condition number allowed for the coordinates a [`crate::Continuation`] works in.
+    /// A continuation keeps the whitened coordinates of its last conversion from scratch (its
+    /// frame) for the generators added since; the linear map from those coordinates to a fresh
+    /// whitening of all its generators has a condition number `kappa <= sqrt(1 + sum |y|^2)`
+    /// over the added generators `y` (frame coordinates, not normalized; the bound is
+    /// tracked). Above `continuation_condition` the continuation converts from scratch.
+    /// Unit: ratio. Default `100`: a cosine `c` in the frame is between `c / kappa` and
+    /// `kappa c` in fresh coordinates, so structure merged within `incidence` (`1e-9`) in the
+    /// frame stays within `1e-7` (`support_rank`) in the coordinates a conversion from scratch
+    /// would use. (Adding the second contact of the paper's stances gives `kappa` 3 to 11.)
+    pub continuation_condition: f64,
 }
 
 impl Default for Tolerances {
@@ -51,6 +62,7 @@ impl Default for Tolerances {
             incidence: 1e-9,
             certificate: 1e-8,
             support_rank: 1e-7,
+            continuation_condition: 100.0,
         }
     }
 }
@@ -65,6 +77,7 @@ impl Tolerances {
             ("incidence", self.incidence),
             ("certificate", self.certificate),
             ("support_rank", self.support_rank),
+            ("continuation_condition", self.continuation_condition),
         ];
         for (name, v) in all {
             if !(v.is_finite() && v >= 0.0) {

@@ -178,7 +178,7 @@ proptest! {
 
     /// Random stances of 1 to 4 contacts (points, rectangles, triangles; the paper's pyramid
     /// or a k-sided one), built one contact at a time: each step equals the conversion from
-    /// scratch; a step restarts only when the span grows (a point contact first).
+    /// scratch; a step restarts only for a stated reason about the span or the conditioning.
     #[test]
     fn random_stances_one_contact_at_a_time(
         contacts in prop::collection::vec(contact_strategy(), 1..=4),
@@ -194,6 +194,10 @@ proptest! {
             match step {
                 Step::Continued { .. } => {}
                 Step::FromScratch(Restart::RankChanged { from, to }) => prop_assert!(from < to),
+                // Point contacts leave the rank decision to the conversion from scratch;
+                // small contacts far apart make the first contacts' coordinates badly
+                // conditioned for the new ones.
+                Step::FromScratch(Restart::RankUndecided | Restart::IllConditioned(_)) => {}
                 other => prop_assert!(false, "unexpected {other:?}"),
             }
         }
