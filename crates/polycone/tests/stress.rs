@@ -262,7 +262,11 @@ fn stress_corpus_one_contact_at_a_time() {
                     r.face.facets.nrows(),
                     scratch.face.facets.nrows(),
                     c.condition_bound(),
-                    if agree { "" } else { ": DIFFERENT from scratch" }
+                    if agree {
+                        ""
+                    } else {
+                        ": DIFFERENT from scratch"
+                    }
                 );
             } else {
                 eprintln!("{name} at {end}: {:?}", c.last_step());
