@@ -413,3 +413,11 @@ fn condition_bound_is_enforced() {
     bad.tol.continuation_condition = f64::NAN;
     assert!(Continuation::new(&rows(&v, 0, 16), &bad).is_err());
 }
+
+/// A continuation can move to and be shared between threads.
+#[test]
+fn continuation_is_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<Continuation>();
+    check::<Step>();
+}

@@ -203,3 +203,10 @@ proptest! {
         }
     }
 }
+
+/// A builder can move to and be shared between threads.
+#[test]
+fn builder_is_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<GiwcBuilder>();
+}
