@@ -36,7 +36,20 @@
 //!   all the generators `G = Y^T Y = I + sum y y^T` over the added ones (`y` not normalized),
 //!   and the map from the frame to a fresh whitening has condition number
 //!   `kappa = sqrt(cond G) <= sqrt(1 + sum |y|^2)`. Above
-//!   [`crate::tol::Tolerances::continuation_condition`] the continuation starts over.
+//!   [`crate::tol::Tolerances::continuation_condition`] the continuation **moves its state**
+//!   to fresh whitened coordinates of all the generators (one SVD, and each polar ray mapped
+//!   as a facet normal, `S' Q' Q^T S^{-1}` up to normalization; zero sets unchanged) before
+//!   adding the new rows: that step ([`Step::Reframed`]) runs in the coordinates of a
+//!   conversion from scratch. (Combining nearly parallel rays in badly conditioned
+//!   coordinates loses accuracy: on a random stance with 5 mm patches, `kappa = 59` gave facet
+//!   normals 9e-9 rad away from those from scratch, `kappa <= 45` less than 6e-11.)
+//!
+//! **Accuracy.** A continued ray comes from a longer chain of combinations than a ray
+//! computed from scratch (each contact's rows combine rays made by the previous ones), and
+//! combining nearly parallel rays amplifies rounding. After the new rows, every ray whose
+//! largest slack on its tight rows exceeds [`crate::tol::Tolerances::polish`] is recomputed as
+//! the projection of itself on the orthogonal complement of those rows (modified Gram-Schmidt),
+//! which brings it back to rounding level.
 //!
 //! The result then gets the full [`crate::Certificate`], in the frame: soundness, support,
 //! lineality and completeness are checked exactly as for a conversion from scratch, with the
@@ -53,7 +66,6 @@
 //!   lower-dimensional: its equations change and the polar gains dimensions), or the rank
 //!   decision is within the bounds above;
 //! - a generator kept before is now a zero generator relative to the larger new ones;
-//! - the frame's condition bound exceeds its tolerance;
 //! - exact arithmetic ([`crate::Arithmetic::Exact`]): the exact engine does not keep a state;
 //! - the previous result came from the exact fallback (no floating-point state to resume);
 //! - the resumed double description fails, or the certificate of the continued result fails
@@ -66,7 +78,7 @@ use nalgebra::DMatrix;
 
 use crate::convert::{exact_polar, Polar, SpanToFace, Workspace};
 use crate::linalg::normalize;
-use crate::precondition::Whitened;
+use crate::precondition::{whiten, Whitened};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm};
 
 /// Why a [`Continuation`] converted from scratch instead of continuing.
@@ -87,9 +99,6 @@ pub enum Restart {
     /// A generator kept before is now negligible next to the new ones
     /// ([`crate::tol::Tolerances::zero_generator`]).
     ZeroGeneratorsChanged,
-    /// The condition bound of the frame exceeded
-    /// [`crate::tol::Tolerances::continuation_condition`] (the value).
-    IllConditioned(f64),
     /// Exact arithmetic was asked for: every step is an exact conversion from scratch.
     ExactArithmetic,
     /// The previous result did not leave a floating-point state to resume (it came from the
@@ -110,6 +119,16 @@ pub enum Step {
     Continued {
         /// New constraint rows of the polar processed.
         rows_added: usize,
+    },
+    /// By continuing the previous double description with `rows_added` new polar rows, after
+    /// moving its state to the whitened coordinates of all the generators, because the
+    /// condition bound `kappa` of the previous coordinates exceeded
+    /// [`crate::tol::Tolerances::continuation_condition`].
+    Reframed {
+        /// New constraint rows of the polar processed.
+        rows_added: usize,
+        /// The condition bound that triggered the move.
+        kappa: f64,
     },
     /// By a conversion from scratch, for this reason.
     FromScratch(Restart),
@@ -173,6 +192,103 @@ pub struct Continuation {
     step: Step,
     /// Scratch for the new polar rows.
     new_rows: Vec<f64>,
+    /// The input generator of each row of the double description state, in row order.
+    dd_rows: Vec<usize>,
+    /// Scratch for the polishing of the rays.
+    basis: Vec<f64>,
+}
+
+/// The input generators of the double description rows of a conversion from scratch.
+fn dd_rows_of(wh: &Whitened) -> Vec<usize> {
+    wh.distinct.iter().map(|&t| wh.kept[t]).collect()
+}
+
+/// Recomputes each ray of `core` (coordinates of `wh`) whose largest slack on its tight rows
+/// (its zero set) exceeds `polish` as its orthogonal projection on the complement of those
+/// rows: `x <- x - P_T x`, normalized. Continued rays
+/// come from longer chains of combinations than rays from scratch, and combining nearly
+/// parallel rays amplifies rounding (measured: tight residuals of 3e-11 instead of 2e-15 on a
+/// stance with 5 mm patches); the projection brings them back to rounding level. Tight rows
+/// whose Gram-Schmidt residual is at most `rank_eps` add no direction; a ray whose tight rows
+/// do not reach rank `r - 1` is left as it is.
+fn polish_rays(
+    core: &mut crate::dd::DdCore,
+    dd_rows: &[usize],
+    wh: &Whitened,
+    [polish, rank_eps]: [f64; 2],
+    basis: &mut Vec<f64>,
+) {
+    let (r, words, n) = (wh.r, core.words, core.n);
+    if r < 2 {
+        return;
+    }
+    for i in 0..n {
+        // The largest slack of the ray on its tight rows: below `polish`, nothing to do.
+        let x = &core.x[i * r..(i + 1) * r];
+        let mut worst: f64 = 0.0;
+        for (wi, &w0) in core.z[i * words..(i + 1) * words].iter().enumerate() {
+            let mut w = w0;
+            while w != 0 {
+                let b = w.trailing_zeros() as usize;
+                w &= w - 1;
+                if let Some(t) = dd_rows
+                    .get(wi * 64 + b)
+                    .and_then(|g| wh.kept.binary_search(g).ok())
+                {
+                    let s: f64 = wh.gen(t).iter().zip(x).map(|(a, b)| a * b).sum();
+                    worst = worst.max(s.abs());
+                }
+            }
+        }
+        if worst <= polish {
+            continue;
+        }
+        basis.clear();
+        let mut nb = 0;
+        for (wi, &w0) in core.z[i * words..(i + 1) * words].iter().enumerate() {
+            let mut w = w0;
+            while w != 0 && nb + 1 < r {
+                let b = w.trailing_zeros() as usize;
+                w &= w - 1;
+                let Some(&g) = dd_rows.get(wi * 64 + b) else {
+                    continue;
+                };
+                let Ok(t) = wh.kept.binary_search(&g) else {
+                    continue;
+                };
+                let start = basis.len();
+                basis.extend_from_slice(wh.gen(t));
+                for _ in 0..2 {
+                    for q in 0..nb {
+                        let (head, tail) = basis.split_at_mut(start);
+                        let qv = &head[q * r..(q + 1) * r];
+                        let c: f64 = qv.iter().zip(tail.iter()).map(|(a, b)| a * b).sum();
+                        for (x, y) in tail.iter_mut().zip(qv) {
+                            *x -= c * y;
+                        }
+                    }
+                }
+                if normalize(&mut basis[start..]) > rank_eps {
+                    nb += 1;
+                } else {
+                    basis.truncate(start);
+                }
+            }
+        }
+        if nb + 1 != r {
+            continue;
+        }
+        let x = &mut core.x[i * r..(i + 1) * r];
+        for _ in 0..2 {
+            for q in basis.chunks_exact(r) {
+                let c: f64 = q.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+                for (xv, qv) in x.iter_mut().zip(q) {
+                    *xv -= c * qv;
+                }
+            }
+        }
+        normalize(x);
+    }
 }
 
 fn polar_into_result(p: Polar, d: usize) -> SpanToFace {
@@ -307,6 +423,7 @@ impl Continuation {
     ) -> Result<Self, ConeError> {
         check_generators(generators, None)?;
         let (result, frame, resumable) = from_scratch(&mut ws, generators, opts)?;
+        let dd_rows = dd_rows_of(&frame);
         Ok(Self {
             opts: opts.clone(),
             generators: generators.clone(),
@@ -318,6 +435,8 @@ impl Continuation {
             result,
             step: Step::FromScratch(Restart::Initial),
             new_rows: Vec::new(),
+            dd_rows,
+            basis: Vec::new(),
         })
     }
 
@@ -431,10 +550,13 @@ impl Continuation {
             .resize_vertically(n_old + new.nrows(), 0.0);
         all.rows_mut(n_old, new.nrows()).copy_from(new);
         let outcome = match self.continue_with(&all, n_old) {
-            Ok((result, wh, track, rows_added)) => {
+            Ok((result, wh, track, step)) => {
+                if matches!(step, Step::Reframed { .. }) {
+                    self.frame = wh.clone();
+                }
                 self.current = wh;
                 self.track = track;
-                Ok((result, Step::Continued { rows_added }))
+                Ok((result, step))
             }
             Err(Stop::Restart(reason)) => self.restart(&all, reason),
             Err(Stop::Span) => {
@@ -470,6 +592,7 @@ impl Continuation {
     ) -> Result<(SpanToFace, Step), ConeError> {
         let (result, frame, resumable) = from_scratch(&mut self.ws, all, &self.opts)?;
         self.track = track_of(all, &frame);
+        self.dd_rows = dd_rows_of(&frame);
         self.current = frame.clone();
         self.frame = frame;
         self.resumable = resumable;
@@ -477,13 +600,13 @@ impl Continuation {
     }
 
     /// Continues the state with the generators of `all` past row `n_old`; `Err` when it cannot
-    /// (the caller restarts). On success: the result, the generators in frame coordinates, the
-    /// running quantities and the number of polar rows added.
+    /// (the caller restarts). On success: the result, the generators in the coordinates of the
+    /// state, the running quantities and the step taken.
     fn continue_with(
         &mut self,
         all: &DMatrix<f64>,
         n_old: usize,
-    ) -> Result<(SpanToFace, Whitened, Track, usize), Stop> {
+    ) -> Result<(SpanToFace, Whitened, Track, Step), Stop> {
         let opts = &self.opts;
         let tol = &opts.tol;
         if opts.arithmetic == Arithmetic::Exact {
@@ -550,15 +673,40 @@ impl Continuation {
             }
         }
         let kappa = (1.0 + t.sum_y2).sqrt();
-        if kappa.is_nan() || kappa > tol.continuation_condition {
-            return Err(Stop::Restart(Restart::IllConditioned(kappa)));
-        }
-        wh.equation_residual = if t.maxn > 0.0 {
-            t.max_eq_abs / t.maxn
+        let reframed = kappa.is_nan() || kappa > tol.continuation_condition;
+        let (wh, t, first_new_distinct) = if reframed {
+            // Move the state to the whitened coordinates of all the generators (those of a
+            // conversion from scratch): the polar rays are facet normals.
+            let fresh = whiten(all, tol);
+            if fresh.r != r {
+                return Err(Stop::Span);
+            }
+            if fresh.kept != wh.kept {
+                return Err(Stop::Restart(Restart::ZeroGeneratorsChanged));
+            }
+            let mut u = vec![0.0; d];
+            let n = self.ws.core.n;
+            for ray in self.ws.core.x.chunks_exact_mut(r.max(1)).take(n) {
+                frame.facet_to_world(ray, &mut u);
+                fresh.facet_from_world(&u, ray);
+            }
+            // `distinct` follows the input order: the new generators are a suffix.
+            let first = fresh
+                .distinct
+                .iter()
+                .position(|&k| fresh.kept[k] >= n_old)
+                .unwrap_or(fresh.distinct.len());
+            let t = track_of(all, &fresh);
+            (fresh, t, first)
         } else {
-            0.0
+            wh.equation_residual = if t.maxn > 0.0 {
+                t.max_eq_abs / t.maxn
+            } else {
+                0.0
+            };
+            (wh, t, first_new_distinct)
         };
-        // New polar rows: the new distinct generators, in the frame.
+        // New polar rows: the new distinct generators, in the coordinates of the state.
         self.new_rows.clear();
         for &k in &wh.distinct[first_new_distinct..] {
             self.new_rows.extend_from_slice(wh.gen(k));
@@ -569,6 +717,18 @@ impl Continuation {
                 .core
                 .add_rows(&self.new_rows, rows_added, tol.incidence)
                 .map_err(|_| Stop::Restart(Restart::DdFailed))?;
+            self.dd_rows.extend(
+                wh.distinct[first_new_distinct..]
+                    .iter()
+                    .map(|&k| wh.kept[k]),
+            );
+            polish_rays(
+                &mut self.ws.core,
+                &self.dd_rows,
+                &wh,
+                [tol.polish, tol.support_rank],
+                &mut self.basis,
+            );
         }
         let fw = rays_of(&self.ws, r);
         let p = self
@@ -582,7 +742,12 @@ impl Continuation {
                 p.certificate.failure_reason(),
             )));
         }
-        Ok((polar_into_result(p, d), wh, t, rows_added))
+        let step = if reframed {
+            Step::Reframed { rows_added, kappa }
+        } else {
+            Step::Continued { rows_added }
+        };
+        Ok((polar_into_result(p, d), wh, t, step))
     }
 }
 
@@ -731,7 +896,10 @@ mod timing {
             let base = Continuation::new(&first, &opts).unwrap();
             let mut c = base.clone();
             c.add_generators(&last).unwrap();
-            assert!(matches!(c.last_step(), Step::Continued { .. }));
+            assert!(matches!(
+                c.last_step(),
+                Step::Continued { .. } | Step::Reframed { .. }
+            ));
             let t_clone = med(|| {
                 std::hint::black_box(base.clone());
             });

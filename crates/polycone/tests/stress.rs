@@ -247,7 +247,10 @@ fn stress_corpus_one_contact_at_a_time() {
             if end == v.nrows() {
                 check_against_oracle(&name, &prefix, &r, center);
             }
-            if matches!(c.last_step(), Step::Continued { .. }) {
+            if matches!(
+                c.last_step(),
+                Step::Continued { .. } | Step::Reframed { .. }
+            ) {
                 continued += 1;
                 let scratch = span_to_face(&prefix, &opts).unwrap();
                 let agree = same_rows_up_to_scaling(&r.face.facets, &scratch.face.facets, 1e-9)

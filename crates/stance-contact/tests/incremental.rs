@@ -76,7 +76,10 @@ fn golden_scenes_one_contact_at_a_time() {
     }
     for (name, stance) in &stances {
         for step in build_one_at_a_time(stance, name) {
-            assert!(matches!(step, Step::Continued { .. }), "{name}: {step:?}");
+            assert!(
+                matches!(step, Step::Continued { .. } | Step::Reframed { .. }),
+                "{name}: {step:?}"
+            );
         }
     }
     // The walls: pointed until the second hand, then a 3-D lineality (frictionless) or the
@@ -132,7 +135,10 @@ fn point_contacts_5d_then_6d() {
         "three points",
     );
     let g = b.add_contact(point("d", [-0.2, 0.1, 0.0])).unwrap().clone();
-    assert!(matches!(b.last_step(), Step::Continued { rows_added: 4 }));
+    assert!(matches!(
+        b.last_step(),
+        Step::Continued { rows_added: 4 } | Step::Reframed { rows_added: 4, .. }
+    ));
     assert_same(
         &g,
         &b.stance().u_stance(&Default::default()).unwrap(),
@@ -192,12 +198,12 @@ proptest! {
         let stance = Stance::new(contacts, fm).unwrap();
         for step in build_one_at_a_time(&stance, "random") {
             match step {
-                Step::Continued { .. } => {}
+                Step::Continued { .. } | Step::Reframed { .. } => {}
                 Step::FromScratch(Restart::RankChanged { from, to }) => prop_assert!(from < to),
                 // Point contacts leave the rank decision to the conversion from scratch;
-                // small contacts far apart make the first contacts' coordinates badly
-                // conditioned for the new ones.
-                Step::FromScratch(Restart::RankUndecided | Restart::IllConditioned(_)) => {}
+                // stances degenerate at the scale of the tolerances may fail the certificate
+                // when continued.
+                Step::FromScratch(Restart::RankUndecided | Restart::Uncertified(_)) => {}
                 other => prop_assert!(false, "unexpected {other:?}"),
             }
         }
