@@ -259,6 +259,21 @@ fn stress_corpus_one_contact_at_a_time() {
                     && r.face.equations.nrows() == scratch.face.equations.nrows();
                 if agree {
                     same += 1;
+                } else if r.face.facets.nrows() == scratch.face.facets.nrows() {
+                    let row =
+                        |m: &DMatrix<f64>, i: usize| m.row(i).iter().copied().collect::<Vec<f64>>();
+                    let worst = (0..r.face.facets.nrows())
+                        .map(|i| {
+                            (0..scratch.face.facets.nrows())
+                                .map(|j| {
+                                    angle(&row(&r.face.facets, i), &row(&scratch.face.facets, j))
+                                })
+                                .fold(f64::INFINITY, f64::min)
+                        })
+                        .fold(0.0, f64::max);
+                    eprintln!(
+                        "{name} at {end}: largest angle to the facets from scratch {worst:.2e}"
+                    );
                 }
                 eprintln!(
                     "{name} at {end}: continued, {} facets (from scratch {}), kappa bound {:.1}{}",
