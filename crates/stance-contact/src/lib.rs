@@ -43,10 +43,10 @@
 //!
 //! - Friction cones are polyhedral (k-sided pyramids); the exact second-order cone is not used.
 //! - Adding a contact ([`GiwcBuilder::add_contact`]) continues the double description, but
-//!   the certificate still runs on the whole result, so the gain is small: x1.02 to x1.11 on
-//!   the paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact that may
-//!   enlarge the linear span of the GIWC (lower-dimensional stances, e.g. point contacts) is a
-//!   conversion from scratch; so is removing a contact (not offered).
+//!   the certificate still runs on the whole result, so there is no gain to speak of: x0.93 to
+//!   x1.07 on the paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact
+//!   that may enlarge the linear span of the GIWC (lower-dimensional stances, e.g. point
+//!   contacts) is a conversion from scratch; so is removing a contact (not offered).
 //! - Region computations are tolerance-based (metres, [`tol`]): a CoM within
 //!   `DEFAULT_REGION_TOL` outside a half-space counts as stable, vertices within the polytope
 //!   merge distance are one vertex, and regions reaching farther than the polytope `far`
