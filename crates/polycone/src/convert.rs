@@ -20,7 +20,7 @@ use crate::certificate::{certify_whitened, CertScratch, Certificate};
 use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
-use crate::precondition::whiten;
+use crate::precondition::{whiten, Whitened};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
 /// The result of [`span_to_face`].
@@ -57,7 +57,8 @@ pub struct FaceToSpan {
 /// small buffers per conversion.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    core: DdCore,
+    /// The double description state (a [`crate::Continuation`] resumes it).
+    pub(crate) core: DdCore,
     check: CertScratch,
     rows: Vec<f64>,
     scratch: Vec<f64>,
@@ -81,12 +82,12 @@ fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
 }
 
 /// Everything span -> face computes, in whitened and world coordinates.
-struct Polar {
-    equations: DMatrix<f64>,
-    facets: DMatrix<f64>,
-    lineality: DMatrix<f64>,
-    extreme: Vec<usize>,
-    certificate: Certificate,
+pub(crate) struct Polar {
+    pub(crate) equations: DMatrix<f64>,
+    pub(crate) facets: DMatrix<f64>,
+    pub(crate) lineality: DMatrix<f64>,
+    pub(crate) extreme: Vec<usize>,
+    pub(crate) certificate: Certificate,
 }
 
 impl Workspace {
@@ -196,8 +197,19 @@ impl Workspace {
 
     /// The floating-point conversion with the tolerance contract.
     fn polar_tolerance(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+        let wh = self.whiten_and_run(v, opts)?;
+        let fw = self.rays_whitened(wh.r);
+        self.finish_polar(&wh, fw, opts)
+    }
+
+    /// Preconditioning and the double description on the polar, in whitened coordinates: the
+    /// extreme rays are left in `self.core` (none when `r = 0`).
+    pub(crate) fn whiten_and_run(
+        &mut self,
+        v: &DMatrix<f64>,
+        opts: &DdOptions,
+    ) -> Result<Whitened, ConeError> {
         let tol = &opts.tol;
-        let d = v.ncols();
         let wh = whiten(v, tol);
         let r = wh.r;
         // Double description on the polar, in whitened coordinates.
@@ -213,17 +225,37 @@ impl Workspace {
         } else {
             self.core.n = 0;
         }
+        Ok(wh)
+    }
+
+    /// The rays left in `self.core` by [`Self::whiten_and_run`] (dimension `r`), flat.
+    fn rays_whitened(&self, r: usize) -> Vec<f64> {
         let nf = if r > 0 { self.core.n } else { 0 };
         let mut fw: Vec<f64> = Vec::with_capacity(nf * r);
         for f in 0..nf {
             fw.extend_from_slice(self.core.ray(f));
         }
+        fw
+    }
+
+    /// From the extreme rays `fw` of the polar (whitened coordinates of `wh`, unit rows): the
+    /// lineality space, the certificate, and everything mapped back to world coordinates in
+    /// the deterministic order.
+    pub(crate) fn finish_polar(
+        &mut self,
+        wh: &Whitened,
+        fw: Vec<f64>,
+        opts: &DdOptions,
+    ) -> Result<Polar, ConeError> {
+        let tol = &opts.tol;
+        let (d, r) = (wh.d, wh.r);
+        let nf = fw.len().checked_div(r).unwrap_or(0);
         // Lineality: the null space of the facet matrix, in whitened coordinates.
         let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
         let t = perp.len().checked_div(r).unwrap_or(0);
         let l = r - t;
         let (certificate, extreme_kept) = certify_whitened(
-            &wh,
+            wh,
             &fw,
             &perp,
             &lin,
@@ -277,7 +309,7 @@ impl Workspace {
 }
 
 /// The exact conversion; an uncertified exact answer is an error unless allowed.
-fn exact_polar(v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+pub(crate) fn exact_polar(v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
     let e = exact_span_to_face(v, &opts.tol)?;
     if !e.certificate.certified && !opts.allow_uncertified {
         return Err(ConeError::Uncertified(format!(

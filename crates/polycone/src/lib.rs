@@ -24,6 +24,11 @@
 //! extreme rays of the pointed polar by double description (the [`dd`] module docs);
 //! [`face_to_span`] is [`span_to_face`] applied to the polar `span([U; E; -E])`.
 //!
+//! Adding generators to a converted cone adds constraint rows to its polar: a [`Continuation`]
+//! keeps the double description state of a conversion and continues it with the new rows
+//! instead of starting over (same answer and certificate as from scratch; the cases that start
+//! over are listed in the [`continuation`] module docs).
+//!
 //! Edge cases: the zero cone (no or only zero generators) has `E = I`; the whole space has no
 //! facet and `L = I`; a half-space has one facet and `d - 1` lineality directions.
 //!
@@ -83,6 +88,16 @@
 //!   fail certification (an error, never a wrong certified cone).
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks.
+//! - [`Continuation`] saves only the double description of the generators already converted
+//!   (and the SVD of the preconditioning while its coordinates stay well-conditioned): each
+//!   step runs the full certificate (64-68 % of a conversion of a 6-D wrench cone) on the
+//!   result, as no incremental certificate is done, and the double description of the new rows
+//!   usually dominates the rest. Measured against a conversion from scratch when the second
+//!   contact of the paper's stances is added: x0.93 (box climbing, whose hand moves the state
+//!   to fresh coordinates) to x1.09; x1.9 when the new rows cut no ray
+//!   (`bench/peers/contact.md`). A step that may enlarge the linear span of the generators (a
+//!   lower-dimensional cone) is a conversion from scratch; continued steps allocate their
+//!   results and some bookkeeping.
 //! - The 2-D and 3-D polygon/polyhedron routines live in a separate module (`polytope`).
 
 // Index loops over several parallel arrays read like the math here.
@@ -91,6 +106,7 @@
 pub use nalgebra;
 
 mod certificate;
+pub mod continuation;
 mod convert;
 pub mod dd;
 mod error;
@@ -102,6 +118,7 @@ pub mod precondition;
 pub mod tol;
 
 pub use certificate::Certificate;
+pub use continuation::{Continuation, Restart, Step};
 pub use convert::{
     certify_span_to_face, face_to_span, span_to_face, FaceToSpan, SpanToFace, Workspace,
 };

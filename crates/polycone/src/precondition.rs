@@ -48,6 +48,9 @@ pub(crate) struct Whitened {
     pub distinct: Vec<usize>,
     /// Largest `|E v| / max |v|` over the generators (how far they are from `span(V)`).
     pub equation_residual: f64,
+    /// The exact power of two the input was multiplied by before the SVD (so that `sv` are the
+    /// singular values of `scale * V`); 1 when no scaling was needed.
+    pub scale: f64,
 }
 
 impl Whitened {
@@ -104,7 +107,10 @@ pub(crate) fn whiten(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
         // Two steps: 2^-e alone may not be representable for subnormal inputs.
         let (e1, e2) = (e / 2, e - e / 2);
         let scaled = v * 2f64.powi(-e1) * 2f64.powi(-e2);
-        return whiten_scaled(&scaled, tol);
+        let mut wh = whiten_scaled(&scaled, tol);
+        // (May overflow to infinity for subnormal inputs; users of `scale` check.)
+        wh.scale = 2f64.powi(-e1) * 2f64.powi(-e2);
+        return wh;
     }
     whiten_scaled(v, tol)
 }
@@ -128,6 +134,7 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
             w: Vec::new(),
             distinct: Vec::new(),
             equation_residual: 0.0,
+            scale: 1.0,
         };
     }
     let mut vk = DMatrix::zeros(kept.len(), d);
@@ -182,5 +189,6 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
         w,
         distinct,
         equation_residual,
+        scale: 1.0,
     }
 }

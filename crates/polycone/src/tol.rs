@@ -40,6 +40,26 @@ pub struct Tolerances {
     /// the hyperplane leave residuals below it), well below the separation of distinct
     /// generators of a physical stance after preconditioning.
     pub support_rank: f64,
+    /// Largest condition number allowed for the coordinates a [`crate::Continuation`] works in.
+    /// A continuation keeps the whitened coordinates of its last conversion from scratch (its
+    /// frame) for the generators added since; the linear map from those coordinates to a fresh
+    /// whitening of all its generators has a condition number `kappa <= sqrt(1 + sum |y|^2)`
+    /// over the added generators `y` (frame coordinates, not normalized; the bound is
+    /// tracked). Above `continuation_condition` the continuation moves its state to fresh
+    /// coordinates before continuing (one SVD). Unit: ratio. Default `10`: a cosine `c` in the
+    /// frame is between `c / kappa` and `kappa c` in fresh coordinates, so structure merged
+    /// within `incidence` (`1e-9`) in the frame stays within `certificate` (`1e-8`) in the
+    /// coordinates a conversion from scratch would use, and rounding in the double
+    /// description is amplified at most tenfold. (Adding the second contact of the paper's
+    /// stances gives bounds 4.4, 6.3 and 12.9.)
+    pub continuation_condition: f64,
+    /// A polar ray of a [`crate::Continuation`] (a facet normal) whose largest slack on the
+    /// generators it is tight on exceeds `polish` is recomputed by projecting it on the
+    /// orthogonal complement of those generators. Unit: cosine (unit vectors). Default
+    /// `1e-12`: rays from scratch measure about `1e-15`; continued rays come from longer
+    /// chains of combinations, and on near-degenerate stances (5 mm patches) reached `3e-11`,
+    /// which turned facet normals by `1.3e-8` rad against the conversion from scratch.
+    pub polish: f64,
 }
 
 impl Default for Tolerances {
@@ -51,6 +71,8 @@ impl Default for Tolerances {
             incidence: 1e-9,
             certificate: 1e-8,
             support_rank: 1e-7,
+            continuation_condition: 10.0,
+            polish: 1e-12,
         }
     }
 }
@@ -65,6 +87,8 @@ impl Tolerances {
             ("incidence", self.incidence),
             ("certificate", self.certificate),
             ("support_rank", self.support_rank),
+            ("continuation_condition", self.continuation_condition),
+            ("polish", self.polish),
         ];
         for (name, v) in all {
             if !(v.is_finite() && v >= 0.0) {

@@ -214,3 +214,83 @@ fn answer_does_not_depend_on_the_world_origin() {
         eprintln!("shift {s:?}: worst facet angle {:.2e}", worst.unwrap());
     }
 }
+
+/// The stress corpus built one contact (16 generators) at a time with a `Continuation`: every
+/// step is certified (or an error, allowed as from scratch) and agrees with the membership
+/// oracle; the steps that continued are compared with the conversion from scratch (the two
+/// may merge near-degenerate structure differently: they work in different coordinates,
+/// within the condition bound of the frame; both are certified).
+#[test]
+fn stress_corpus_one_contact_at_a_time() {
+    use polycone::{Continuation, Step};
+    let opts = DdOptions::default();
+    let (mut continued, mut same) = (0, 0);
+    for (name, v, center) in corpus() {
+        let mut c = match Continuation::new(&v.rows(0, 16).into_owned(), &opts) {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("{name}: first contact: error (allowed): {e}");
+                continue;
+            }
+        };
+        for end in (32..=v.nrows()).step_by(16) {
+            let step = c.add_generators(&v.rows(end - 16, 16).into_owned());
+            let r = match step {
+                Ok(r) => r.clone(),
+                Err(e) => {
+                    eprintln!("{name} at {end}: error (allowed): {e}");
+                    break;
+                }
+            };
+            assert!(r.certificate.certified, "{name} at {end}");
+            let prefix = v.rows(0, end).into_owned();
+            if end == v.nrows() {
+                check_against_oracle(&name, &prefix, &r, center);
+            }
+            if matches!(
+                c.last_step(),
+                Step::Continued { .. } | Step::Reframed { .. }
+            ) {
+                continued += 1;
+                let scratch = span_to_face(&prefix, &opts).unwrap();
+                let agree = same_rows_up_to_scaling(&r.face.facets, &scratch.face.facets, 1e-9)
+                    .is_some()
+                    && r.lineality.nrows() == scratch.lineality.nrows()
+                    && r.face.equations.nrows() == scratch.face.equations.nrows();
+                if agree {
+                    same += 1;
+                } else if r.face.facets.nrows() == scratch.face.facets.nrows() {
+                    let row =
+                        |m: &DMatrix<f64>, i: usize| m.row(i).iter().copied().collect::<Vec<f64>>();
+                    let worst = (0..r.face.facets.nrows())
+                        .map(|i| {
+                            (0..scratch.face.facets.nrows())
+                                .map(|j| {
+                                    angle(&row(&r.face.facets, i), &row(&scratch.face.facets, j))
+                                })
+                                .fold(f64::INFINITY, f64::min)
+                        })
+                        .fold(0.0, f64::max);
+                    eprintln!(
+                        "{name} at {end}: largest angle to the facets from scratch {worst:.2e}"
+                    );
+                }
+                eprintln!(
+                    "{name} at {end}: continued, {} facets (from scratch {}), kappa bound {:.1}{}",
+                    r.face.facets.nrows(),
+                    scratch.face.facets.nrows(),
+                    c.condition_bound(),
+                    if agree {
+                        ""
+                    } else {
+                        ": DIFFERENT from scratch"
+                    }
+                );
+            } else {
+                eprintln!("{name} at {end}: {:?}", c.last_step());
+            }
+        }
+    }
+    eprintln!("{same} of {continued} continued steps equal the conversion from scratch");
+    assert!(continued >= 10, "{continued}");
+}

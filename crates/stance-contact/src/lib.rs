@@ -14,7 +14,9 @@
 //!   ([`Contact::v_surf`]).
 //! - `w_GI = A_stance w_all` (eq. 8-9, [`Stance::a_stance`]); `GIWC = span(A_stance V_all)`
 //!   ([`Stance::giwc_span`]); `U_stance = (A_stance V_all)^F` through polycone's double
-//!   description ([`Stance::u_stance`], [`Giwc`]), with equations and lineality. Convention:
+//!   description ([`Stance::u_stance`], [`Giwc`]), with equations and lineality; updated
+//!   by continuing the conversion when a contact is added ([`GiwcBuilder`]: the GIWC is the
+//!   Minkowski sum of the contacts' wrench cones, so a new contact appends polar rows). Convention:
 //!   `U_stance w_GI <= 0`, wrench at the world origin; the net contact wrench `w_c = -w_GI`
 //!   is in `-GIWC` ([`Giwc::net_contact_wrench_face`]).
 //! - Static equilibrium: `U_stance (m g, m p x g) <= 0`, half-spaces linear in the CoM `p`
@@ -40,7 +42,11 @@
 //! # Limitations
 //!
 //! - Friction cones are polyhedral (k-sided pyramids); the exact second-order cone is not used.
-//! - Adding a contact recomputes `U_stance` from scratch (no incremental double description).
+//! - Adding a contact ([`GiwcBuilder::add_contact`]) continues the double description, but
+//!   the certificate still runs on the whole result, so there is no gain to speak of: x0.93 to
+//!   x1.07 on the paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact
+//!   that may enlarge the linear span of the GIWC (lower-dimensional stances, e.g. point
+//!   contacts) is a conversion from scratch; so is removing a contact (not offered).
 //! - Region computations are tolerance-based (metres, [`tol`]): a CoM within
 //!   `DEFAULT_REGION_TOL` outside a half-space counts as stable, vertices within the polytope
 //!   merge distance are one vertex, and regions reaching farther than the polytope `far`
@@ -62,6 +68,7 @@ pub mod forces;
 pub mod friction;
 pub mod giwc;
 mod giwc_dd;
+mod giwc_incremental;
 pub mod scene;
 pub mod stance;
 pub mod tol;
@@ -73,6 +80,7 @@ pub use forces::{supporting_forces, ContactForces, ForcesOutcome, SupportingForc
 pub use friction::{Approximation, FrictionModel};
 pub use giwc::Giwc;
 pub use giwc_dd::GiwcOptions;
+pub use giwc_incremental::GiwcBuilder;
 pub use nalgebra;
 pub use scene::{ContactSpec, Scene, ShapeSpec};
 pub use stance::{w_gi_static, Stance};

@@ -69,6 +69,23 @@ impl Stance {
         &self.contacts
     }
 
+    /// This stance with `contact` appended (same friction model).
+    ///
+    /// ```
+    /// use stance_contact::examples;
+    /// let s = examples::double_support_flat().stance().unwrap();
+    /// let one = stance_contact::Stance::new(vec![s.contacts()[0].clone()], *s.friction_model()).unwrap();
+    /// assert_eq!(one.with_contact(s.contacts()[1].clone()), s);
+    /// ```
+    pub fn with_contact(&self, contact: Contact) -> Stance {
+        let mut contacts = self.contacts.clone();
+        contacts.push(contact);
+        Self {
+            contacts,
+            friction_model: self.friction_model,
+        }
+    }
+
     /// The friction model.
     ///
     /// ```

@@ -297,7 +297,7 @@ impl DdCore {
     }
 
     /// One double description step: intersects the current cone with `{x : row . x <= 0}`.
-    fn add_row<const K: usize>(
+    pub(super) fn add_row<const K: usize>(
         &mut self,
         row: &[f64],
         j: usize,

@@ -19,11 +19,17 @@
 //!    and no third ray `q` has `Z(p) ∩ Z(n) ⊆ Z(q)`. `Z(r)` is the zero set of `r` among the rows
 //!    added so far, a bitset.
 //!
+//! 4. Continuing (`resume.rs`): the state after the last row (rays and zero sets) is all the
+//!    iteration needs, so more rows can be added later by the same step 2 (the zero sets are
+//!    re-packed into more words when the row count crosses a multiple of 64). This is how
+//!    [`crate::Continuation`] adds generators to a converted cone.
+//!
 //! Signs are decided with the tolerance [`crate::tol::Tolerances::incidence`] on slacks of unit
 //! vectors (the tolerance contract of the crate docs).
 
 pub(crate) mod bitset;
 mod core;
+mod resume;
 mod scan;
 mod small;
 
