@@ -71,14 +71,16 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is only x3 (16 generators) to x6 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x11 to x15 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at. The certificate takes about 70 % of the
-//!   instructions of a 16-generator conversion (callgrind): 44 % in the small double
-//!   descriptions per facet of the completeness check (facets with more tight generators than
-//!   the closed forms cover; see [`DdOptions::check_completeness`]), the rest in its
-//!   bookkeeping; the main double description takes 11 % and the preconditioning 12 %. `bench/peers/cones.md` has the
-//!   measured table.
+//! - Speed: the certified tolerance mode is x3.7 (16 generators) to x9.2 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x16 to x24 at 48 and 64
+//!   generators), short of the x10 / x30 aimed at. The certificate is what costs: about two
+//!   thirds of a conversion, most of it the per-facet double descriptions of the completeness
+//!   check (about 0.5 us each for the 8 to 9 tight generators of a single-support facet; see
+//!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table and the
+//!   breakdown.
+//! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
+//!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
+//!   tests compare them), only the speed differs.
 //! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders
 //!   of magnitude slower than cddlib's GMP mode on large cones (seconds for 32 generators and
 //!   ~280 facets).
