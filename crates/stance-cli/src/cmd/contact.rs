@@ -460,6 +460,8 @@ pub(crate) mod plot {
         if text {
             chart
                 .configure_mesh()
+                .x_label_formatter(&crate::cmd::plot::tick_label)
+                .y_label_formatter(&crate::cmd::plot::tick_label)
                 .x_desc(axes.0)
                 .y_desc(axes.1)
                 .label_style((crate::cmd::plot::FONT, 13))

@@ -11,6 +11,21 @@ use std::sync::OnceLock;
 
 use anyhow::{bail, Result};
 
+/// Tick labels of `f64` axes: plotters' default format, without the `-0.0` it prints for a
+/// tick that lands a rounding error below zero (e.g. `-2.8e-17`).
+pub(crate) fn tick_label(v: &f64) -> String {
+    let s = plotters::data::float::FloatPrettyPrinter {
+        allow_scientific: false,
+        min_decimal: 1,
+        max_decimal: 5,
+    }
+    .print(*v);
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
+    }
+}
+
 /// The font family name plots use for their text.
 pub const FONT: &str = "sans-serif";
 
@@ -56,5 +71,18 @@ pub fn is_svg(path: &Path) -> Result<bool> {
         Some(e) if e == "svg" => Ok(true),
         Some(e) if e == "png" => Ok(false),
         _ => bail!("plot file {} must end in .svg or .png", path.display()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick_label;
+
+    #[test]
+    fn tick_labels_have_no_negative_zero() {
+        assert_eq!(tick_label(&-2.8e-17), "0.0");
+        assert_eq!(tick_label(&0.0), "0.0");
+        assert_eq!(tick_label(&-0.15), "-0.15");
+        assert_eq!(tick_label(&0.05), "0.05");
     }
 }

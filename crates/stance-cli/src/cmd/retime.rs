@@ -88,6 +88,8 @@ pub fn phase_plane(path: &Path, r: &Retiming) -> Result<()> {
         if text {
             chart
                 .configure_mesh()
+                .x_label_formatter(&crate::cmd::plot::tick_label)
+                .y_label_formatter(&crate::cmd::plot::tick_label)
                 .x_desc("path parameter s")
                 .y_desc("x = (ds/dt)^2")
                 .label_style((super::plot::FONT, 13))
