@@ -87,6 +87,8 @@ impl FillKernel {
     /// ```
     /// use stance_topp::factored::FillKernel;
     /// assert!(FillKernel::Auto.is_available());
+    /// // The two AVX-512 kernels need the same CPU features.
+    /// assert_eq!(FillKernel::Avx512Gz.is_available(), FillKernel::Avx512.is_available());
     /// ```
     pub fn is_available(self) -> bool {
         match self {
@@ -125,6 +127,7 @@ impl FillKernel {
     /// ```
     /// use stance_topp::factored::FillKernel;
     /// assert_eq!(FillKernel::Avx512.name(), "avx512");
+    /// assert_eq!(FillKernel::Avx512Gz.name(), "avx512-gz");
     /// ```
     pub fn name(self) -> &'static str {
         match self {
