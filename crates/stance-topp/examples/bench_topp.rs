@@ -169,6 +169,7 @@ fn main() {
             FillKernel::Portable,
             FillKernel::Avx2Fma,
             FillKernel::Avx512,
+            FillKernel::Avx512Gz,
         ]
         .into_iter()
         .filter(|k| k.is_available())

@@ -166,6 +166,7 @@ fn main() {
         out.insert("grid_points".into(), n.into());
         out.insert("bytes".into(), (m * n * std::mem::size_of::<Row>()).into());
         for kernel in [
+            FillKernel::Avx512Gz,
             FillKernel::Avx512,
             FillKernel::Avx2Fma,
             FillKernel::Portable,

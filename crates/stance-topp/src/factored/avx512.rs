@@ -31,6 +31,19 @@
 //! cache while the output streams through it. The rows before the first aligned line and after
 //! the last whole step (fewer than 8 each) are computed one at a time with the same
 //! operations. For `m < 8` every row is computed that way.
+//!
+//! # Loads against multiply-adds ([`CMode::VerticalForceNoTz`])
+//!
+//! Per step the kernel issues 6 loads of `U`, one of `U_f (m g)`, 14 multiply-adds, 6
+//! permutes and 3 stores. Measured on the development machine (`bench/peers/topp.md`), each
+//! load per step costs about as much as the multiply-adds and permutes it feeds while the
+//! stores stream out (the first-level cache serves the loads and the lines written back to the
+//! second level): with vertical gravity, `U_f (m g) = U_z m g_z` is therefore recomputed by one
+//! multiply from the `U_z` already loaded instead of loaded (`FillKernel::Avx512Gz`, 3 % to 4 %
+//! faster on 137 and 172 rows). The product is the one stored in `U_f (m g)`, so the rows are
+//! unchanged bit for bit. Keeping `U` in a layout that needs no permutes (each output line
+//! computed directly, 18 multiply-adds and 18 loads per step) was measured 12 % slower for the
+//! same reason.
 
 use std::arch::x86_64::*;
 
@@ -210,8 +223,13 @@ unsafe fn step<const C: u8>(
             let s = _mm512_fmadd_pd(u[4], w.c[4], s);
             _mm512_fmadd_pd(u[5], w.c[5], s)
         }
-        _ => {
+        2 => {
             let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_load_pd(src[6].add(x)));
+            _mm512_fmadd_pd(u[4], w.c[4], s)
+        }
+        _ => {
+            // c_force = U_z f_z recomputed (w.c[2] = f_z): one multiply instead of a load.
+            let s = _mm512_fmadd_pd(u[3], w.c[3], _mm512_mul_pd(u[2], w.c[2]));
             _mm512_fmadd_pd(u[4], w.c[4], s)
         }
     };
@@ -325,5 +343,6 @@ pub(super) unsafe fn fill_avx512(
         CMode::Full => sweep::<0>(cols, c_force, wide, w, out),
         CMode::ConstForce => sweep::<1>(cols, c_force, wide, w, out),
         CMode::ConstForceNoTz => sweep::<2>(cols, c_force, wide, w, out),
+        CMode::VerticalForceNoTz => sweep::<3>(cols, c_force, wide, w, out),
     }
 }

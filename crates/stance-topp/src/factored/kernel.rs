@@ -25,6 +25,13 @@ pub(super) enum CMode {
     ConstForce,
     /// `c = c_force + U_t[.., 0..2] w_c,t[0..2]` (2): the last torque component is zero.
     ConstForceNoTz,
+    /// As [`CMode::ConstForceNoTz`], and the constant force part of `w_c` is `(0, 0, f_z)`
+    /// (vertical gravity), so that `c_force = U_z f_z` (one product). The AVX-512 kernel
+    /// [`super::FillKernel::Avx512Gz`] recomputes that product at every row instead of loading
+    /// `c_force`; every other kernel loads it as for [`CMode::ConstForceNoTz`]. The rows are the
+    /// same bit for bit: `c_force` is stored as `U_z f_z + (U_y 0 + U_x 0)`, which is the
+    /// rounded product `U_z f_z` (adding a zero is exact).
+    VerticalForceNoTz,
 }
 
 /// `a * b + c`, fused when the kernel is compiled with FMA (one rounding, faster), plain
@@ -100,7 +107,9 @@ fn dispatch<const FMA: bool>(
     match mode {
         CMode::Full => fill_kernel::<FMA, 0>(cols, c_force, w, out),
         CMode::ConstForce => fill_kernel::<FMA, 1>(cols, c_force, w, out),
-        CMode::ConstForceNoTz => fill_kernel::<FMA, 2>(cols, c_force, w, out),
+        CMode::ConstForceNoTz | CMode::VerticalForceNoTz => {
+            fill_kernel::<FMA, 2>(cols, c_force, w, out)
+        }
     }
 }
 
