@@ -87,9 +87,12 @@
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
 //! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) for 101 grid points takes
-//!   8.6-8.9 us for 137 rows and 9.2-10.6 us for 172 rows (medians on the shared test machine)
-//!   with the AVX-512 kernel, chosen at run time: the 10 us is met for 137 rows, not
-//!   reliably for 172 (above it when the machine is loaded). Elsewhere the AVX2 + FMA kernel (11-12.5 us and 14-15.6 us) or the
+//!   8.5-8.6 us for 137 rows and 9.8-9.9 us for 172 rows (medians on the test machine, quiet)
+//!   with the AVX-512 kernel `avx512-gz`, chosen at run time: the 10 us is met, for
+//!   172 rows by about 2 % (above it when the other core is busy). Its edge over the previous
+//!   AVX-512 kernel (recomputing `U_z m g_z` instead of loading it) needs vertical gravity;
+//!   for other gravity vectors it runs as that kernel (10.2-10.3 us for 172 rows). Elsewhere
+//!   the AVX2 + FMA kernel (11-12.5 us and 14-15.6 us) or the
 //!   portable one (about 20 and 25 us) runs. The fill is bound by writing its 24-byte rows into
 //!   the second-level cache (the same bytes alone: 6.3-7.3 us for 172 rows) plus the part of
 //!   its 14 multiply-adds per row that does not overlap with them; beyond that cache
