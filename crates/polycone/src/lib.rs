@@ -71,8 +71,8 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x3.7 (16 generators) to x9.2 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x16 to x24 at 48 and 64
+//! - Speed: the certified tolerance mode is x3.6 (16 generators) to x9.1 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x16 to x23 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at. The certificate is what costs: about two
 //!   thirds of a conversion, most of it the per-facet double descriptions of the completeness
 //!   check (about 0.5 us each for the 8 to 9 tight generators of a single-support facet; see
