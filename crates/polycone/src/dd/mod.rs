@@ -32,6 +32,8 @@ mod core;
 mod resume;
 mod scan;
 mod small;
+#[cfg(test)]
+mod testing;
 
 pub(crate) use self::core::{DdCore, DdFailure};
 pub(crate) use self::scan::Scan;

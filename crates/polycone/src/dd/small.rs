@@ -23,9 +23,9 @@ pub(crate) struct SmallDd {
     next_x: Vec<f64>,
     next_z: Vec<u64>,
     slack: Vec<f64>,
-    plus: Vec<u8>,
-    minus: Vec<u8>,
-    zero: Vec<u8>,
+    plus: Vec<u32>,
+    minus: Vec<u32>,
+    zero: Vec<u32>,
     resid: Vec<f64>,
 }
 
@@ -199,11 +199,11 @@ impl SmallDd {
             let s: f64 = row.iter().zip(x).map(|(u, v)| u * v).sum();
             self.slack.push(s);
             if s > eps_zero {
-                self.plus.push(i as u8);
+                self.plus.push(i as u32);
             } else if s < -eps_zero {
-                self.minus.push(i as u8);
+                self.minus.push(i as u32);
             } else {
-                self.zero.push(i as u8);
+                self.zero.push(i as u32);
             }
         }
         if self.plus.is_empty() {
@@ -268,6 +268,7 @@ impl SmallDd {
 
 #[cfg(test)]
 mod tests {
+    use super::super::testing::{unit_rows, Lcg};
     use super::super::DdCore;
     use super::*;
 
@@ -275,13 +276,7 @@ mod tests {
     /// of the sizes the certificate sends here (and a few larger ones).
     #[test]
     fn small_matches_dd_core_bit_for_bit() {
-        let mut s = 0x2545f4914f6cdd1du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = Lcg(0x2545f4914f6cdd1d);
         let mut compared = 0;
         let mut small = SmallDd::default();
         let mut core = DdCore::default();
@@ -289,19 +284,7 @@ mod tests {
             let k = 3 + case % 6;
             let m = k + (case * 7) % 12;
             let degenerate = case % 3 == 0;
-            let mut a = Vec::with_capacity(m * k);
-            for _ in 0..m {
-                let start = a.len();
-                for _ in 0..k {
-                    let v = next();
-                    a.push(if degenerate { (v * 2.0).round() } else { v });
-                }
-                if a[start..].iter().all(|&x| x == 0.0) {
-                    a[start] = 1.0;
-                }
-                let inv = 1.0 / a[start..].iter().map(|x| x * x).sum::<f64>().sqrt();
-                a[start..].iter_mut().for_each(|x| *x *= inv);
-            }
+            let a = unit_rows(&mut rng, m, k, degenerate);
             let rc = core.run(&a, m, k, 1e-9, 1e-10);
             let Some(rs) = small.run(&a, m, k, 1e-9, 1e-10, 4096) else {
                 panic!("case {case}: out of range");
