@@ -3,10 +3,7 @@
 //!
 //! `cargo run --release -p stance-topp --example bench_topp -- INPUT.json`
 //!
-//! Input: `{"instances": [{"name", "s", "a", "b", "c", "U", "mass", "gravity",
-//! "bow": {"p0", "p1", "bow"}}]}` (the CoM path `p0 + s (p1 - p0) + sin(pi s) bow`).
-
-use std::time::Instant;
+//! Input: see `common/mod.rs`.
 
 use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::factored::{FactoredRows, FillKernel};
@@ -14,65 +11,8 @@ use stance_topp::path::{PathCurve, PathPoint};
 use stance_topp::tol::DEFAULT_BETWEEN_GRID_FRACTION;
 use stance_topp::{solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace};
 
-#[derive(serde::Deserialize, Clone, Copy)]
-struct Bow {
-    p0: [f64; 3],
-    p1: [f64; 3],
-    bow: [f64; 3],
-}
-
-impl PathCurve for Bow {
-    fn domain(&self) -> [f64; 2] {
-        [0.0, 1.0]
-    }
-    fn eval(&self, s: f64) -> PathPoint {
-        let pi = std::f64::consts::PI;
-        let (sn, cs) = (pi * s).sin_cos();
-        let mut q = PathPoint::default();
-        for d in 0..3 {
-            q.p[d] = self.p0[d] + s * (self.p1[d] - self.p0[d]) + sn * self.bow[d];
-            q.ps[d] = (self.p1[d] - self.p0[d]) + pi * cs * self.bow[d];
-            q.pss[d] = -pi * pi * sn * self.bow[d];
-        }
-        q
-    }
-}
-
-#[derive(serde::Deserialize)]
-struct Instance {
-    name: String,
-    s: Vec<f64>,
-    a: Vec<Vec<f64>>,
-    b: Vec<Vec<f64>>,
-    c: Vec<Vec<f64>>,
-    #[serde(rename = "U")]
-    u: Vec<[f64; 6]>,
-    mass: f64,
-    gravity: [f64; 3],
-    bow: Bow,
-}
-
-#[derive(serde::Deserialize)]
-struct Input {
-    instances: Vec<Instance>,
-}
-
-/// `[median, minimum]` of `reps` timed calls of `f`, in microseconds (after `reps / 10 + 1`
-/// warm-up calls). The minimum is the better estimate of the cost on a busy machine.
-fn timed_us(reps: usize, mut f: impl FnMut()) -> [f64; 2] {
-    for _ in 0..reps / 10 + 1 {
-        f();
-    }
-    let mut t: Vec<f64> = (0..reps)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64() * 1e6
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    [t[reps / 2], t[0]]
-}
+mod common;
+use common::{timed_us, Input};
 
 fn main() {
     let path = std::env::args()

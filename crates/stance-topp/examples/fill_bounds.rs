@@ -11,64 +11,12 @@
 //! (two factored forms on the two halves of the grid, `rayon::join`, called from inside and from
 //! outside a 2-thread pool). Prints one JSON object per instance.
 
-use std::time::Instant;
-
 use stance_topp::factored::{eq14_vectors, FactoredRows, FillKernel};
-use stance_topp::path::PathPoint;
+use stance_topp::path::{PathCurve, PathPoint};
 use stance_topp::Row;
 
-#[derive(serde::Deserialize, Clone, Copy)]
-struct Bow {
-    p0: [f64; 3],
-    p1: [f64; 3],
-    bow: [f64; 3],
-}
-
-impl Bow {
-    fn eval(&self, s: f64) -> PathPoint {
-        let pi = std::f64::consts::PI;
-        let (sn, cs) = (pi * s).sin_cos();
-        let mut q = PathPoint::default();
-        for d in 0..3 {
-            q.p[d] = self.p0[d] + s * (self.p1[d] - self.p0[d]) + sn * self.bow[d];
-            q.ps[d] = (self.p1[d] - self.p0[d]) + pi * cs * self.bow[d];
-            q.pss[d] = -pi * pi * sn * self.bow[d];
-        }
-        q
-    }
-}
-
-#[derive(serde::Deserialize)]
-struct Instance {
-    name: String,
-    s: Vec<f64>,
-    #[serde(rename = "U")]
-    u: Vec<[f64; 6]>,
-    mass: f64,
-    gravity: [f64; 3],
-    bow: Bow,
-}
-
-#[derive(serde::Deserialize)]
-struct Input {
-    instances: Vec<Instance>,
-}
-
-/// `[median, minimum]` in microseconds of `reps` calls after `reps / 10 + 1` warm-up calls.
-fn timed_us(reps: usize, mut f: impl FnMut()) -> [f64; 2] {
-    for _ in 0..reps / 10 + 1 {
-        f();
-    }
-    let mut t: Vec<f64> = (0..reps)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64() * 1e6
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    [t[reps / 2], t[0]]
-}
+mod common;
+use common::{timed_us, Input};
 
 #[cfg(target_arch = "x86_64")]
 mod probes {
