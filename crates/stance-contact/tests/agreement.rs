@@ -5,13 +5,12 @@
 
 mod common;
 
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::Vector3;
 use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
 use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
 use stance_contact::{
-    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Shape,
-    Stance,
+    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Stance,
 };
 
 /// Band (relative, on `max(U w) / |w|`) inside which face test and QP may disagree.
@@ -44,26 +43,7 @@ fn contact_strategy() -> impl Strategy<Value = Contact> {
                 std::f64::consts::PI * t
             };
             let axis = Vector3::new(ax, ay, if upright { 0.0 } else { az });
-            let r = if axis.norm() > 1e-3 {
-                Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle)
-            } else {
-                Rotation3::identity()
-            };
-            let m = r.matrix();
-            let rot = [
-                [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
-                [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
-                [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
-            ];
-            let shape = match kind {
-                0 => Shape::Point,
-                1 => Shape::Rectangle {
-                    half_length: x,
-                    half_width: y,
-                },
-                _ => Shape::Polygon(vec![[x, 0.0], [-x, y], [-x, -y]]),
-            };
-            Contact::new("c", [p.0, p.1, p.2], rot, shape, mu, &Default::default()).unwrap()
+            common::test_contact([p.0, p.1, p.2], axis, angle, kind, (x, y), mu)
         })
 }
 

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use nalgebra::{Rotation3, Unit, Vector3};
+use nalgebra::Vector3;
 use polycone::{Restart, Step};
 use proptest::prelude::*;
 use stance_contact::{
@@ -156,26 +156,7 @@ fn contact_strategy() -> impl Strategy<Value = Contact> {
     )
         .prop_map(|(p, (ax, ay, t), kind, (x, y), mu)| {
             let axis = Vector3::new(ax, ay, 0.0);
-            let r = if axis.norm() > 1e-3 {
-                Rotation3::from_axis_angle(&Unit::new_normalize(axis), 0.7 * t)
-            } else {
-                Rotation3::identity()
-            };
-            let m = r.matrix();
-            let rot = [
-                [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
-                [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
-                [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
-            ];
-            let shape = match kind {
-                0 => Shape::Point,
-                1 => Shape::Rectangle {
-                    half_length: x,
-                    half_width: y,
-                },
-                _ => Shape::Polygon(vec![[x, 0.0], [-x, y], [-x, -y]]),
-            };
-            Contact::new("c", [p.0, p.1, p.2], rot, shape, mu, &Default::default()).unwrap()
+            test_contact([p.0, p.1, p.2], axis, 0.7 * t, kind, (x, y), mu)
         })
 }
 

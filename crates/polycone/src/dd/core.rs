@@ -641,8 +641,8 @@ mod tests {
 
     use super::super::testing::{unit_rows as rows, Lcg};
 
-    /// The one-word fast path (plain `u64` masks, blockers scanned then looked up in a lazily
-    /// built transposed incidence) against the multi-word path (slices, candidate list,
+    /// The one-word fast path (plain `u64` masks, candidates and blockers by the vectorized
+    /// scans of `dd/scan.rs`) against the multi-word path (slices, candidate list,
     /// transposed incidence or scan): the same rays, bit for bit, in the same order, and the
     /// same zero sets, on generic and degenerate inputs in dimensions 2 to 9.
     #[test]

@@ -95,3 +95,36 @@ pub fn projector(m: &DMatrix<f64>, dim: usize) -> DMatrix<f64> {
     }
     p
 }
+
+/// A contact for the random-stance property tests: at `p`, rotated by `angle` about `axis`
+/// (identity for an axis shorter than 1e-3), a point (`kind` 0), an `x` by `y` half-size
+/// rectangle (1) or a triangle (2), friction `mu`.
+pub fn test_contact(
+    p: [f64; 3],
+    axis: nalgebra::Vector3<f64>,
+    angle: f64,
+    kind: usize,
+    (x, y): (f64, f64),
+    mu: f64,
+) -> Contact {
+    let r = if axis.norm() > 1e-3 {
+        nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle)
+    } else {
+        nalgebra::Rotation3::identity()
+    };
+    let m = r.matrix();
+    let rot = [
+        [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
+        [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
+        [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
+    ];
+    let shape = match kind {
+        0 => Shape::Point,
+        1 => Shape::Rectangle {
+            half_length: x,
+            half_width: y,
+        },
+        _ => Shape::Polygon(vec![[x, 0.0], [-x, y], [-x, -y]]),
+    };
+    Contact::new("c", p, rot, shape, mu, &Default::default()).unwrap()
+}
