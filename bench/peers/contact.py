@@ -194,6 +194,7 @@ def main():
         hull, _ = hull_polygon(scene)
         # (the hull method may repeat a vertex: compare as point sets)
         assert hausdorff(hull, r["polygon"]) < VERTEX_TOL, f"{name}: polygon differs from the hull method"
+        assert hausdorff(hull, r["polygon_direct"]) < VERTEX_TOL, f"{name}: direct polygon differs from the hull method"
         bretl = bretl_polygon(scene)
         h_bretl = hausdorff(bretl, r["polygon"])
         U = np.array(r["facets"])
@@ -215,8 +216,8 @@ def main():
         t_np_batch = timeit(lambda: robust_batch(U, G, big)) / len(big)
         rows.append((name, r, t_cdd, t_hull, t_hull_only, t_bretl, h_bretl, t_np_one, t_np_batch,
                      len(U), len(r["polygon"]), polygon_area(bretl) / polygon_area(r["polygon"])))
-    print(f"answers agree: U_stance = pycddlib float (unit rows within {ROW_TOL}), polygon = hull "
-          f"method (vertices within {VERTEX_TOL} m), robust tests = NumPy eq. (12) on {N_SAMPLE} CoMs\n")
+    print(f"answers agree: U_stance = pycddlib float (unit rows within {ROW_TOL}), polygon (through "
+          f"U_stance and direct) = hull method (vertices within {VERTEX_TOL} m), robust tests = NumPy eq. (12) on {N_SAMPLE} CoMs\n")
     print("| scene | rows U | U_stance: pycddlib / ours (us) | x | polygon, total: hull / ours (us) | x "
           "| polygon from U: hull / ours (us) | x | Bretl (us) | x vs ours total | Bretl area ratio, Hausdorff (mm) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -225,6 +226,14 @@ def main():
               f"| {1e6 * t_hull:.0f} / {r['us_polygon_total']:.1f} | {1e6 * t_hull / r['us_polygon_total']:.0f} "
               f"| {1e6 * t_hull_only:.0f} / {r['us_polygon_from_u']:.1f} | {1e6 * t_hull_only / r['us_polygon_from_u']:.0f} "
               f"| {1e6 * t_bretl:.0f} | {1e6 * t_bretl / r['us_polygon_total']:.0f} | {area:.4f}, {1e3 * h_bretl:.2f} |")
+    print("\nStatic-equilibrium polygon from scratch, direct route (support-function LPs over the contact "
+          "forces, certified; no U_stance), against the hull method and Bretl's projection:\n")
+    print("| scene | route | hull (us) | ours direct (us) | x | ours direct, fresh workspace (us) | x | Bretl / ours direct |")
+    print("|---|---|---|---|---|---|---|---|")
+    for (name, r, _, t_hull, _, t_bretl, _, _, _, _, _, _) in rows:
+        d, f = r["us_polygon_direct"], r["us_polygon_direct_fresh"]
+        print(f"| {name} | {r['polygon_route']} | {1e6 * t_hull:.0f} | {d:.2f} | {1e6 * t_hull / d:.0f} "
+              f"| {f:.2f} | {1e6 * t_hull / f:.0f} | {1e6 * t_bretl / d:.0f} |")
     print("\n| scene | robust region M from U (us) | M vertices / half-spaces | robust test, NumPy per CoM (us) "
           "| NumPy vectorized (ns/CoM) | ours serial (ns/CoM) | ours static test serial (ns/CoM) "
           "| ours batch 1 core (ns/CoM) | ours 1e6 batch, all cores (ms) | x vs NumPy per CoM |")

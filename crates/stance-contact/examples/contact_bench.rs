@@ -10,7 +10,7 @@ use std::io::Read;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
-use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
+use stance_contact::equilibrium::{PolygonWorkspace, RobustRegion, StaticEquilibrium};
 use stance_contact::Scene;
 
 #[derive(Deserialize)]
@@ -28,12 +28,16 @@ struct Out {
     facets: Vec<Vec<f64>>,
     equations: usize,
     polygon: Vec<[f64; 2]>,
+    polygon_direct: Vec<[f64; 2]>,
+    polygon_route: String,
     region_vertices: usize,
     region_halfspaces: usize,
     sample_stable: Vec<bool>,
     us_u_stance: f64,
     us_polygon_from_u: f64,
     us_polygon_total: f64,
+    us_polygon_direct: f64,
+    us_polygon_direct_fresh: f64,
     us_region_from_u: f64,
     ns_robust_test_serial: f64,
     ns_static_test_serial: f64,
@@ -118,6 +122,22 @@ fn main() {
                 let eq = StaticEquilibrium::new(&giwc, g, &opts).unwrap();
                 std::hint::black_box(eq.polygon(0.0).unwrap());
             });
+        // The direct route (contact forces, no U_stance): reused buffers, and a fresh workspace
+        // per call.
+        let mut ws = PolygonWorkspace::new();
+        let direct = ws.static_polygon(&stance, g, 0.0, &opts).unwrap();
+        let us_polygon_direct = 1e6
+            * time(|| {
+                std::hint::black_box(ws.static_polygon(&stance, g, 0.0, &opts).unwrap());
+            });
+        let us_polygon_direct_fresh = 1e6
+            * time(|| {
+                std::hint::black_box(
+                    PolygonWorkspace::new()
+                        .static_polygon(&stance, g, 0.0, &opts)
+                        .unwrap(),
+                );
+            });
         let us_region_from_u = 1e6
             * time(|| {
                 std::hint::black_box(RobustRegion::new(&giwc, &job.gravities, &opts).unwrap());
@@ -158,12 +178,16 @@ fn main() {
                 .collect(),
             equations: giwc.equations.nrows(),
             polygon: poly.vertices.clone(),
+            polygon_direct: direct.polygon.vertices.clone(),
+            polygon_route: format!("{:?}", direct.route),
             region_vertices: region.polyhedron.vertices.len(),
             region_halfspaces: region.halfspaces.normals.len(),
             sample_stable,
             us_u_stance,
             us_polygon_from_u,
             us_polygon_total,
+            us_polygon_direct,
+            us_polygon_direct_fresh,
             us_region_from_u,
             ns_robust_test_serial,
             ns_static_test_serial,

@@ -35,6 +35,24 @@ pub const DEFAULT_QP_FEAS_TOL: f64 = 1e-9;
 /// See [`DEFAULT_QP_FEAS_TOL`].
 pub const DEFAULT_QP_MAX_RESIDUAL: f64 = 1e-6;
 
+/// Direct polygon LPs: optimality threshold on reduced costs (dimensionless, default `1e-12`).
+/// The LP columns are normalized to unit length and lengths are scaled by the stance's extent,
+/// so every coefficient is of order 1; a reduced cost below this counts as zero. The answer does
+/// not rely on it: every edge's dual bound is verified from the data, positive reduced costs
+/// included (module doc of `equilibrium::direct`).
+pub const DEFAULT_LP_OPT: f64 = 1e-12;
+
+/// Direct polygon LPs: smallest pivot (dimensionless, default `1e-11`): smaller tableau entries
+/// never pivot, and a basis whose elimination meets a smaller pivot is singular. Reason: the
+/// 4 x 4 bases have unit columns; 1e-11 keeps their condition number below about 1e11, so basic
+/// solutions keep at least 5 correct digits before the residual check.
+pub const DEFAULT_LP_PIVOT: f64 = 1e-11;
+
+/// Direct polygon LPs: largest accepted residual of force and moment balance (relative to `|g|`,
+/// default `1e-9`) of a vertex's contact forces, and the phase-1 infeasibility above which the
+/// direct route gives way to `U_stance`. Same reason as [`DEFAULT_FACE_TOL`].
+pub const DEFAULT_LP_FEAS: f64 = 1e-9;
+
 /// The thresholds of this crate; see the constants of this module for units and reasons.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactTolerances {
@@ -54,6 +72,12 @@ pub struct ContactTolerances {
     pub qp_feas: f64,
     /// [`DEFAULT_QP_MAX_RESIDUAL`].
     pub qp_max_residual: f64,
+    /// [`DEFAULT_LP_OPT`].
+    pub lp_opt: f64,
+    /// [`DEFAULT_LP_PIVOT`].
+    pub lp_pivot: f64,
+    /// [`DEFAULT_LP_FEAS`].
+    pub lp_feas: f64,
 }
 
 impl Default for ContactTolerances {
@@ -67,6 +91,9 @@ impl Default for ContactTolerances {
             zero_normal: DEFAULT_ZERO_NORMAL,
             qp_feas: DEFAULT_QP_FEAS_TOL,
             qp_max_residual: DEFAULT_QP_MAX_RESIDUAL,
+            lp_opt: DEFAULT_LP_OPT,
+            lp_pivot: DEFAULT_LP_PIVOT,
+            lp_feas: DEFAULT_LP_FEAS,
         }
     }
 }

@@ -5,13 +5,11 @@
 
 mod common;
 
-use nalgebra::Vector3;
+use common::stance_strategy;
 use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
 use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
-use stance_contact::{
-    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Stance,
-};
+use stance_contact::{supporting_forces, w_gi_static, ForcesOutcome, Stance};
 
 /// Band (relative, on `max(U w) / |w|`) inside which face test and QP may disagree.
 const FACE_BAND: f64 = 1e-6;
@@ -25,52 +23,6 @@ const GS: [[f64; 3]; 4] = [
     [0.0, 0.15, -9.81],
     [0.0, -0.15, -9.81],
 ];
-
-fn contact_strategy() -> impl Strategy<Value = Contact> {
-    (
-        (-0.4f64..0.4, -0.4f64..0.4, 0.0f64..0.8),
-        (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, 0.0f64..1.0),
-        0usize..3,
-        (0.02f64..0.15, 0.02f64..0.1),
-        0.1f64..1.2,
-        proptest::bool::ANY,
-    )
-        .prop_map(|(p, (ax, ay, az, t), kind, (x, y), mu, upright)| {
-            // Upright contacts tilt at most ~40 deg; others take any orientation.
-            let angle = if upright {
-                0.7 * t
-            } else {
-                std::f64::consts::PI * t
-            };
-            let axis = Vector3::new(ax, ay, if upright { 0.0 } else { az });
-            common::test_contact([p.0, p.1, p.2], axis, angle, kind, (x, y), mu)
-        })
-}
-
-/// Mostly the paper's pyramid; sometimes k-sided outer or inner pyramids (the QP uses their
-/// face form, the GIWC their edges: a consistency check of the two).
-fn stance_strategy() -> impl Strategy<Value = Stance> {
-    (
-        prop::collection::vec(contact_strategy(), 1..5),
-        prop_oneof![3 => Just(4usize), 1 => 3usize..9],
-        proptest::bool::ANY,
-    )
-        .prop_map(|(c, sides, outer)| {
-            let approximation = if outer || sides == 4 {
-                Approximation::Outer
-            } else {
-                Approximation::Inner
-            };
-            Stance::new(
-                c,
-                FrictionModel {
-                    sides,
-                    approximation,
-                },
-            )
-            .unwrap()
-        })
-}
 
 fn coms() -> impl Strategy<Value = Vec<[f64; 3]>> {
     prop::collection::vec(

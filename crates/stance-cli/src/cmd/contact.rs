@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use stance::polycone::polytope::{hull2, PolytopeOptions, RegionStatus};
-use stance::stance_contact::equilibrium::{RobustRegion, StaticEquilibrium, StaticPolygon};
+use stance::stance_contact::equilibrium::{
+    PolygonRoute, PolygonWorkspace, RobustRegion, StaticEquilibrium, StaticPolygon,
+};
 use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
 
 use super::io::{read_input, write_output, Common};
@@ -71,6 +73,10 @@ pub struct PolygonArgs {
     /// Also draw the polygon and the contact footprints to this .svg or .png file.
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Compute through U_stance (the GIWC face form) instead of directly from the contact
+    /// forces (the default, which falls back to U_stance by itself when it must).
+    #[arg(long)]
+    pub via_u_stance: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -212,6 +218,8 @@ pub fn run_giwc(a: GiwcArgs) -> Result<()> {
 #[derive(Serialize)]
 struct PolygonOut {
     status: &'static str,
+    /// "direct", or "u_stance" with the reason when the direct route gave way.
+    route: String,
     vertices: Vec<[f64; 2]>,
     halfplanes: Vec<[f64; 3]>,
     height: f64,
@@ -250,13 +258,24 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             if !a.height.is_finite() {
                 bail!("--height must be finite");
             }
-            let (stance, giwc) = stance_and_giwc(&scene)?;
-            let mut poly = None;
+            let mut out = None;
+            let stance = scene.stance()?;
+            let mut ws = PolygonWorkspace::new();
             for _ in 0..a.common.repeat {
-                let eq = StaticEquilibrium::new(&giwc, g, &opts)?;
-                poly = Some(eq.polygon(a.height)?);
+                out = Some(if a.via_u_stance {
+                    let giwc = stance.u_stance(&GiwcOptions::default())?;
+                    let eq = StaticEquilibrium::new(&giwc, g, &opts)?;
+                    (eq.polygon(a.height)?, "u_stance (requested)".to_string())
+                } else {
+                    let d = ws.static_polygon(&stance, g, a.height, &opts)?;
+                    let route = match d.route {
+                        PolygonRoute::Direct => "direct".to_string(),
+                        PolygonRoute::ViaUStance(why) => format!("u_stance ({why:?})"),
+                    };
+                    (d.polygon, route)
+                });
             }
-            let poly = poly.expect("repeat >= 1");
+            let (poly, route) = out.expect("repeat >= 1");
             if let Some(path) = &a.plot {
                 plot::polygon(path, &stance, &poly)?;
             }
@@ -264,6 +283,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
                 &a.common,
                 &PolygonOut {
                     status: status_str(poly.status),
+                    route,
                     halfplanes: poly
                         .halfplanes
                         .iter()

@@ -11,9 +11,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use stance::retime::{retime, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef};
-use stance::stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
+use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion, StaticEquilibrium};
 use stance::stance_contact::{examples, GiwcOptions};
 use stance::stance_robot::{Data, Model, UrdfOptions, SMALL_HUMANOID_URDF};
 
@@ -85,14 +85,23 @@ pub fn run(args: DemoArgs) -> Result<()> {
     )?;
     writeln!(
         o,
-        "   {:<16} {:>9} {:>10} {:>9}",
-        "scene", "vertices", "area m^2", "time ms"
+        "   {:<16} {:>9} {:>10} {:>13} {:>17}",
+        "scene", "vertices", "area m^2", "from U ms", "from contacts ms"
     )?;
+    let mut ws = PolygonWorkspace::new();
     for (name, scene, giwc) in &giwcs {
         let t = Instant::now();
         let eq = StaticEquilibrium::new(giwc, scene.gravity, &Default::default())?;
         let poly = eq.polygon(0.0)?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
+        // The same polygon straight from the contact forces (no U_stance), certified.
+        let stance = scene.stance()?;
+        let t = Instant::now();
+        let direct = ws.static_polygon(&stance, scene.gravity, 0.0, &Default::default())?;
+        let ms_direct = t.elapsed().as_secs_f64() * 1e3;
+        if direct.polygon.vertices.len() != poly.vertices.len() {
+            bail!("{name}: the direct polygon and the one through U_stance differ");
+        }
         super::contact::plot::polygon(
             &args.out.join(format!("polygon-{name}.svg")),
             &scene.stance()?,
@@ -108,11 +117,12 @@ pub fn run(args: DemoArgs) -> Result<()> {
                 .sum::<f64>();
         writeln!(
             o,
-            "   {:<16} {:>9} {:>10.4} {:>9.3}",
+            "   {:<16} {:>9} {:>10.4} {:>13.3} {:>17.3}",
             name,
             v.len(),
             area,
-            ms
+            ms,
+            ms_direct
         )?;
     }
 

@@ -22,10 +22,13 @@
 //! `a` vanishes (`|a| <= zero_normal |g|`) do not depend on the CoM: they are checked once
 //! (`0 <= d`), and if violated no CoM is stable.
 
+pub mod direct;
 mod halfspaces;
 mod robust;
+mod simplex;
 mod statics;
 
+pub use direct::{DirectPolygon, Fallback, PolygonRoute, PolygonWorkspace};
 pub use halfspaces::{com_halfspaces, ComHalfspaces};
 pub use robust::RobustRegion;
 pub use statics::{StaticEquilibrium, StaticPolygon};

@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use nalgebra::DMatrix;
-use stance_contact::{Contact, FrictionModel, Shape, Stance};
+use nalgebra::Vector3;
+use proptest::prelude::*;
+use stance_contact::{Approximation, Contact, FrictionModel, Shape, Stance};
 
 pub fn fixture(name: &str) -> serde_json::Value {
     let path = format!(
@@ -127,4 +129,53 @@ pub fn test_contact(
         _ => Shape::Polygon(vec![[x, 0.0], [-x, y], [-x, -y]]),
     };
     Contact::new("c", p, rot, shape, mu, &Default::default()).unwrap()
+}
+
+/// A random contact of the agreement tests: upright (tilted at most ~40 deg) or in any
+/// orientation, a point, rectangle or triangle, mu in [0.1, 1.2].
+pub fn contact_strategy() -> impl Strategy<Value = Contact> {
+    (
+        (-0.4f64..0.4, -0.4f64..0.4, 0.0f64..0.8),
+        (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, 0.0f64..1.0),
+        0usize..3,
+        (0.02f64..0.15, 0.02f64..0.1),
+        0.1f64..1.2,
+        proptest::bool::ANY,
+    )
+        .prop_map(|(p, (ax, ay, az, t), kind, (x, y), mu, upright)| {
+            // Upright contacts tilt at most ~40 deg; others take any orientation.
+            let angle = if upright {
+                0.7 * t
+            } else {
+                std::f64::consts::PI * t
+            };
+            let axis = Vector3::new(ax, ay, if upright { 0.0 } else { az });
+            test_contact([p.0, p.1, p.2], axis, angle, kind, (x, y), mu)
+        })
+}
+
+/// A random stance of 1 to 4 contacts: mostly the paper's pyramid; sometimes k-sided outer or
+/// inner pyramids (the QP uses their face form, the GIWC their edges: a consistency check of
+/// the two).
+pub fn stance_strategy() -> impl Strategy<Value = Stance> {
+    (
+        prop::collection::vec(contact_strategy(), 1..5),
+        prop_oneof![3 => Just(4usize), 1 => 3usize..9],
+        proptest::bool::ANY,
+    )
+        .prop_map(|(c, sides, outer)| {
+            let approximation = if outer || sides == 4 {
+                Approximation::Outer
+            } else {
+                Approximation::Inner
+            };
+            Stance::new(
+                c,
+                FrictionModel {
+                    sides,
+                    approximation,
+                },
+            )
+            .unwrap()
+        })
 }
