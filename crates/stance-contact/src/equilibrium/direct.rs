@@ -125,6 +125,9 @@ pub struct PolygonWorkspace {
     l: Vec<[f64; 2]>,
     verts: Vec<Vertex>,
     offs: Vec<f64>,
+    /// Contact vertices (world) with the range of their contact's edges in `edges`.
+    points: Vec<([f64; 3], usize, usize)>,
+    edges: Vec<[f64; 3]>,
     lps: usize,
 }
 
@@ -198,54 +201,50 @@ impl PolygonWorkspace {
     fn setup(&mut self, stance: &Stance, gravity: [f64; 3], height: f64) -> Option<Frame> {
         let gn = norm3(gravity);
         let gh = [gravity[0] / gn, gravity[1] / gn, gravity[2] / gn];
+        // Contact vertices (world) and the pyramid edges (world) of each contact.
+        self.points.clear();
+        self.edges.clear();
+        let model = stance.friction_model();
+        for c in stance.contacts() {
+            let rot = c.rotation();
+            let first_edge = self.edges.len();
+            for e in model.edges(c.friction()) {
+                let w = rot * nalgebra::Vector3::from(e);
+                self.edges.push([w[0], w[1], w[2]]);
+            }
+            for q in c.vertices_world() {
+                self.points.push((q, first_edge, self.edges.len()));
+            }
+        }
         // Centroid and extent of the contact vertices.
+        let count = self.points.len() as f64;
         let mut c0 = [0.0; 3];
-        let mut count = 0.0;
-        for c in stance.contacts() {
-            for q in c.vertices_world() {
-                for k in 0..3 {
-                    c0[k] += q[k];
-                }
-                count += 1.0;
+        for (q, _, _) in &self.points {
+            for k in 0..3 {
+                c0[k] += q[k] / count;
             }
         }
-        for v in c0.iter_mut() {
-            *v /= count;
-        }
-        let mut ell: f64 = 0.0;
-        for c in stance.contacts() {
-            for q in c.vertices_world() {
-                ell = ell.max(norm3(sub3(q, c0)));
-            }
-        }
+        let ell = self
+            .points
+            .iter()
+            .map(|(q, _, _)| norm3(sub3(*q, c0)))
+            .fold(0.0, f64::max);
         if !(ell > 0.0 && ell.is_finite()) {
             return None;
         }
         let r = [gh[0] / gh[2], gh[1] / gh[2]];
         self.lp.a.clear();
         self.l.clear();
-        let model = stance.friction_model();
-        for c in stance.contacts() {
-            let rot = c.rotation();
-            let edges: Vec<[f64; 3]> = model
-                .edges(c.friction())
-                .iter()
-                .map(|e| {
-                    let w = rot * nalgebra::Vector3::from(*e);
-                    [w[0], w[1], w[2]]
-                })
-                .collect();
-            for q in c.vertices_world() {
-                let qs = sub3(q, c0).map(|x| x / ell);
-                for e in &edges {
-                    let m = crate::cross(qs, *e);
-                    let a = [e[0], e[1], e[2], dot3(gh, m)];
-                    let kappa = crate::cross(m, gh);
-                    let l = [kappa[0] - r[0] * kappa[2], kappa[1] - r[1] * kappa[2]];
-                    let s = 1.0 / (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]).sqrt();
-                    self.lp.a.push(a.map(|x| x * s));
-                    self.l.push(l.map(|x| x * s));
-                }
+        for &(q, e0, e1) in &self.points {
+            let qs = sub3(q, c0).map(|x| x / ell);
+            for e in &self.edges[e0..e1] {
+                let m = crate::cross(qs, *e);
+                let a = [e[0], e[1], e[2], dot3(gh, m)];
+                let kappa = crate::cross(m, gh);
+                let l = [kappa[0] - r[0] * kappa[2], kappa[1] - r[1] * kappa[2]];
+                let s = 1.0 / (a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]).sqrt();
+                self.lp.a.push(a.map(|x| x * s));
+                self.l.push(l.map(|x| x * s));
             }
         }
         Some(Frame {
@@ -256,17 +255,9 @@ impl PolygonWorkspace {
         })
     }
 
-    /// Maximizes `u . L lambda`, warm-started from `start` (or the current basis).
-    fn support(
-        &mut self,
-        u: [f64; 2],
-        start: Option<[usize; M]>,
-        max_iter: usize,
-    ) -> Result<Vertex, Fallback> {
+    /// Maximizes `u . L lambda` from the current basis.
+    fn support(&mut self, u: [f64; 2], max_iter: usize) -> Result<Vertex, Fallback> {
         self.lps += 1;
-        if let Some(basis) = start {
-            self.lp.set_basis(basis).map_err(stop)?;
-        }
         let Self { lp, l, .. } = self;
         lp.maximize(|j| u[0] * l[j][0] + u[1] * l[j][1], max_iter)
             .map_err(stop)?;
@@ -336,7 +327,7 @@ impl PolygonWorkspace {
         self.verts.clear();
         for k in 0..3 {
             let ang = std::f64::consts::FRAC_PI_2 + k as f64 * 2.0 * std::f64::consts::FRAC_PI_3;
-            let w = self.support([ang.cos(), ang.sin()], None, max_iter)?;
+            let w = self.support([ang.cos(), ang.sin()], max_iter)?;
             let distinct = self.verts.iter().all(|p| dist2(p.v, w.v) > merge);
             if distinct {
                 self.verts.push(w);
@@ -361,7 +352,7 @@ impl PolygonWorkspace {
                 let len = self.verts.len();
                 let (a, bv) = (self.verts[i].v, self.verts[(i + 1) % len].v);
                 let e = [bv[0] - a[0], bv[1] - a[1]];
-                let le = e[0].hypot(e[1]);
+                let le = (e[0] * e[0] + e[1] * e[1]).sqrt();
                 if le <= merge {
                     if len <= 2 {
                         return Err(Fallback::Degenerate);
@@ -374,8 +365,8 @@ impl PolygonWorkspace {
                     continue;
                 }
                 let nrm = [e[1] / le, -e[0] / le];
-                let start = self.verts[i].basis;
-                let w = self.support(nrm, Some(start), max_iter)?;
+                // Warm start from the current basis (the last LP's, for a nearby direction).
+                let w = self.support(nrm, max_iter)?;
                 let h_edge = dot2(nrm, a).max(dot2(nrm, bv));
                 if dot2(nrm, w.v) - h_edge <= dist {
                     let vi = &mut self.verts[i];
@@ -413,7 +404,7 @@ impl PolygonWorkspace {
                 self.verts[(k + 1) % n].v,
             );
             let d = [r[0] - p[0], r[1] - p[1]];
-            let len = d[0].hypot(d[1]);
+            let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
             let off_line = ((q[0] - p[0]) * d[1] - (q[1] - p[1]) * d[0]).abs() / len;
             if len > 0.0 && off_line <= dist && seg_dist(q, p, r) <= dist {
                 self.verts.remove(k);
@@ -632,7 +623,8 @@ fn dot2(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    let d = [a[0] - b[0], a[1] - b[1]];
+    (d[0] * d[0] + d[1] * d[1]).sqrt()
 }
 
 /// Distance from `p` to the segment `[s, e]`.

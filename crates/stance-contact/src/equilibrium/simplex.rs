@@ -53,6 +53,10 @@ pub(crate) struct Lp4 {
     pub y: [f64; M],
     /// Whether column `j` is basic.
     in_basis: Vec<bool>,
+    /// The rows of `A` (structure of arrays, for the reduced-cost loop).
+    soa: [Vec<f64>; M],
+    /// Reduced costs of the last iteration.
+    red: Vec<f64>,
     /// Objective coefficients of the current solve.
     c: Vec<f64>,
     /// Thresholds: reduced cost (optimality) and pivot size.
@@ -60,7 +64,13 @@ pub(crate) struct Lp4 {
     pivot_tol: f64,
     /// Pivots done since `reset` (all solves).
     pub pivots: usize,
+    /// Rank-one updates of `B^-1` since it was last computed from the basis.
+    updates: usize,
 }
+
+/// Product-form updates between two recomputations of `B^-1` from the basis columns: few
+/// enough that rounding does not build up (the caller verifies every answer anyway).
+const REFACTOR_EVERY: usize = 8;
 
 impl Lp4 {
     /// Takes new data (`a` filled by the caller) and puts the artificial basis in place.
@@ -73,6 +83,12 @@ impl Lp4 {
         self.in_basis.resize(n, false);
         self.c.clear();
         self.c.resize(n, 0.0);
+        self.red.clear();
+        self.red.resize(n, 0.0);
+        for (k, row) in self.soa.iter_mut().enumerate() {
+            row.clear();
+            row.extend(self.a.iter().map(|a| a[k]));
+        }
         self.binv = [[0.0; M]; M];
         for i in 0..M {
             self.basis[i] = n + i;
@@ -81,6 +97,7 @@ impl Lp4 {
             self.xb[i] = b[i].abs();
         }
         self.pivots = 0;
+        self.updates = 0;
     }
 
     fn n(&self) -> usize {
@@ -103,9 +120,8 @@ impl Lp4 {
     /// zero-level artificial out of the basis.
     pub fn phase1(&mut self, feas_tol: f64, max_iter: usize) -> Result<(), LpStop> {
         let n = self.n();
-        let art_cost = |j: usize| if j >= n { -1.0 } else { 0.0 };
         self.c.iter_mut().for_each(|c| *c = 0.0);
-        self.iterate(art_cost, max_iter)?;
+        self.iterate(-1.0, max_iter)?;
         let infeas: f64 = (0..M)
             .filter(|&i| self.basis[i] >= n)
             .map(|i| self.xb[i])
@@ -138,14 +154,10 @@ impl Lp4 {
 
     /// Phase 2 from the current (feasible, artificial-free) basis, objective `c_j = cost(j)`.
     pub fn maximize(&mut self, cost: impl Fn(usize) -> f64, max_iter: usize) -> Result<(), LpStop> {
-        let n = self.n();
-        for j in 0..n {
-            self.c[j] = cost(j);
+        for (j, c) in self.c.iter_mut().enumerate() {
+            *c = cost(j);
         }
-        let c = std::mem::take(&mut self.c);
-        let out = self.iterate(|j| if j < n { c[j] } else { f64::NEG_INFINITY }, max_iter);
-        self.c = c;
-        out
+        self.iterate(0.0, max_iter)
     }
 
     fn binv_row_dot(&self, r: usize, v: &[f64; M]) -> f64 {
@@ -153,11 +165,13 @@ impl Lp4 {
         row[0] * v[0] + row[1] * v[1] + row[2] * v[2] + row[3] * v[3]
     }
 
-    /// Dual vector `y = B^-T c_B` for the objective `cost`.
-    fn duals(&mut self, cost: &impl Fn(usize) -> f64) {
+    /// Dual vector `y = B^-T c_B` (`art_cost` for artificial columns).
+    fn duals(&mut self, art_cost: f64) {
+        let n = self.n();
         let mut y = [0.0; M];
         for i in 0..M {
-            let cb = cost(self.basis[i]);
+            let j = self.basis[i];
+            let cb = if j < n { self.c[j] } else { art_cost };
             if cb == 0.0 {
                 continue;
             }
@@ -168,24 +182,29 @@ impl Lp4 {
         self.y = y;
     }
 
-    /// Primal simplex iterations with objective `cost` (`-inf` forbids a column).
-    fn iterate(&mut self, cost: impl Fn(usize) -> f64, max_iter: usize) -> Result<(), LpStop> {
+    /// Primal simplex iterations with objective `self.c` on the structural columns and
+    /// `art_cost` on the artificial ones (which never enter).
+    fn iterate(&mut self, art_cost: f64, max_iter: usize) -> Result<(), LpStop> {
         let n = self.n();
         let mut degenerate_run = 0usize;
         for _ in 0..max_iter {
-            self.duals(&cost);
+            self.duals(art_cost);
             let y = self.y;
+            // Reduced costs r_j = c_j - y . A_j, a straight loop over the columns (SoA).
+            {
+                let [a0, a1, a2, a3] = &self.soa;
+                let (c, r) = (&self.c[..n], &mut self.red[..n]);
+                let (a0, a1, a2, a3) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n]);
+                for j in 0..n {
+                    r[j] = c[j] - (y[0] * a0[j] + y[1] * a1[j] + y[2] * a2[j] + y[3] * a3[j]);
+                }
+            }
             let bland = degenerate_run >= 2;
             let mut enter = usize::MAX;
             let mut best = self.opt_tol;
             for j in 0..n {
-                if self.in_basis[j] {
-                    continue;
-                }
-                let cj = cost(j);
-                let aj = &self.a[j];
-                let r = cj - (y[0] * aj[0] + y[1] * aj[1] + y[2] * aj[2] + y[3] * aj[3]);
-                if r > best {
+                let r = self.red[j];
+                if r > best && !self.in_basis[j] {
                     enter = j;
                     if bland {
                         break;
@@ -223,8 +242,16 @@ impl Lp4 {
 
     /// Column `enter` replaces the basic column of row `r`; `B^-1` is recomputed from the
     /// basis columns (4 x 4 Gauss-Jordan with partial pivoting) and `x_B = B^-1 b`.
+    /// Column `enter` replaces the basic column of row `r`. `B^-1` and `x_B` get the rank-one
+    /// (product-form) update with `d = B^-1 A_enter`; every [`REFACTOR_EVERY`] updates they are
+    /// recomputed from the basis columns.
     fn pivot(&mut self, r: usize, enter: usize) -> Result<(), LpStop> {
         let n = self.n();
+        let col = self.a[enter];
+        let d: [f64; M] = std::array::from_fn(|i| self.binv_row_dot(i, &col));
+        if d[r].abs() <= self.pivot_tol {
+            return Err(LpStop::Singular);
+        }
         let old = self.basis[r];
         if old < n {
             self.in_basis[old] = false;
@@ -232,10 +259,32 @@ impl Lp4 {
         self.basis[r] = enter;
         self.in_basis[enter] = true;
         self.pivots += 1;
-        self.refactor()
+        self.updates += 1;
+        if self.updates >= REFACTOR_EVERY {
+            return self.refactor();
+        }
+        let inv = 1.0 / d[r];
+        let row_r: [f64; M] = std::array::from_fn(|k| self.binv[r][k] * inv);
+        let x_r = self.xb[r] * inv;
+        for i in 0..M {
+            if i == r {
+                continue;
+            }
+            let f = d[i];
+            if f != 0.0 {
+                for k in 0..M {
+                    self.binv[i][k] -= f * row_r[k];
+                }
+                self.xb[i] -= f * x_r;
+            }
+        }
+        self.binv[r] = row_r;
+        self.xb[r] = x_r;
+        Ok(())
     }
 
     fn refactor(&mut self) -> Result<(), LpStop> {
+        self.updates = 0;
         // [B | I] -> [I | B^-1], B's columns are the basic columns.
         let mut m = [[0.0; 2 * M]; M];
         for i in 0..M {
@@ -281,7 +330,11 @@ impl Lp4 {
     }
 
     /// Restores a basis saved from an earlier solve (structural columns only).
+    #[cfg(test)]
     pub fn set_basis(&mut self, basis: [usize; M]) -> Result<(), LpStop> {
+        if basis == self.basis {
+            return Ok(());
+        }
         for j in self.basis {
             if j < self.n() {
                 self.in_basis[j] = false;
