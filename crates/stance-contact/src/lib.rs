@@ -20,7 +20,9 @@
 //!   `U_stance w_GI <= 0`, wrench at the world origin; the net contact wrench `w_c = -w_GI`
 //!   is in `-GIWC` ([`Giwc::net_contact_wrench_face`]).
 //! - Static equilibrium: `U_stance (m g, m p x g) <= 0`, half-spaces linear in the CoM `p`
-//!   ([`equilibrium`]); robust static equilibrium (eq. 12 with the sign fixed for `g` pointing
+//!   ([`equilibrium`]); the static-equilibrium polygon also straight from the contact forces,
+//!   without `U_stance`, by certified support-function LPs
+//!   ([`equilibrium::PolygonWorkspace::static_polygon`]); robust static equilibrium (eq. 12 with the sign fixed for `g` pointing
 //!   down) as an explicit 3-D polyhedron ([`equilibrium::RobustRegion`]).
 //! - Supporting forces: a QP over the vertex forces ([`supporting_forces`]), independent of the
 //!   double description; the check of every face-form test.
@@ -53,6 +55,13 @@
 //!   bound (1e6 m) are reported unbounded.
 //! - The static-equilibrium polygon for a gravity without vertical component is an error (the
 //!   prism is horizontal); for oblique gravity it is the cross-section at a chosen height.
+//! - The direct polygon ([`equilibrium::PolygonWorkspace::static_polygon`]) needs bounded
+//!   contact forces: when forces can grow without bound (opposing contacts, e.g. a hand pushing
+//!   a wall held by the feet's friction), when no forces balance gravity, or when the polygon is
+//!   not 2-D (one or two point contacts), it computes `U_stance` and says so
+//!   ([`equilibrium::PolygonRoute`]). On 2000 random stances of the property tests, 1086 took
+//!   the direct route, 397 had unbounded forces, 268 no equilibrium, 248 a degenerate polygon
+//!   and 1 failed the direct certificate (near-parallel edges).
 //! - The robust region margin outside `M` is a lower bound (largest plane violation), not the
 //!   exact distance.
 //! - The supporting-forces QP distributes forces on the shape vertices (the paper's model); it

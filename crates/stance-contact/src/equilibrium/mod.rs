@@ -14,6 +14,10 @@
 //! [`StaticEquilibrium::polygon`] returns its cross-section by the horizontal plane at a given
 //! height (the same polygon, translated, at every height).
 //!
+//! The same polygon can be computed without `U_stance`, straight from the contact forces that
+//! balance gravity, by support-function LPs with a certificate ([`direct`]); it is the faster
+//! route when `U_stance` is not needed otherwise.
+//!
 //! Robust static equilibrium for gravity-like vectors `g_1 .. g_K` (eq. 12, with the sign fixed
 //! for `g` pointing down: `U (g_k, p x g_k) <= 0`): `M` is the intersection of the K prisms, a
 //! 3-D polyhedron, bounded when the `g_k` are not all parallel ([`RobustRegion`]).
