@@ -191,6 +191,60 @@ fn fallbacks_are_named_and_answers_stay_those_of_u_stance() {
         .is_err());
 }
 
+/// Feet on the floor and two frictionless hands squeezing opposing walls at the same height:
+/// the squeeze is an internal force along the line of the hands (zero moment), so the contact
+/// forces are unbounded while the polygon is bounded (the feet's). The direct route handles it
+/// with the face-band dual check and matches `U_stance`.
+#[test]
+fn squeezing_hands_give_unbounded_forces_and_a_bounded_polygon() {
+    use stance_contact::{Contact, FrictionModel, Shape};
+    let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let rect = |l: f64, w: f64| Shape::Rectangle {
+        half_length: l,
+        half_width: w,
+    };
+    let foot = |y: f64| {
+        Contact::new(
+            "foot",
+            [0.0, y, 0.0],
+            eye,
+            rect(0.11, 0.065),
+            0.7,
+            &Default::default(),
+        )
+        .unwrap()
+    };
+    // Walls at y = +-0.5 facing the robot: contact z axis = -+y.
+    let hand = |s: f64| {
+        let rot = [[1.0, 0.0, 0.0], [0.0, 0.0, -s], [0.0, s, 0.0]];
+        Contact::new(
+            "hand",
+            [0.3, 0.5 * s, 1.0],
+            rot,
+            Shape::Point,
+            0.0,
+            &Default::default(),
+        )
+        .unwrap()
+    };
+    let stance = Stance::new(
+        vec![foot(0.1), foot(-0.1), hand(1.0), hand(-1.0)],
+        FrictionModel::default(),
+    )
+    .unwrap();
+    let mut ws = PolygonWorkspace::new();
+    for g in [[0.0, 0.0, -9.81], [0.4, 0.2, -9.81]] {
+        let out = ws
+            .static_polygon(&stance, g, 0.9, &Default::default())
+            .unwrap();
+        let reference = via_u(&stance, g, 0.9);
+        assert_eq!(reference.status, RegionStatus::Bounded);
+        assert_eq!(out.route, PolygonRoute::Direct, "g = {g:?}");
+        let h = hausdorff(&out.polygon, &reference);
+        assert!(h <= ROUTE_BAND, "g = {g:?}: Hausdorff {h:.3e} m");
+    }
+}
+
 fn gravity_strategy() -> impl Strategy<Value = [f64; 3]> {
     prop_oneof![
         2 => Just([0.0, 0.0, -9.81]),
@@ -267,7 +321,11 @@ fn route_statistics() {
         let out = ws
             .static_polygon(&stance, [0.0, 0.0, -9.81], 0.8, &Default::default())
             .unwrap();
-        *counts.entry(format!("{:?}", out.route)).or_insert(0) += 1;
+        let what = format!(
+            "{:?} -> {:?} dim {}",
+            out.route, out.polygon.status, out.polygon.dim
+        );
+        *counts.entry(what).or_insert(0) += 1;
     }
     println!("{counts:#?}");
 }

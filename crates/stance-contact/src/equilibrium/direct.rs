@@ -40,12 +40,15 @@
 //!   `n . L lambda = y . b + sum_j lambda_j r_j <= y . b + max(0, max_j r_j) Lambda` with the
 //!   reduced costs `r_j = n . L_j - y . A_j` recomputed from the data and `Lambda >= sum_j
 //!   lambda_j` proven by the dual `y_1` of `max sum_j lambda_j` (`y_1 . A_j >= s > 0` for all
-//!   `j` gives `sum_j lambda_j <= y_1 . b / s`).
+//!   `j` gives `sum_j lambda_j <= y_1 . b / s`). When the forces are unbounded (an internal
+//!   force, e.g. two hands squeezing along the line between them) there is no such bound: the
+//!   dual must then be feasible within the face-form band, `max_j r_j <= face_tol (|L|_1 +
+//!   |y|_1)`, the contract of `U_stance`'s own rows, and the offset is `y . b`.
 //! - **Gap:** every corner of the outer polygon (consecutive edge lines intersected) is within
 //!   `dist_tol` of the inner polygon, so the returned polygon is within `dist_tol` (Hausdorff)
 //!   of the true one.
 //!
-//! When any of this fails, or the polygon is empty, unbounded (a non-pointed GIWC) or not 2-D
+//! When any of this fails, or the polygon is empty, unbounded or not 2-D
 //! (e.g. two point contacts), the polygon is computed through `U_stance`
 //! ([`super::StaticEquilibrium::polygon`]) and the route says why ([`PolygonRoute`]).
 
@@ -300,26 +303,34 @@ impl PolygonWorkspace {
         let max_iter = 50 + 10 * n;
         self.lp.phase1(tol.lp_feas, max_iter).map_err(stop)?;
 
-        // Lambda >= sum lambda_j, proven by the dual of max sum lambda_j.
+        // Lambda >= sum lambda_j, proven by the dual of max sum lambda_j; infinite when the
+        // contact forces can grow without bound (internal forces between opposing contacts).
         self.lps += 1;
-        self.lp.maximize(|_| 1.0, max_iter).map_err(stop)?;
-        let y1 = self.lp.y;
-        let s = self
-            .lp
-            .a
-            .iter()
-            .map(|a| dot4(&y1, a))
-            .fold(f64::INFINITY, f64::min);
-        // Rounding of the dot products (unit columns, |b| = 1): within 8 eps |y_1|_1.
-        let err = 8.0 * f64::EPSILON * y1.iter().map(|v| v.abs()).sum::<f64>();
-        let s = s - err;
-        if !(s > 0.0) {
-            return Err(Fallback::Uncertified);
-        }
-        let lambda = (dot4(&y1, &b) + err) / s * (1.0 + 4.0 * f64::EPSILON);
-        if !lambda.is_finite() {
-            return Err(Fallback::Numerical);
-        }
+        let lambda = match self.lp.maximize(|_| 1.0, max_iter) {
+            Ok(()) => {
+                let y1 = self.lp.y;
+                let s = self
+                    .lp
+                    .a
+                    .iter()
+                    .map(|a| dot4(&y1, a))
+                    .fold(f64::INFINITY, f64::min);
+                // Rounding of the dot products (unit columns, |b| = 1): within 8 eps |y_1|_1.
+                let err = 8.0 * f64::EPSILON * y1.iter().map(|v| v.abs()).sum::<f64>();
+                let s = s - err;
+                if !(s > 0.0) {
+                    return Err(Fallback::Uncertified);
+                }
+                let lambda = (dot4(&y1, &b) + err) / s * (1.0 + 4.0 * f64::EPSILON);
+                if !lambda.is_finite() {
+                    return Err(Fallback::Numerical);
+                }
+                lambda
+            }
+            // The basis is still feasible: the ratio test stopped before any pivot.
+            Err(LpStop::Unbounded) => f64::INFINITY,
+            Err(other) => return Err(stop(other)),
+        };
 
         // Three directions, then expansion.
         let dist = opts.polytope.dist_tol / frame.ell;
@@ -385,7 +396,7 @@ impl PolygonWorkspace {
         if self.verts.len() < 3 {
             return Err(Fallback::Degenerate);
         }
-        let gap = self.certify(&b, lambda, dist, tol.lp_feas)?;
+        let gap = self.certify(&b, lambda, dist, tol.lp_feas, tol.face)?;
         Ok((self.to_world(&frame, height), gap * frame.ell))
     }
 
@@ -428,6 +439,7 @@ impl PolygonWorkspace {
         lambda: f64,
         dist: f64,
         feas: f64,
+        face_tol: f64,
     ) -> Result<f64, Fallback> {
         let nv = self.verts.len();
         // Inner: residuals of the vertices' contact forces, and their images.
@@ -453,7 +465,7 @@ impl PolygonWorkspace {
         let mut offs = std::mem::take(&mut self.offs);
         offs.clear();
         offs.resize(nv, 0.0);
-        let out = self.certify_outer(&mut offs, b, lambda, dist);
+        let out = self.certify_outer(&mut offs, b, lambda, dist, face_tol);
         self.offs = offs;
         out
     }
@@ -464,6 +476,7 @@ impl PolygonWorkspace {
         b: &[f64; M],
         lambda: f64,
         dist: f64,
+        face_tol: f64,
     ) -> Result<f64, Fallback> {
         let nv = self.verts.len();
         for k in 0..nv {
@@ -476,11 +489,21 @@ impl PolygonWorkspace {
             }
             let yb = dot4(&y, b);
             let y1: f64 = y.iter().map(|v| v.abs()).sum();
-            // Rounding: each computed r_j is within 8 eps (|L_j|_1 + |y|_1) of the exact one
-            // (unit columns A_j), and sum_j lambda_j r_j <= max_j r_j Lambda; y . b within
-            // 8 eps |y|_1 (|b| = 1).
-            let guard = 8.0 * f64::EPSILON * ((lmax + y1) * (1.0 + lambda) + y1);
-            offs[k] = yb + rmax * lambda + guard;
+            offs[k] = if lambda.is_finite() {
+                // Rounding: each computed r_j is within 8 eps (|L_j|_1 + |y|_1) of the exact
+                // one (unit columns A_j), and sum_j lambda_j r_j <= max_j r_j Lambda; y . b
+                // within 8 eps |y|_1 (|b| = 1).
+                let guard = 8.0 * f64::EPSILON * ((lmax + y1) * (1.0 + lambda) + y1);
+                yb + rmax * lambda + guard
+            } else {
+                // Unbounded forces: no bound on sum lambda_j, so the dual must be feasible
+                // within the face-form band, the contract of U_stance's own rows (the edge is
+                // then a face of the GIWC of generators moved by at most that much).
+                if !(rmax <= face_tol * (lmax + y1)) {
+                    return Err(Fallback::Uncertified);
+                }
+                yb + 8.0 * f64::EPSILON * y1
+            };
             if !offs[k].is_finite() {
                 return Err(Fallback::Numerical);
             }
