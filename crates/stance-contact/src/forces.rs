@@ -113,7 +113,12 @@ pub fn supporting_forces(
         });
     }
     let model = stance.friction_model();
-    let k = model.sides;
+    // Face rows of each contact's pyramid (k sides, plus `f_z >= 0` when mu = 0).
+    let faces: Vec<Vec<[f64; 3]>> = stance
+        .contacts()
+        .iter()
+        .map(|c| model.faces(c.friction()))
+        .collect();
     // Variables: 3 per contact vertex.
     let mut points: Vec<(usize, [f64; 3])> = Vec::new();
     for (i, c) in stance.contacts().iter().enumerate() {
@@ -123,7 +128,9 @@ pub fn supporting_forces(
     }
     let nv = points.len();
     let n = 3 * nv;
-    let m = 6 + k * nv;
+    // Friction rows, all vertices.
+    let nf: usize = points.iter().map(|(i, _)| faces[*i].len()).sum();
+    let m = 6 + nf;
     let scale = w_gi.iter().map(|x| x * x).sum::<f64>().sqrt();
     let scale = if scale > 0.0 { scale } else { 1.0 };
     let mut a = vec![0.0; m * n];
@@ -131,11 +138,7 @@ pub fn supporting_forces(
     for r in 0..6 {
         b[r] = -w_gi[r] / scale;
     }
-    let faces: Vec<Vec<[f64; 3]>> = stance
-        .contacts()
-        .iter()
-        .map(|c| model.faces(c.friction()))
-        .collect();
+    let mut row = 6;
     for (j, (i, q)) in points.iter().enumerate() {
         let rot = stance.contacts()[*i].rotation();
         let qr = crate::stance::skew(*q) * rot;
@@ -145,11 +148,11 @@ pub fn supporting_forces(
                 a[(3 + r) * n + 3 * j + c] = qr[(r, c)];
             }
         }
-        for (s, g) in faces[*i].iter().enumerate() {
-            let row = 6 + k * j + s;
+        for g in &faces[*i] {
             for c in 0..3 {
                 a[row * n + 3 * j + c] = g[c];
             }
+            row += 1;
         }
     }
     let settings = || {
@@ -181,7 +184,7 @@ pub fn supporting_forces(
     }
     let cones1 = [
         SupportedConeT::ZeroConeT(6),
-        SupportedConeT::NonnegativeConeT(k * nv + 12),
+        SupportedConeT::NonnegativeConeT(nf + 12),
     ];
     let mut phase1 = DefaultSolver::new(
         &CscMatrix::zeros((n1, n1)),
@@ -207,7 +210,7 @@ pub fn supporting_forces(
             &b,
             &[
                 SupportedConeT::ZeroConeT(6),
-                SupportedConeT::NonnegativeConeT(k * nv),
+                SupportedConeT::NonnegativeConeT(nf),
             ],
             settings()?,
         )

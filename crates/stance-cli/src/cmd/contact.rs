@@ -230,7 +230,26 @@ struct RegionOut {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PointsIn {
-    points: Vec<[f64; 3]>,
+    /// Read as rows of any length and checked by `com_points` (TOML would silently drop the
+    /// extra numbers of a fixed-size `[f64; 3]`).
+    points: Vec<Vec<f64>>,
+}
+
+/// The CoMs of a points file: three finite numbers per point.
+fn com_points(rows: &[Vec<f64>]) -> Result<Vec<[f64; 3]>> {
+    rows.iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let p: [f64; 3] = r
+                .as_slice()
+                .try_into()
+                .map_err(|_| anyhow!("point {i} has {} numbers: give [x, y, z]", r.len()))?;
+            if p.iter().any(|x| !x.is_finite()) {
+                bail!("point {i} has a non-finite coordinate");
+            }
+            Ok(p)
+        })
+        .collect()
 }
 
 #[derive(Serialize)]
@@ -312,13 +331,8 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
         EquilibriumCommand::Test(a) => {
             let scene = load_scene(&a.scene)?;
             let pts: PointsIn = read_input(&a.points)?;
-            if let Some(i) = pts
-                .points
-                .iter()
-                .position(|p| p.iter().any(|x| !x.is_finite()))
-            {
-                bail!("point {i} has a non-finite coordinate");
-            }
+            let points = com_points(&pts.points)
+                .with_context(|| format!("in the points file {}", a.points.display()))?;
             let gs = if a.gravity.is_empty() {
                 vec![scene.gravity]
             } else {
@@ -326,13 +340,13 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             };
             let (_, giwc) = stance_and_giwc(&scene)?;
             let region = RobustRegion::new(&giwc, &gs, &opts)?;
-            let mut stable = vec![false; pts.points.len()];
+            let mut stable = vec![false; points.len()];
             for _ in 0..a.common.repeat {
-                batch_with_progress(&region, &pts.points, &mut stable)?;
+                batch_with_progress(&region, &points, &mut stable)?;
             }
             let margin = a
                 .margin
-                .then(|| pts.points.iter().map(|&p| region.margin(p)).collect());
+                .then(|| points.iter().map(|&p| region.margin(p)).collect());
             write_output(
                 &a.common,
                 &TestOut {

@@ -1,0 +1,117 @@
+//! Regression tests for problems found in the user review of issue 3 (contact stability),
+//! each named after its problem.
+
+use stance_contact::{
+    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Scene,
+    Shape, Stance,
+};
+
+const EYE: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// With mu = 0 the pyramid's side faces only say `f_x = f_y = 0`: the supporting-forces QP
+/// used to return pulling forces (`f_z < 0`) as `Feasible` for gravity pointing up.
+#[test]
+fn frictionless_contacts_cannot_pull() {
+    for sides in [4, 3, 7] {
+        for approximation in [Approximation::Outer, Approximation::Inner] {
+            let model = FrictionModel {
+                sides,
+                approximation,
+            };
+            let foot = Contact::new(
+                "LF",
+                [0.0; 3],
+                EYE,
+                Shape::Rectangle {
+                    half_length: 0.11,
+                    half_width: 0.065,
+                },
+                0.0,
+                &Default::default(),
+            )
+            .unwrap();
+            let stance = Stance::new(vec![foot], model).unwrap();
+            let giwc = stance.u_stance(&Default::default()).unwrap();
+            for (g, stable) in [([0.0, 0.0, -9.81], true), ([0.0, 0.0, 9.81], false)] {
+                let w = w_gi_static(30.0, g, [0.0, 0.0, 0.8]);
+                assert_eq!(
+                    giwc.contains(&w, 1e-9),
+                    stable,
+                    "{model:?}: face test, g {g:?}"
+                );
+                let qp = supporting_forces(&stance, &w, &Default::default()).unwrap();
+                let want = if stable {
+                    ForcesOutcome::Feasible
+                } else {
+                    ForcesOutcome::Infeasible
+                };
+                assert_eq!(qp.outcome, want, "{model:?}: QP, g {g:?}");
+                if stable {
+                    for f in &qp.contacts[0].forces_local {
+                        assert!(f[2] >= -1e-6, "{model:?}: pulling force {f:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A TOML scene with too many numbers in a fixed-size array used to be accepted, the extra
+/// numbers dropped (the TOML reader does not check lengths): a 4-number position, a ragged or
+/// 4-row rotation, a 4-number gravity, a 3-number polygon vertex. JSON said "trailing
+/// characters". Both now reject them with the expected length.
+#[test]
+fn scene_arrays_of_the_wrong_length_are_rejected() {
+    let contact = |position: &str, rotation: &str, shape: &str| {
+        format!(
+            "mass = 39.0\n[[contacts]]\nname = \"a\"\nposition = {position}\n{rotation}shape = {shape}\nfriction = 0.5\n"
+        )
+    };
+    let rect = "{ rectangle = { half_length = 0.1, half_width = 0.1 } }";
+    let ok = contact("[0, 0, 0]", "", rect);
+    assert!(toml::from_str::<Scene>(&ok).is_ok());
+    let tri = "{ polygon = [[0.0, 0.0], [0.1, 0.0], [0.0, 0.1]] }";
+    assert!(toml::from_str::<Scene>(&contact("[0, 0, 0]", "", tri)).is_ok());
+    let bad = [
+        (contact("[0, 0, 0, 5]", "", rect), "invalid length 4"),
+        (contact("[0, 0]", "", rect), "invalid length 2"),
+        (
+            contact(
+                "[0, 0, 0]",
+                "rotation = [[1, 0, 0, 7], [0, 1, 0], [0, 0, 1]]\n",
+                rect,
+            ),
+            "matrix row",
+        ),
+        (
+            contact(
+                "[0, 0, 0]",
+                "rotation = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]]\n",
+                rect,
+            ),
+            "3 rows",
+        ),
+        (
+            contact(
+                "[0, 0, 0]",
+                "",
+                "{ polygon = [[0.0, 0.0], [0.1, 0.0, 3.0], [0.0, 0.1]] }",
+            ),
+            "vertex",
+        ),
+        (
+            format!("gravity = [0.0, 0.0, -9.81, 1.0]\n{ok}"),
+            "invalid length 4",
+        ),
+    ];
+    for (text, want) in &bad {
+        let err = toml::from_str::<Scene>(text).expect_err(text).to_string();
+        assert!(err.contains(want), "{text}\n-> {err}");
+    }
+    let json = r#"{"mass": 39, "contacts": [{"name": "a", "position": [0, 0, 0, 5], "shape": "point", "friction": 0.5}]}"#;
+    let err = serde_json::from_str::<Scene>(json).unwrap_err().to_string();
+    assert!(
+        err.contains("invalid length 4, expected 3 numbers"),
+        "{err}"
+    );
+}
