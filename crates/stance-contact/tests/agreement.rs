@@ -32,7 +32,8 @@ fn contact_strategy() -> impl Strategy<Value = Contact> {
         (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, 0.0f64..1.0),
         0usize..3,
         (0.02f64..0.15, 0.02f64..0.1),
-        0.1f64..1.2,
+        // Sometimes frictionless (the pyramid degenerates to the normal ray).
+        prop_oneof![6 => 0.1f64..1.2, 1 => Just(0.0)],
         proptest::bool::ANY,
     )
         .prop_map(|(p, (ax, ay, az, t), kind, (x, y), mu, upright)| {

@@ -115,3 +115,67 @@ fn scene_arrays_of_the_wrong_length_are_rejected() {
         "{err}"
     );
 }
+
+/// A random two-contact stance of the agreement test (with its seed after mu = 0 joined the
+/// strategy): the polygon's polish collapsed three vertices onto one corner and the edges
+/// between them gave a garbage half-plane, so `StaticPolygon::margin` called the CoM (0, 0),
+/// 1.87 cm inside, outside (fixed in `polycone::polytope`).
+#[test]
+fn polygon_margin_of_a_corner_where_many_rows_meet() {
+    use stance_contact::equilibrium::StaticEquilibrium;
+    let a = Contact::new(
+        "a",
+        [0.0, 0.13916163812471996, 0.3373013434277288],
+        [
+            [0.9844403935296494, 0.0, -0.17571884243640168],
+            [0.0, 1.0, 0.0],
+            [0.17571884243640168, 0.0, 0.9844403935296494],
+        ],
+        Shape::Rectangle {
+            half_length: 0.07841116725259901,
+            half_width: 0.02,
+        },
+        0.1,
+        &Default::default(),
+    )
+    .unwrap();
+    let b = Contact::new(
+        "b",
+        [
+            0.23915348283612084,
+            -0.25807617037479796,
+            0.3096082065927114,
+        ],
+        [
+            [0.9638421270475357, -0.0334075388030715, -0.2643715008838953],
+            [
+                -0.0334075388030715,
+                0.9691335922788937,
+                -0.24426218837087393,
+            ],
+            [0.2643715008838953, 0.24426218837087393, 0.9329757193264293],
+        ],
+        Shape::Rectangle {
+            half_length: 0.13142465875448914,
+            half_width: 0.07367963631024074,
+        },
+        1.1722280476165439,
+        &Default::default(),
+    )
+    .unwrap();
+    let stance = Stance::new(vec![a, b], FrictionModel::default()).unwrap();
+    let giwc = stance.u_stance(&Default::default()).unwrap();
+    let eq = StaticEquilibrium::new(&giwc, [0.0, 0.0, -9.81], &Default::default()).unwrap();
+    let poly = eq.polygon(0.0).unwrap();
+    let inside = -eq.halfspaces().max_residual([0.0, 0.0, 0.3]);
+    assert!((inside - 0.018683340241552996).abs() < 1e-9, "{inside}");
+    assert!((poly.margin([0.0, 0.0]) - inside).abs() < 1e-9);
+    for (h, c) in &poly.halfplanes {
+        for v in &poly.vertices {
+            assert!(
+                h[0] * v[0] + h[1] * v[1] - c <= 1e-9,
+                "{h:?} {c} cuts {v:?}"
+            );
+        }
+    }
+}
