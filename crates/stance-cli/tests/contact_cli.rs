@@ -148,6 +148,17 @@ fn plots_are_written() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::read_to_string(&path).unwrap().contains("<svg"));
+    // An unbounded region (one gravity: a vertical prism) is plotted too.
+    let path = dir.join("prism.png");
+    let (code, _, err) = stance(&[
+        "equilibrium",
+        "region",
+        "single-support",
+        "--plot",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::metadata(&path).unwrap().len() > 1000);
 }
 
 #[test]
