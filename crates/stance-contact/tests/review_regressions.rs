@@ -179,3 +179,51 @@ fn polygon_margin_of_a_corner_where_many_rows_meet() {
         }
     }
 }
+
+/// A friction coefficient of 1e9 (a user's "infinite friction") gave a flat foot a segment as
+/// its static-equilibrium polygon, and 1e10 an empty one, both from a cone reported as
+/// certified: the normal force is a 1e-9 part of the pyramid's edges and the cone conversion's
+/// rank decisions dropped it. Such a mu is now an error; up to `MAX_FRICTION` the foot is right.
+#[test]
+fn huge_friction_is_an_error_not_a_wrong_cone() {
+    use stance_contact::contact::MAX_FRICTION;
+    use stance_contact::equilibrium::StaticEquilibrium;
+    let foot = |mu: f64| {
+        Contact::new(
+            "LF",
+            [0.0; 3],
+            EYE,
+            Shape::Rectangle {
+                half_length: 0.11,
+                half_width: 0.065,
+            },
+            mu,
+            &Default::default(),
+        )
+    };
+    for mu in [1e3, MAX_FRICTION] {
+        let stance = Stance::new(vec![foot(mu).unwrap()], FrictionModel::default()).unwrap();
+        let giwc = stance.u_stance(&Default::default()).unwrap();
+        assert_eq!(
+            (giwc.facets.nrows(), giwc.equations.nrows()),
+            (16, 0),
+            "mu {mu}"
+        );
+        let eq = StaticEquilibrium::new(&giwc, [0.0, 0.0, -9.81], &Default::default()).unwrap();
+        let poly = eq.polygon(0.0).unwrap();
+        assert_eq!(poly.vertices.len(), 4, "mu {mu}");
+        assert!((poly.margin([0.0, 0.0]) - 0.065).abs() < 1e-9, "mu {mu}");
+        for (p, want) in [
+            ([0.0, 0.0, 0.8], ForcesOutcome::Feasible),
+            ([0.2, 0.0, 0.8], ForcesOutcome::Infeasible),
+        ] {
+            let w = w_gi_static(39.0, [0.0, 0.0, -9.81], p);
+            let qp = supporting_forces(&stance, &w, &Default::default()).unwrap();
+            assert_eq!(qp.outcome, want, "mu {mu}, CoM {p:?}");
+        }
+    }
+    for mu in [1e9, 1e12, f64::MAX] {
+        let err = foot(mu).unwrap_err().to_string();
+        assert!(err.contains("friction coefficient"), "{err}");
+    }
+}
