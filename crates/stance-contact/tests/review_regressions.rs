@@ -227,3 +227,51 @@ fn huge_friction_is_an_error_not_a_wrong_cone() {
         assert!(err.contains("friction coefficient"), "{err}");
     }
 }
+
+/// The stair stance (176 facets) moved 30 km and 100 km from the world origin came back as a
+/// certified 38-facet cone with two equations, and its static-equilibrium polygon as a point:
+/// the conversion now runs at the first contact's origin. The polygon is the one near the
+/// origin, translated.
+#[test]
+fn stance_far_from_the_world_origin_keeps_its_cone() {
+    use stance_contact::equilibrium::StaticEquilibrium;
+    let stairs = |o: f64| {
+        let sh = Shape::Rectangle {
+            half_length: 0.11,
+            half_width: 0.065,
+        };
+        let yaw = [
+            [0.9848038455574508, -0.17367033648627694, 0.0],
+            [0.17367033648627694, 0.9848038455574508, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let t = Default::default();
+        let a = Contact::new("LF", [o, o + 0.1, 0.0], EYE, sh.clone(), 0.7, &t).unwrap();
+        let b = Contact::new("RF", [o + 0.28, o - 0.1, 0.24], yaw, sh, 0.7, &t).unwrap();
+        Stance::new(vec![a, b], FrictionModel::default()).unwrap()
+    };
+    let polygon = |o: f64| {
+        let giwc = stairs(o).u_stance(&Default::default()).unwrap();
+        assert!(giwc.certified);
+        assert_eq!(
+            (giwc.facets.nrows(), giwc.equations.nrows()),
+            (176, 0),
+            "at {o} m"
+        );
+        let eq = StaticEquilibrium::new(&giwc, [0.0, 0.0, -9.81], &Default::default()).unwrap();
+        eq.polygon(0.0).unwrap().vertices
+    };
+    let near = polygon(0.0);
+    for o in [3e4, 1e5] {
+        let far = polygon(o);
+        assert_eq!(far.len(), near.len(), "at {o} m");
+        for v in &far {
+            let moved = [v[0] - o, v[1] - o];
+            assert!(
+                near.iter()
+                    .any(|w| (w[0] - moved[0]).abs() < 1e-6 && (w[1] - moved[1]).abs() < 1e-6),
+                "at {o} m: vertex {v:?}"
+            );
+        }
+    }
+}
