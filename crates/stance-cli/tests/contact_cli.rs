@@ -213,7 +213,7 @@ fn ragged_rows_in_toml_inputs_exit_2() {
                 "--points",
                 pts.to_str().unwrap(),
             ],
-            "point 0 has 4 numbers",
+            "invalid length 4, expected a point [x, y, z]",
         ),
         (
             vec![
@@ -223,7 +223,7 @@ fn ragged_rows_in_toml_inputs_exit_2() {
                 "--points",
                 short.to_str().unwrap(),
             ],
-            "point 0 has 2 numbers",
+            "invalid length 2, expected a point [x, y, z]",
         ),
         (
             vec!["equilibrium", "polygon", scene.to_str().unwrap()],

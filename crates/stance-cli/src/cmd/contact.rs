@@ -230,26 +230,53 @@ struct RegionOut {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PointsIn {
-    /// Read as rows of any length and checked by `com_points` (TOML would silently drop the
-    /// extra numbers of a fixed-size `[f64; 3]`).
-    points: Vec<Vec<f64>>,
+    points: Vec<Com>,
 }
 
-/// The CoMs of a points file: three finite numbers per point.
-fn com_points(rows: &[Vec<f64>]) -> Result<Vec<[f64; 3]>> {
-    rows.iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let p: [f64; 3] = r
-                .as_slice()
-                .try_into()
-                .map_err(|_| anyhow!("point {i} has {} numbers: give [x, y, z]", r.len()))?;
-            if p.iter().any(|x| !x.is_finite()) {
-                bail!("point {i} has a non-finite coordinate");
+/// A CoM `[x, y, z]`: exactly three numbers. (A plain `[f64; 3]` read from TOML silently drops
+/// extra numbers; this checks the length in every format without allocating per point.)
+struct Com([f64; 3]);
+
+impl<'de> Deserialize<'de> for Com {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::{Error, IgnoredAny, SeqAccess, Visitor};
+        struct Three;
+        impl<'de> Visitor<'de> for Three {
+            type Value = Com;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a point [x, y, z] of 3 numbers")
             }
-            Ok(p)
-        })
-        .collect()
+            fn visit_seq<A: SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Com, A::Error> {
+                let mut p = [0.0; 3];
+                for (i, x) in p.iter_mut().enumerate() {
+                    *x = seq
+                        .next_element()?
+                        .ok_or_else(|| A::Error::invalid_length(i, &self))?;
+                }
+                let mut n = 3;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n != 3 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(Com(p))
+            }
+        }
+        d.deserialize_seq(Three)
+    }
+}
+
+/// The CoMs of a points file, checked finite.
+fn com_points(coms: Vec<Com>) -> Result<Vec<[f64; 3]>> {
+    let points: Vec<[f64; 3]> = coms.into_iter().map(|c| c.0).collect();
+    if let Some(i) = points.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        bail!("point {i} has a non-finite coordinate");
+    }
+    Ok(points)
 }
 
 #[derive(Serialize)]
@@ -331,7 +358,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
         EquilibriumCommand::Test(a) => {
             let scene = load_scene(&a.scene)?;
             let pts: PointsIn = read_input(&a.points)?;
-            let points = com_points(&pts.points)
+            let points = com_points(pts.points)
                 .with_context(|| format!("in the points file {}", a.points.display()))?;
             let gs = if a.gravity.is_empty() {
                 vec![scene.gravity]
