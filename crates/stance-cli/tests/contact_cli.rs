@@ -148,6 +148,17 @@ fn plots_are_written() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::read_to_string(&path).unwrap().contains("<svg"));
+    // An unbounded region (one gravity: a vertical prism) is plotted too.
+    let path = dir.join("prism.png");
+    let (code, _, err) = stance(&[
+        "equilibrium",
+        "region",
+        "single-support",
+        "--plot",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::metadata(&path).unwrap().len() > 1000);
 }
 
 #[test]
@@ -177,4 +188,51 @@ fn bad_input_exits_2_with_one_line() {
         err.starts_with("error:") && err.contains("gx,gy,gz"),
         "{err}"
     );
+}
+
+/// Review of issue 3: ragged rows in TOML inputs were silently truncated (a point
+/// `[x, y, z, w]` tested as `[x, y, z]`, a 4-number position read as its first 3).
+#[test]
+fn ragged_rows_in_toml_inputs_exit_2() {
+    let pts = tmp(
+        "ragged.toml",
+        "points = [[0.0, 0.0, 0.8, 9.0], [0.2, 0.0, 0.8]]\n",
+    );
+    let short = tmp("short.json", r#"{"points": [[0.0, 0.0]]}"#);
+    let scene = tmp(
+        "ragged_scene.toml",
+        "mass = 39.0\n[[contacts]]\nname = \"LF\"\nposition = [0.0, 0.0, 0.0, 5.0]\n\
+         shape = \"point\"\nfriction = 0.5\n",
+    );
+    for (args, want) in [
+        (
+            vec![
+                "equilibrium",
+                "test",
+                "single-support",
+                "--points",
+                pts.to_str().unwrap(),
+            ],
+            "invalid length 4, expected a point [x, y, z]",
+        ),
+        (
+            vec![
+                "equilibrium",
+                "test",
+                "single-support",
+                "--points",
+                short.to_str().unwrap(),
+            ],
+            "invalid length 2, expected a point [x, y, z]",
+        ),
+        (
+            vec!["equilibrium", "polygon", scene.to_str().unwrap()],
+            "invalid length 4",
+        ),
+    ] {
+        let (code, _, err) = stance(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
 }

@@ -12,6 +12,13 @@ use nalgebra::Matrix3;
 use crate::tol::ContactTolerances;
 use crate::{ContactError, FrictionModel};
 
+/// Largest accepted friction coefficient (dimensionless, `1e6`). Reason: the pyramid's edges
+/// `(+-mu, +-mu, 1)` carry the normal force in a component `1 / mu` of their length; from
+/// about `mu = 1e9` the cone conversion's relative rank decisions drop it (a flat foot then
+/// gets a segment, or an empty static-equilibrium polygon, reported as certified). `1e6`
+/// keeps three orders of magnitude from that, and any physical contact is far below it.
+pub const MAX_FRICTION: f64 = 1e6;
+
 /// Shape of a contact surface, in the contact frame (the plane z = 0).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
@@ -48,7 +55,7 @@ fn finite(what: impl Fn() -> String, xs: &[f64]) -> Result<(), ContactError> {
 }
 
 impl Contact {
-    /// Validates and builds a contact: finite numbers, `friction >= 0`, `rotation` (row-major,
+    /// Validates and builds a contact: finite numbers, `0 <= friction <= MAX_FRICTION`, `rotation` (row-major,
     /// contact frame -> world) orthonormal with determinant +1, rectangle half sizes > 0, polygon
     /// convex with at least 3 vertices and area above [`ContactTolerances::min_area`].
     ///
@@ -59,6 +66,7 @@ impl Contact {
     ///     Shape::Rectangle { half_length: 0.11, half_width: 0.065 }, 0.7, &Default::default()).unwrap();
     /// assert_eq!(foot.vertices_local().len(), 4);
     /// assert!(Contact::new("bad", [0.0; 3], eye, Shape::Point, -0.1, &Default::default()).is_err());
+    /// assert!(Contact::new("glue", [0.0; 3], eye, Shape::Point, 1e9, &Default::default()).is_err());
     /// ```
     pub fn new(
         name: &str,
@@ -76,6 +84,13 @@ impl Contact {
             return Err(ContactError::NegativeFriction {
                 contact: name.into(),
                 mu: friction,
+            });
+        }
+        if friction > MAX_FRICTION {
+            return Err(ContactError::FrictionTooLarge {
+                contact: name.into(),
+                mu: friction,
+                max: MAX_FRICTION,
             });
         }
         let r = Matrix3::from_row_slice(rotation.as_flattened());

@@ -18,6 +18,16 @@ pub enum ContactError {
         /// The value given.
         mu: f64,
     },
+    /// Friction coefficient above [`crate::contact::MAX_FRICTION`].
+    #[error("contact `{contact}` has friction coefficient {mu:e} > {max:e}: so large a mu makes the friction cone numerically lose its normal force; use a mu up to {max:e} (1e3 already means a contact that does not slip)")]
+    FrictionTooLarge {
+        /// Contact name.
+        contact: String,
+        /// The value given.
+        mu: f64,
+        /// The largest accepted value.
+        max: f64,
+    },
     /// A rotation matrix that is not orthonormal with determinant +1.
     #[error("contact `{contact}`: the rotation is not a rotation matrix (R^T R - I or det R - 1 is {error:.3e} > {tol:.0e}); give an orthonormal, right-handed 3x3 matrix, row-major, contact frame -> world")]
     NotARotation {

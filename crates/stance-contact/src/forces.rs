@@ -5,9 +5,15 @@
 //!
 //! ```text
 //! minimize    1/2 sum |f_ij|^2
-//! subject to  sum_ij (R_i f_ij, q_ij x R_i f_ij) = -w_GI     (Newton-Euler, world origin)
+//! subject to  sum_ij (R_i f_ij, (q_ij - c) x R_i f_ij) = -w_GI(c)   (Newton-Euler at c)
 //!             G f_ij <= 0                                     (friction pyramid, face form)
 //! ```
+//!
+//! with `w_GI(c) = (f_GI, tau_GI - c x f_GI)` the gravito-inertial wrench moved from the world
+//! origin to the centroid `c` of the contact points (the same equations, exactly). Written at
+//! the world origin, a stance 1 km away would let a force error of 1 mN stand for a torque
+//! error of 1 N m, and the relative tolerances below would accept a CoM a metre outside the
+//! support; at `c` they mean the same thing wherever the origin is.
 //!
 //! solved by Clarabel (an interior-point solver) in two phases. Phase 1 is an always-feasible
 //! LP: minimize `|s|_1` subject to `sum_ij (...) + s = -w_GI` and the pyramids; its optimum is
@@ -17,7 +23,7 @@
 //! solver to detect infeasibility of the QP directly is less reliable: interior-point methods
 //! may stop with "insufficient progress" on infeasible problems.) It uses the pyramids in **face** form and the forces directly,
 //! so it is independent of the span construction and of the double description: it is the
-//! check of every face-form test in the tests. The problem is scaled by `|w_GI|`.
+//! check of every face-form test in the tests. The problem is scaled by `|w_GI(c)|`.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -58,12 +64,15 @@ pub struct SupportingForces {
     pub outcome: ForcesOutcome,
     /// Per-contact forces (meaningful when `outcome` is `Feasible`).
     pub contacts: Vec<ContactForces>,
-    /// `|sum of contact wrenches + w_GI| / |w_GI|` of the returned forces.
+    /// `|sum of contact wrenches + w_GI| / |w_GI|` of the returned forces, wrenches taken at
+    /// the centroid of the contact points (module doc).
     pub residual: f64,
-    /// Largest friction-pyramid violation `max(G f) / |w_GI|` of the returned forces.
+    /// Largest friction-pyramid violation `max(G f) / |w_GI|` of the returned forces (`w_GI`
+    /// at the centroid of the contact points).
     pub friction_violation: f64,
     /// Phase-1 optimum: L1 distance from `-w_GI` to the wrenches the contacts can produce,
-    /// relative to `|w_GI|` (0 when feasible; the infeasibility certificate otherwise).
+    /// relative to `|w_GI|`, at the centroid of the contact points (0 when feasible; the
+    /// infeasibility certificate otherwise).
     pub distance: f64,
     /// Clarabel's status of the last phase run, for the record.
     pub solver_status: String,
@@ -113,7 +122,12 @@ pub fn supporting_forces(
         });
     }
     let model = stance.friction_model();
-    let k = model.sides;
+    // Face rows of each contact's pyramid (k sides, plus `f_z >= 0` when mu = 0).
+    let faces: Vec<Vec<[f64; 3]>> = stance
+        .contacts()
+        .iter()
+        .map(|c| model.faces(c.friction()))
+        .collect();
     // Variables: 3 per contact vertex.
     let mut points: Vec<(usize, [f64; 3])> = Vec::new();
     for (i, c) in stance.contacts().iter().enumerate() {
@@ -123,33 +137,49 @@ pub fn supporting_forces(
     }
     let nv = points.len();
     let n = 3 * nv;
-    let m = 6 + k * nv;
-    let scale = w_gi.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // Friction rows, all vertices.
+    let nf: usize = points.iter().map(|(i, _)| faces[*i].len()).sum();
+    let m = 6 + nf;
+    // Reference point: the centroid c of the contact points; w_GI(c) = (f, tau - c x f).
+    let mut centroid = [0.0; 3];
+    for (_, q) in &points {
+        for k in 0..3 {
+            centroid[k] += q[k] / nv as f64;
+        }
+    }
+    let f_gi = [w_gi[0], w_gi[1], w_gi[2]];
+    let c_x_f = crate::cross(centroid, f_gi);
+    let w_c = [
+        w_gi[0],
+        w_gi[1],
+        w_gi[2],
+        w_gi[3] - c_x_f[0],
+        w_gi[4] - c_x_f[1],
+        w_gi[5] - c_x_f[2],
+    ];
+    let scale = w_c.iter().map(|x| x * x).sum::<f64>().sqrt();
     let scale = if scale > 0.0 { scale } else { 1.0 };
     let mut a = vec![0.0; m * n];
     let mut b = vec![0.0; m];
     for r in 0..6 {
-        b[r] = -w_gi[r] / scale;
+        b[r] = -w_c[r] / scale;
     }
-    let faces: Vec<Vec<[f64; 3]>> = stance
-        .contacts()
-        .iter()
-        .map(|c| model.faces(c.friction()))
-        .collect();
+    let mut row = 6;
     for (j, (i, q)) in points.iter().enumerate() {
         let rot = stance.contacts()[*i].rotation();
-        let qr = crate::stance::skew(*q) * rot;
+        let qr =
+            crate::stance::skew([q[0] - centroid[0], q[1] - centroid[1], q[2] - centroid[2]]) * rot;
         for r in 0..3 {
             for c in 0..3 {
                 a[r * n + 3 * j + c] = rot[(r, c)];
                 a[(3 + r) * n + 3 * j + c] = qr[(r, c)];
             }
         }
-        for (s, g) in faces[*i].iter().enumerate() {
-            let row = 6 + k * j + s;
+        for g in &faces[*i] {
             for c in 0..3 {
                 a[row * n + 3 * j + c] = g[c];
             }
+            row += 1;
         }
     }
     let settings = || {
@@ -181,7 +211,7 @@ pub fn supporting_forces(
     }
     let cones1 = [
         SupportedConeT::ZeroConeT(6),
-        SupportedConeT::NonnegativeConeT(k * nv + 12),
+        SupportedConeT::NonnegativeConeT(nf + 12),
     ];
     let mut phase1 = DefaultSolver::new(
         &CscMatrix::zeros((n1, n1)),
@@ -207,7 +237,7 @@ pub fn supporting_forces(
             &b,
             &[
                 SupportedConeT::ZeroConeT(6),
-                SupportedConeT::NonnegativeConeT(k * nv),
+                SupportedConeT::NonnegativeConeT(nf),
             ],
             settings()?,
         )

@@ -10,7 +10,8 @@
 //! - inner (inscribed): edge radius `mu`, apothem `mu' = mu cos(pi/k)` (`mu / sqrt 2` for k = 4).
 //!
 //! Span form: the k edges `(r cos, r sin, 1)`; face form: rows
-//! `(cos phi_s, sin phi_s, -mu')` with `u . f <= 0`.
+//! `(cos phi_s, sin phi_s, -mu')` with `u . f <= 0`, and `(0, 0, -1)` (`f_z >= 0`) when
+//! `mu = 0`, where the side faces alone leave `f_z` free.
 
 use serde::{Deserialize, Serialize};
 
@@ -106,7 +107,10 @@ impl FrictionModel {
             .collect()
     }
 
-    /// The k face rows `u` (contact frame) with `u . f <= 0` on the pyramid.
+    /// The face rows `u` (contact frame) with `u . f <= 0` on the pyramid: the k side faces,
+    /// plus the unilateral row `(0, 0, -1)` (`f_z >= 0`) when the apothem is zero (`mu = 0`).
+    /// For `mu > 0` the side faces imply `f_z >= 0`; for `mu = 0` they only say
+    /// `f_x = f_y = 0` and would let the contact pull.
     ///
     /// ```
     /// use stance_contact::FrictionModel;
@@ -116,24 +120,32 @@ impl FrictionModel {
     ///         assert!(u[0] * e[0] + u[1] * e[1] + u[2] * e[2] <= 1e-12);
     ///     }
     /// }
+    /// // Frictionless: the ray f_z >= 0 of the normal, never a pull.
+    /// let pull = [0.0, 0.0, -1.0];
+    /// assert_eq!(m.faces(0.0).len(), 5);
+    /// assert!(m.faces(0.0).iter().any(|u| u[0] * pull[0] + u[1] * pull[1] + u[2] * pull[2] > 0.0));
     /// ```
     pub fn faces(&self, mu: f64) -> Vec<[f64; 3]> {
-        if self.sides == 4 {
-            let a = self.apothem(mu);
-            return vec![
+        let a = self.apothem(mu);
+        let mut out: Vec<[f64; 3]> = if self.sides == 4 {
+            vec![
                 [1.0, 0.0, -a],
                 [0.0, 1.0, -a],
                 [-1.0, 0.0, -a],
                 [0.0, -1.0, -a],
-            ];
+            ]
+        } else {
+            let k = self.sides as f64;
+            (0..self.sides)
+                .map(|s| {
+                    let t = 2.0 * s as f64 * std::f64::consts::PI / k;
+                    [t.cos(), t.sin(), -a]
+                })
+                .collect()
+        };
+        if a <= 0.0 {
+            out.push([0.0, 0.0, -1.0]);
         }
-        let k = self.sides as f64;
-        let a = self.apothem(mu);
-        (0..self.sides)
-            .map(|s| {
-                let t = 2.0 * s as f64 * std::f64::consts::PI / k;
-                [t.cos(), t.sin(), -a]
-            })
-            .collect()
+        out
     }
 }

@@ -26,6 +26,7 @@
 //! GIWC (a lower-dimensional GIWC, e.g. point contacts: 3-D, then 5-D, then 6-D), and in the
 //! other cases listed in polycone's `continuation` docs.
 
+use crate::giwc_dd::{conversion_point, giwc_at_origin, span_at};
 use crate::{Contact, ContactError, Giwc, GiwcOptions, Stance};
 
 /// A stance and its `U_stance`, updated by continuation when a contact is added. Build it
@@ -49,15 +50,8 @@ pub struct GiwcBuilder {
     stance: Stance,
     cont: polycone::Continuation,
     giwc: Giwc,
-}
-
-fn giwc_of(out: &polycone::SpanToFace) -> Giwc {
-    Giwc {
-        facets: out.face.facets.clone(),
-        equations: out.face.equations.clone(),
-        lineality: out.lineality.clone(),
-        certified: out.certificate.certified,
-    }
+    /// Where the conversion runs (the first contact's origin, as in [`Stance::u_stance`]).
+    point: [f64; 3],
 }
 
 impl GiwcBuilder {
@@ -70,12 +64,14 @@ impl GiwcBuilder {
     /// assert_eq!(b.giwc(), &s.u_stance(&Default::default()).unwrap());
     /// ```
     pub fn new(stance: &Stance, opts: &GiwcOptions) -> Result<Self, ContactError> {
-        let cont = polycone::Continuation::new(&stance.giwc_span(), &opts.dd)
+        let point = conversion_point(stance);
+        let cont = polycone::Continuation::new(&span_at(&stance.giwc_span(), point), &opts.dd)
             .map_err(|e| ContactError::Cone(e.to_string()))?;
         Ok(Self {
             stance: stance.clone(),
-            giwc: giwc_of(cont.result()),
+            giwc: giwc_at_origin(cont.result(), point),
             cont,
+            point,
         })
     }
 
@@ -104,9 +100,9 @@ impl GiwcBuilder {
         .giwc_span();
         let out = self
             .cont
-            .add_generators(&new)
+            .add_generators(&span_at(&new, self.point))
             .map_err(|e| ContactError::Cone(e.to_string()))?;
-        self.giwc = giwc_of(out);
+        self.giwc = giwc_at_origin(out, self.point);
         self.stance = stance;
         Ok(&self.giwc)
     }
@@ -145,13 +141,18 @@ impl GiwcBuilder {
         self.cont.last_step()
     }
 
-    /// The underlying cone conversion (generators, extreme generators, certificate).
+    /// The underlying cone conversion (generators, extreme generators, certificate). It runs
+    /// on the wrenches at the first contact's origin (the module doc of `Stance::u_stance`'s
+    /// source explains why): its generators are the rows of [`Stance::giwc_span`] moved there.
     ///
     /// ```
     /// use stance_contact::{examples, GiwcBuilder};
     /// let s = examples::double_support_flat().stance().unwrap();
     /// let b = GiwcBuilder::new(&s, &Default::default()).unwrap();
-    /// assert_eq!(b.continuation().generators(), &s.giwc_span());
+    /// let (g, span) = (b.continuation().generators(), s.giwc_span());
+    /// assert_eq!(g.shape(), span.shape());
+    /// // Forces unchanged; torques about the first contact's origin (0, 0.1, 0).
+    /// assert_eq!(g.columns(0, 3), span.columns(0, 3));
     /// ```
     pub fn continuation(&self) -> &polycone::Continuation {
         &self.cont

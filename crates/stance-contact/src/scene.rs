@@ -9,7 +9,9 @@
 //! ```
 //!
 //! `gravity` defaults to `[0, 0, -9.81]`, `rotation` to the identity, `friction_model` to the
-//! paper's outer 4-sided pyramid. Unknown keys are rejected.
+//! paper's outer 4-sided pyramid. Unknown keys are rejected, and so are arrays of the wrong
+//! length (a 4-number position, a ragged rotation row, a 3-number polygon vertex): the TOML
+//! reader would otherwise drop the extra numbers silently.
 
 use serde::{Deserialize, Serialize};
 
@@ -26,6 +28,45 @@ fn identity() -> [[f64; 3]; 3] {
     [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
 }
 
+/// Fixed-length arrays that reject extra elements in every format (`deserialize_with`).
+mod strict {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    fn exact<'de, D: Deserializer<'de>, const N: usize>(
+        v: Vec<f64>,
+        what: &'static str,
+    ) -> Result<[f64; N], D::Error> {
+        let len = v.len();
+        v.try_into()
+            .map_err(|_| D::Error::invalid_length(len, &what))
+    }
+
+    /// `[x, y, z]`.
+    pub fn vec3<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
+        exact::<D, 3>(Vec::deserialize(d)?, "3 numbers [x, y, z]")
+    }
+
+    /// A 3x3 matrix, row-major.
+    pub fn mat3<'de, D: Deserializer<'de>>(d: D) -> Result<[[f64; 3]; 3], D::Error> {
+        let rows: Vec<Vec<f64>> = Vec::deserialize(d)?;
+        let len = rows.len();
+        let rows: [Vec<f64>; 3] = rows
+            .try_into()
+            .map_err(|_| D::Error::invalid_length(len, &"3 rows (a 3x3 matrix, row-major)"))?;
+        let [a, b, c] = rows;
+        let row = |r: Vec<f64>| exact::<D, 3>(r, "a matrix row of 3 numbers");
+        Ok([row(a)?, row(b)?, row(c)?])
+    }
+
+    /// Polygon vertices `[[x, y], ...]`.
+    pub fn points2<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
+        let rows: Vec<Vec<f64>> = Vec::deserialize(d)?;
+        rows.into_iter()
+            .map(|r| exact::<D, 2>(r, "a vertex of 2 numbers [x, y]"))
+            .collect()
+    }
+}
+
 /// Shape of a contact in a scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
@@ -40,7 +81,7 @@ pub enum ShapeSpec {
         half_width: f64,
     },
     /// A convex polygon, vertices `[x, y]` in the contact frame.
-    Polygon(Vec<[f64; 2]>),
+    Polygon(#[serde(deserialize_with = "strict::points2")] Vec<[f64; 2]>),
 }
 
 /// One contact of a scene file.
@@ -50,9 +91,10 @@ pub struct ContactSpec {
     /// Name (for messages and outputs).
     pub name: String,
     /// Contact frame origin, world coordinates (m).
+    #[serde(deserialize_with = "strict::vec3")]
     pub position: [f64; 3],
     /// Rotation, row-major, contact frame -> world (default identity).
-    #[serde(default = "identity")]
+    #[serde(default = "identity", deserialize_with = "strict::mat3")]
     pub rotation: [[f64; 3]; 3],
     /// Contact shape.
     pub shape: ShapeSpec,
@@ -67,7 +109,7 @@ pub struct Scene {
     /// Total mass (kg, > 0).
     pub mass: f64,
     /// Gravity (m/s^2; default `[0, 0, -9.81]`).
-    #[serde(default = "default_gravity")]
+    #[serde(default = "default_gravity", deserialize_with = "strict::vec3")]
     pub gravity: [f64; 3],
     /// Contacts (at least one).
     pub contacts: Vec<ContactSpec>,

@@ -83,6 +83,67 @@ fn far_origin_50_m() {
     check(&s, o, "50 m origin");
 }
 
+/// A stance 1 km from the world origin (the torques of `w_GI` are 1e3 times the forces).
+#[test]
+fn far_origin_1_km() {
+    let o = [700.0, -700.0, 150.0];
+    let s = Stance::new(
+        vec![
+            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, (0.11, 0.065)),
+            foot(
+                "RF",
+                [o[0] + 0.1, o[1] - 0.1, o[2] + 0.05],
+                10.0,
+                (0.11, 0.065),
+            ),
+        ],
+        FrictionModel::default(),
+    )
+    .unwrap();
+    let giwc = s.u_stance(&Default::default()).unwrap();
+    assert!(giwc.certified);
+    assert_eq!(giwc.equations.nrows(), 0);
+    let g = [0.0, 0.0, -9.81];
+    let eq = StaticEquilibrium::new(&giwc, g, &Default::default()).unwrap();
+    // The metric CoM test (half-spaces in metres) against the QP, outside a 0.1 mm band.
+    // (Not the face value: it is relative to |w_GI| at the world origin, whose torque is 1e3
+    // times its force here, so its 1e-6 band is about 1 m wide. Regression: the QP also
+    // worked at the world origin and called CoMs 14 cm outside the support feasible.)
+    const BAND_M: f64 = 1e-4;
+    let (mut stable, mut unstable) = (0, 0);
+    for i in 0..41 {
+        for j in 0..9 {
+            let p = [
+                o[0] - 0.25 + 0.0125 * i as f64,
+                o[1] - 0.2 + 0.05 * j as f64,
+                o[2] + 0.8,
+            ];
+            let r = eq.halfspaces().max_residual(p);
+            if r.abs() <= BAND_M {
+                continue;
+            }
+            let qp = supporting_forces(&s, &w_gi_static(1.0, g, p), &Default::default()).unwrap();
+            let want = if r < 0.0 {
+                stable += 1;
+                ForcesOutcome::Feasible
+            } else {
+                unstable += 1;
+                ForcesOutcome::Infeasible
+            };
+            assert_eq!(
+                qp.outcome, want,
+                "CoM {p:?}, residual {r} m; {} {} {} {}",
+                qp.distance, qp.residual, qp.friction_violation, qp.solver_status
+            );
+            assert_eq!(eq.is_stable(p), r < 0.0);
+        }
+    }
+    assert!(
+        stable > 50 && unstable > 50,
+        "{stable} stable, {unstable} unstable"
+    );
+}
+
 #[test]
 fn foot_rolled_by_small_angles() {
     for roll in [1.0, 0.1, 0.01] {

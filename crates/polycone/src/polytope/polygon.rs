@@ -179,9 +179,10 @@ pub fn polygon_from_halfplanes(
 }
 
 /// Merges close vertices, drops non-corners, classifies the result.
-fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) -> Polygon {
+/// Merges consecutive vertices closer than `merge_tol`; the surviving vertex keeps the later
+/// outgoing edge (the sliver edge between them goes).
+fn merge_close(poly: &mut Vec<Vx>, opts: &PolytopeOptions) {
     let close = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) <= opts.merge_tol;
-    // Merge consecutive near-duplicates; the surviving vertex keeps the later outgoing edge.
     let mut changed = true;
     while changed && poly.len() > 1 {
         changed = false;
@@ -196,6 +197,10 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
             }
         }
     }
+}
+
+fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) -> Polygon {
+    merge_close(&mut poly, opts);
     // Drop vertices lying on the segment between their neighbours (within dist_tol).
     let mut changed = true;
     while changed && poly.len() > 2 {
@@ -268,6 +273,10 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
         for (v, p) in poly.iter_mut().zip(fixed) {
             v.p = p;
         }
+        // The polish can move vertices that were clipped apart onto one corner where several
+        // lines meet: merge them again, or the edges between them (1e-14 long) would give
+        // `halfplanes` meaningless normals.
+        merge_close(&mut poly, opts);
     }
     let dim = match poly.len() {
         0 | 1 => 0,

@@ -526,3 +526,46 @@ fn regression_hull3_of_a_needle() {
         }
     }
 }
+
+/// Regression: the polish recomputed three clipped vertices (more than `merge_tol` apart) as
+/// the same corner, where many lines meet; the 1e-14 edges left between them gave
+/// [`Polygon::halfplanes`] a garbage half-plane that cut the polygon's interior (found by
+/// stance-contact's agreement test in the review of issue 3: a CoM 1.9 cm inside the
+/// static-equilibrium polygon got a negative margin).
+#[test]
+fn regression_polish_collapses_vertices_merges_them() {
+    let text =
+        include_str!("../../../../testdata/polytope/regression_polish_collapses_vertices.json");
+    let v: serde_json::Value = serde_json::from_str(text).unwrap();
+    let rows: Vec<[f64; 3]> = serde_json::from_value(v["halfplanes"].clone()).unwrap();
+    let a: Vec<[f64; 2]> = rows.iter().map(|r| [r[0], r[1]]).collect();
+    let b: Vec<f64> = rows.iter().map(|r| r[2]).collect();
+    let o = PolytopeOptions::default();
+    let poly = polygon_from_halfplanes(&a, &b, &o).unwrap();
+    assert_eq!((poly.status, poly.dim), (RegionStatus::Bounded, 2));
+    let n = poly.vertices.len();
+    for i in 0..n {
+        let (p, q) = (poly.vertices[i], poly.vertices[(i + 1) % n]);
+        assert!(
+            (p[0] - q[0]).hypot(p[1] - q[1]) > o.merge_tol,
+            "vertices {i} and {} coincide: {p:?} {q:?}",
+            (i + 1) % n
+        );
+    }
+    // Every edge's half-plane holds every vertex (and so the interior).
+    for (h, c) in poly.halfplanes() {
+        for v in &poly.vertices {
+            assert!(
+                h[0] * v[0] + h[1] * v[1] - c <= 1e-9,
+                "{h:?} {c} cuts {v:?}"
+            );
+        }
+    }
+    let brute = brute2(&a, &b);
+    for v in &poly.vertices {
+        assert!(
+            near2(*v, &brute),
+            "vertex {v:?} is not a vertex of the region"
+        );
+    }
+}

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
-use stance::polycone::polytope::{hull2, PolytopeOptions, RegionStatus};
+use stance::polycone::polytope::{hull2, polygon_from_halfplanes, PolytopeOptions, RegionStatus};
 use stance::stance_contact::equilibrium::{
     PolygonRoute, PolygonWorkspace, RobustRegion, StaticEquilibrium, StaticPolygon,
 };
@@ -238,7 +238,53 @@ struct RegionOut {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PointsIn {
-    points: Vec<[f64; 3]>,
+    points: Vec<Com>,
+}
+
+/// A CoM `[x, y, z]`: exactly three numbers. (A plain `[f64; 3]` read from TOML silently drops
+/// extra numbers; this checks the length in every format without allocating per point.)
+struct Com([f64; 3]);
+
+impl<'de> Deserialize<'de> for Com {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::{Error, IgnoredAny, SeqAccess, Visitor};
+        struct Three;
+        impl<'de> Visitor<'de> for Three {
+            type Value = Com;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a point [x, y, z] of 3 numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Com, A::Error> {
+                let mut p = [0.0; 3];
+                for (i, x) in p.iter_mut().enumerate() {
+                    *x = seq
+                        .next_element()?
+                        .ok_or_else(|| A::Error::invalid_length(i, &self))?;
+                }
+                let mut n = 3;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n != 3 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(Com(p))
+            }
+        }
+        d.deserialize_seq(Three)
+    }
+}
+
+/// The CoMs of a points file, checked finite.
+fn com_points(coms: Vec<Com>) -> Result<Vec<[f64; 3]>> {
+    let points: Vec<[f64; 3]> = coms.into_iter().map(|c| c.0).collect();
+    if let Some(i) = points.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        bail!("point {i} has a non-finite coordinate");
+    }
+    Ok(points)
 }
 
 #[derive(Serialize)]
@@ -332,13 +378,8 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
         EquilibriumCommand::Test(a) => {
             let scene = load_scene(&a.scene)?;
             let pts: PointsIn = read_input(&a.points)?;
-            if let Some(i) = pts
-                .points
-                .iter()
-                .position(|p| p.iter().any(|x| !x.is_finite()))
-            {
-                bail!("point {i} has a non-finite coordinate");
-            }
+            let points = com_points(pts.points)
+                .with_context(|| format!("in the points file {}", a.points.display()))?;
             let gs = if a.gravity.is_empty() {
                 vec![scene.gravity]
             } else {
@@ -346,13 +387,13 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             };
             let (_, giwc) = stance_and_giwc(&scene)?;
             let region = RobustRegion::new(&giwc, &gs, &opts)?;
-            let mut stable = vec![false; pts.points.len()];
+            let mut stable = vec![false; points.len()];
             for _ in 0..a.common.repeat {
-                batch_with_progress(&region, &pts.points, &mut stable)?;
+                batch_with_progress(&region, &points, &mut stable)?;
             }
             let margin = a
                 .margin
-                .then(|| pts.points.iter().map(|&p| region.margin(p)).collect());
+                .then(|| points.iter().map(|&p| region.margin(p)).collect());
             write_output(
                 &a.common,
                 &TestOut {
@@ -394,9 +435,36 @@ fn hull_of(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
         .unwrap_or_default()
 }
 
+/// Used by the plot module: the part of the convex polygon `poly` (vertices in order) inside the
+/// box `[lo, hi]` (unbounded regions reach the 1e6 m far box, which would squash the plot).
+fn clip_to_box(poly: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) -> Vec<[f64; 2]> {
+    let opts = PolytopeOptions::default();
+    let Ok(hull) = hull2(poly, &opts) else {
+        return Vec::new();
+    };
+    if hull.dim < 2 {
+        // A segment or a point: clamp its (at most two) points into the box.
+        return hull
+            .vertices
+            .iter()
+            .map(|p| [p[0].clamp(lo[0], hi[0]), p[1].clamp(lo[1], hi[1])])
+            .collect();
+    }
+    let mut a: Vec<[f64; 2]> = vec![[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+    let mut b: Vec<f64> = vec![hi[0], -lo[0], hi[1], -lo[1]];
+    for (n, c) in hull.halfplanes() {
+        a.push(n);
+        b.push(c);
+    }
+    polygon_from_halfplanes(&a, &b, &opts)
+        .map(|p| p.vertices)
+        .unwrap_or_default()
+}
+
 /// Plots with plotters, SVG or PNG by file extension: axes in metres with tick labels when a font
 /// is available (see `cmd::plot`), otherwise grid lines every power of ten (0.1 m, 1 m, ...)
 /// that gives 4 to 40 lines and no text; contact footprints in grey, regions in blue. The region plot shows its projections on (x, y), (x, z), (y, z).
+/// An unbounded region (e.g. the prism of a single gravity) is drawn within 1 m of the contacts.
 pub(crate) mod plot {
     use std::path::Path;
 
@@ -404,12 +472,36 @@ pub(crate) mod plot {
     use plotters::coord::Shift;
     use plotters::prelude::*;
 
-    use super::{hull_of, RobustRegion, Stance, StaticPolygon};
+    use super::{clip_to_box, hull_of, RobustRegion, Stance, StaticPolygon};
+    use stance::polycone::polytope::RegionStatus;
 
     /// Fallback grid spacing (m).
     const GRID: f64 = 0.1;
     /// Margin around the drawn geometry (m).
     const PAD: f64 = 0.1;
+    /// An unbounded region is drawn within this distance (m) of the contacts' bounding box.
+    const UNBOUNDED_WINDOW: f64 = 1.0;
+
+    /// The drawn part of a region's shadow: all of it when bounded, else its part within
+    /// [`UNBOUNDED_WINDOW`] of the footprints.
+    fn window(shadow: Vec<[f64; 2]>, feet: &[Vec<[f64; 2]>], unbounded: bool) -> Vec<[f64; 2]> {
+        if !unbounded {
+            return shadow;
+        }
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for p in feet.iter().flatten() {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        if !lo[0].is_finite() || !lo[1].is_finite() {
+            return shadow;
+        }
+        let w = UNBOUNDED_WINDOW;
+        clip_to_box(&shadow, [lo[0] - w, lo[1] - w], [hi[0] + w, hi[1] + w])
+    }
 
     fn footprints(stance: &Stance) -> Vec<Vec<[f64; 3]>> {
         stance
@@ -551,7 +643,12 @@ pub(crate) mod plot {
             .iter()
             .map(|f| hull_of(&f.iter().map(|p| [p[0], p[1]]).collect::<Vec<_>>()))
             .collect();
-        panel(&root, &feet, &poly.vertices, true, ("x (m)", "y (m)"))?;
+        let shown = window(
+            poly.vertices.clone(),
+            &feet,
+            poly.status == RegionStatus::Unbounded,
+        );
+        panel(&root, &feet, &shown, true, ("x (m)", "y (m)"))?;
         root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
         Ok(())
     }
@@ -582,7 +679,9 @@ pub(crate) mod plot {
                     .map(proj)
                     .collect::<Vec<_>>(),
             );
-            panel(area, &feet, &shadow, false, (names[i], names[j]))?;
+            let unbounded = region.polyhedron.status == RegionStatus::Unbounded;
+            let shown = window(shadow, &feet, unbounded);
+            panel(area, &feet, &shown, false, (names[i], names[j]))?;
         }
         root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
         Ok(())
@@ -618,5 +717,28 @@ pub(crate) mod plot {
                 region,
             )
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::clip_to_box;
+
+    /// Review of issue 3: unbounded regions (the prism of a single gravity) were drawn out to
+    /// the 1e6 m far box, squashing the contacts into a line.
+    #[test]
+    fn unbounded_shadows_are_clipped_to_the_window() {
+        let far = 1e6;
+        let prism = [[-0.1, -far], [0.1, -far], [0.1, far], [-0.1, far]];
+        let clipped = clip_to_box(&prism, [-1.0, -2.0], [1.0, 3.0]);
+        assert_eq!(clipped.len(), 4);
+        for want in [[-0.1, -2.0], [0.1, -2.0], [0.1, 3.0], [-0.1, 3.0]] {
+            assert!(clipped
+                .iter()
+                .any(|p| (p[0] - want[0]).abs() < 1e-9 && (p[1] - want[1]).abs() < 1e-9));
+        }
+        // A segment is clamped into the box.
+        let seg = clip_to_box(&[[0.0, -far], [0.0, far]], [-1.0, -1.0], [1.0, 1.0]);
+        assert!(seg.iter().all(|p| p[1].abs() <= 1.0));
     }
 }
