@@ -1,10 +1,11 @@
 //! Near-degenerate stances through the whole pipeline (GIWC, CoM tests, QP): a world origin far
 //! away, a foot rolled by a tiny angle, tiny contact patches. The GIWC either comes back
 //! certified and then agrees with the QP outside the band, or the conversion reports an error:
-//! never a silently wrong answer.
+//! never a silently wrong answer. The direct static-equilibrium polygon (no `U_stance`) agrees
+//! with the QP on the same CoMs.
 
 use nalgebra::{Rotation3, Vector3};
-use stance_contact::equilibrium::StaticEquilibrium;
+use stance_contact::equilibrium::{PolygonWorkspace, StaticEquilibrium};
 use stance_contact::{
     supporting_forces, w_gi_static, Contact, ForcesOutcome, FrictionModel, Shape, Stance,
 };
@@ -27,6 +28,7 @@ fn foot(name: &str, p: [f64; 3], roll_deg: f64, half: (f64, f64)) -> Contact {
 }
 
 fn check(stance: &Stance, origin: [f64; 3], what: &str) {
+    check_direct_polygon(stance, origin, what);
     let giwc = match stance.u_stance(&Default::default()) {
         Ok(g) => g,
         Err(e) => {
@@ -67,6 +69,74 @@ fn check(stance: &Stance, origin: [f64; 3], what: &str) {
         agreed > 300,
         "{what}: too few CoMs outside the band ({agreed})"
     );
+}
+
+/// The direct polygon (at the CoM height used below) against the QP, outside a 1e-6 m band.
+fn check_direct_polygon(stance: &Stance, origin: [f64; 3], what: &str) {
+    let g = [0.0, 0.0, -9.81];
+    let out = PolygonWorkspace::new()
+        .static_polygon(stance, g, origin[2] + 0.8, &Default::default())
+        .unwrap();
+    eprintln!("{what}: direct polygon route {:?}", out.route);
+    let mut agreed = 0;
+    for i in 0..41 {
+        for j in 0..9 {
+            let p = [
+                origin[0] - 0.25 + 0.0125 * i as f64,
+                origin[1] - 0.2 + 0.05 * j as f64,
+                origin[2] + 0.8,
+            ];
+            let m = out.polygon.margin([p[0], p[1]]);
+            if m.abs() <= 1e-6 {
+                continue;
+            }
+            let qp =
+                supporting_forces(stance, &w_gi_static(1.0, g, p), &Default::default()).unwrap();
+            let want = if m > 0.0 {
+                ForcesOutcome::Feasible
+            } else {
+                ForcesOutcome::Infeasible
+            };
+            assert_eq!(
+                qp.outcome, want,
+                "{what}: direct polygon at {p:?}, margin {m:e}"
+            );
+            agreed += 1;
+        }
+    }
+    assert!(
+        agreed > 300,
+        "{what}: too few CoMs outside the band ({agreed})"
+    );
+}
+
+#[test]
+fn far_origin_1_km_direct_polygon() {
+    let o = [1000.0, -600.0, 3.0];
+    let s = Stance::new(
+        vec![
+            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, (0.11, 0.065)),
+            foot("RF", [o[0], o[1] - 0.1, o[2]], 0.0, (0.11, 0.065)),
+        ],
+        FrictionModel::default(),
+    )
+    .unwrap();
+    check_direct_polygon(&s, o, "1 km origin");
+}
+
+#[test]
+fn out_of_plane_feet_direct_polygon() {
+    for dz in [1e-5, 1e-7, 1e-9] {
+        let s = Stance::new(
+            vec![
+                foot("LF", [0.0, 0.1, 0.0], 0.0, (0.11, 0.065)),
+                foot("RF", [0.0, -0.1, dz], 0.0, (0.11, 0.065)),
+            ],
+            FrictionModel::default(),
+        )
+        .unwrap();
+        check_direct_polygon(&s, [0.0; 3], &format!("{dz} m out of plane"));
+    }
 }
 
 #[test]
