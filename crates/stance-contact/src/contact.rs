@@ -12,12 +12,7 @@ use nalgebra::Matrix3;
 use crate::tol::ContactTolerances;
 use crate::{ContactError, FrictionModel};
 
-/// Largest accepted friction coefficient (dimensionless, `1e6`). Reason: the pyramid's edges
-/// `(+-mu, +-mu, 1)` carry the normal force in a component `1 / mu` of their length; from
-/// about `mu = 1e9` the cone conversion's relative rank decisions drop it (a flat foot then
-/// gets a segment, or an empty static-equilibrium polygon, reported as certified). `1e6`
-/// keeps three orders of magnitude from that, and any physical contact is far below it.
-pub const MAX_FRICTION: f64 = 1e6;
+pub use crate::tol::MAX_FRICTION;
 
 /// Shape of a contact surface, in the contact frame (the plane z = 0).
 #[derive(Debug, Clone, PartialEq)]

@@ -44,6 +44,14 @@
 //! # Limitations
 //!
 //! - Friction cones are polyhedral (k-sided pyramids); the exact second-order cone is not used.
+//! - Friction coefficients above [`tol::MAX_FRICTION`] (1e6) are refused: the pyramid's normal
+//!   component would fall below the cone conversion's rank threshold.
+//! - Far from the world origin: `U_stance` is computed about the first contact's origin and
+//!   moved back exactly, and the supporting-forces QP is solved about the contacts' centroid,
+//!   so both stay accurate kilometres away; the face-form test `U w <= tol |w|` of a wrench at
+//!   the world origin is relative to `|w|`, whose torque grows with the distance (about 1 mm
+//!   of CoM per 1e-9 at 1 km): test CoMs with the half-spaces in metres
+//!   ([`equilibrium::StaticEquilibrium`], [`equilibrium::RobustRegion`]) instead.
 //! - Adding a contact ([`GiwcBuilder::add_contact`]) continues the double description, but
 //!   the certificate still runs on the whole result, so there is no gain to speak of: x0.93 to
 //!   x1.07 on the paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact

@@ -53,6 +53,13 @@ pub const DEFAULT_LP_PIVOT: f64 = 1e-11;
 /// direct route gives way to `U_stance`. Same reason as [`DEFAULT_FACE_TOL`].
 pub const DEFAULT_LP_FEAS: f64 = 1e-9;
 
+/// Largest accepted friction coefficient (dimensionless, `1e6`). Reason: the pyramid's edges
+/// `(+-mu, +-mu, 1)` carry the normal force in a component `1 / mu` of their length; from
+/// about `mu = 1e9` the cone conversion's relative rank decisions drop it (a flat foot then
+/// gets a segment, or an empty static-equilibrium polygon, reported as certified). `1e6`
+/// keeps three orders of magnitude from that, and any physical contact is far below it.
+pub const MAX_FRICTION: f64 = 1e6;
+
 /// The thresholds of this crate; see the constants of this module for units and reasons.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactTolerances {

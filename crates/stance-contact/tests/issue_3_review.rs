@@ -275,3 +275,33 @@ fn stance_far_from_the_world_origin_keeps_its_cone() {
         }
     }
 }
+
+/// The sets do not depend on |g|, but |g| itself overflowed (1e200, 1e160) or underflowed
+/// (1e-200): a CoM 7 m away was called robustly stable, the polygon was refused with "no
+/// vertical component" or "the zero vector".
+#[test]
+fn gravity_of_any_magnitude_gives_the_same_sets() {
+    use stance_contact::equilibrium::{
+        PolygonRoute, PolygonWorkspace, RobustRegion, StaticEquilibrium,
+    };
+    let scene = stance_contact::examples::single_support_flat();
+    let stance = scene.stance().unwrap();
+    let giwc = stance.u_stance(&Default::default()).unwrap();
+    let opts = Default::default();
+    let mut ws = PolygonWorkspace::new();
+    for s in [1e200, 1e160, 1.0, 1e-200, 1e-300] {
+        let g = [0.0, 0.0, -9.81 * s];
+        let tilted = [0.15 * s, 0.0, -9.81 * s];
+        let region = RobustRegion::new(&giwc, &[g, tilted], &opts).unwrap();
+        assert!(region.contains([0.0, 0.0, 0.8]), "g scaled by {s:e}");
+        assert!(!region.contains([5.0, 5.0, 0.8]), "g scaled by {s:e}");
+        let eq = StaticEquilibrium::new(&giwc, g, &opts).unwrap();
+        assert!(eq.is_stable([0.0, 0.0, 0.8]) && !eq.is_stable([0.2, 0.0, 0.8]));
+        let poly = eq.polygon(0.0).unwrap();
+        assert_eq!(poly.vertices.len(), 4, "g scaled by {s:e}");
+        let direct = ws.static_polygon(&stance, g, 0.0, &opts).unwrap();
+        assert_eq!(direct.route, PolygonRoute::Direct, "g scaled by {s:e}");
+        assert_eq!(direct.polygon.vertices.len(), 4, "g scaled by {s:e}");
+        assert!((direct.polygon.margin([0.0, 0.0]) - 0.065).abs() < 1e-9);
+    }
+}

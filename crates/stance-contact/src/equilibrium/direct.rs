@@ -178,7 +178,9 @@ impl PolygonWorkspace {
         check_inputs(gravity, height, opts)?;
         self.lps = 0;
         self.lp.pivots = 0;
-        match self.direct(stance, gravity, height, opts) {
+        // The polygon does not depend on |g| (no overflow for any magnitude).
+        let g = super::scaled_gravity(gravity);
+        match self.direct(stance, g, height, opts) {
             Ok((polygon, gap)) => Ok(DirectPolygon {
                 polygon,
                 route: PolygonRoute::Direct,
@@ -600,14 +602,15 @@ fn check_inputs(
             what: "polygon height".into(),
         });
     }
-    let gn = norm3(gravity);
+    let g = super::scaled_gravity(gravity);
+    let gn = norm3(g);
     if gn == 0.0 {
         return Err(ContactError::BadGravity {
             gravity,
             reason: "the zero vector: give a non-zero gravity (e.g. [0, 0, -9.81])".into(),
         });
     }
-    if gravity[2].abs() <= opts.tol.zero_normal * gn {
+    if g[2].abs() <= opts.tol.zero_normal * gn {
         return Err(ContactError::BadGravity {
             gravity,
             reason: "no vertical component: the static-equilibrium set is a horizontal prism without a horizontal cross-section".into(),

@@ -71,21 +71,23 @@ pub fn com_halfspaces(
             )));
         }
     }
-    let gn = (gravity[0].powi(2) + gravity[1].powi(2) + gravity[2].powi(2)).sqrt();
-    if gn == 0.0 {
+    if gravity.iter().all(|&x| x == 0.0) {
         return Err(ContactError::BadGravity {
             gravity,
             reason: "the zero vector: give a non-zero gravity (e.g. [0, 0, -9.81])".into(),
         });
     }
+    // The half-spaces do not depend on |g|: work with g scaled to a largest component of 1.
+    let g = super::scaled_gravity(gravity);
+    let gn = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
     let mut out = ComHalfspaces {
         normals: Vec::with_capacity(giwc.facets.nrows() + 2 * giwc.equations.nrows()),
         offsets: Vec::with_capacity(giwc.facets.nrows() + 2 * giwc.equations.nrows()),
         infeasible: false,
     };
     let push = |u: [f64; 6], out: &mut ComHalfspaces| {
-        let a = crate::cross(gravity, [u[3], u[4], u[5]]);
-        let d = -(u[0] * gravity[0] + u[1] * gravity[1] + u[2] * gravity[2]);
+        let a = crate::cross(g, [u[3], u[4], u[5]]);
+        let d = -(u[0] * g[0] + u[1] * g[1] + u[2] * g[2]);
         let an = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
         if an <= zero_normal * gn {
             if d < -face_tol * gn {

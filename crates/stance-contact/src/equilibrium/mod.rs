@@ -48,3 +48,15 @@ pub struct EquilibriumOptions {
     /// Thresholds of the polygon/polyhedron routines (metres).
     pub polytope: PolytopeOptions,
 }
+
+/// `g` divided by its largest absolute component (unchanged when zero or not finite). Every set
+/// here is invariant under positive scaling of `g`; this keeps `|g|` and `g x u` free of
+/// overflow and underflow for gravities of any magnitude (e.g. 1e200 or 1e-200 m/s^2).
+pub(crate) fn scaled_gravity(g: [f64; 3]) -> [f64; 3] {
+    let m = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m > 0.0 && m.is_finite() {
+        g.map(|x| x / m)
+    } else {
+        g
+    }
+}

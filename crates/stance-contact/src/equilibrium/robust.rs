@@ -55,6 +55,7 @@ impl RobustRegion {
         // Each prism contributes only its irredundant rows (M is inside every prism, so a row
         // redundant for one prism is redundant for M): about 10x fewer planes to clip.
         for &g in gravities {
+            let g = super::scaled_gravity(g);
             let gn = g.iter().map(|x| x * x).sum::<f64>().sqrt();
             if g.iter().all(|x| x.is_finite()) && g[2].abs() > opts.tol.zero_normal * gn {
                 let eq = StaticEquilibrium::new(giwc, g, opts)?;

@@ -115,8 +115,9 @@ impl StaticEquilibrium {
         };
         out.irredundant = out.halfspaces.clone();
         // Test loop on the irredundant rows only (the polygon's edges), when they are known.
-        let gn = gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if gravity[2].abs() > opts.tol.zero_normal * gn {
+        let gs = super::scaled_gravity(gravity);
+        let gn = gs.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if gs[2].abs() > opts.tol.zero_normal * gn {
             let poly = out.section(0.0)?;
             if poly.status == RegionStatus::Bounded && poly.dim == 2 {
                 let keep = out.active_rows(&poly);
@@ -253,11 +254,11 @@ impl StaticEquilibrium {
     }
 
     fn section(&self, height: f64) -> Result<StaticPolygon, ContactError> {
-        let g = self.gravity;
+        let g = super::scaled_gravity(self.gravity);
         let gn = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
         if g[2].abs() <= self.opts.tol.zero_normal * gn {
             return Err(ContactError::BadGravity {
-                gravity: g,
+                gravity: self.gravity,
                 reason: "no vertical component: the static-equilibrium set is a horizontal prism without a horizontal cross-section".into(),
             });
         }
