@@ -89,7 +89,14 @@
 //! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
 //!   fail certification (an error, never a wrong certified cone).
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
-//!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks.
+//!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
+//!   relative to the input as given: the whitening that makes the conversion independent of
+//!   the reference point and the units comes after the rank decision. A wrench cone written
+//!   about a point 30 km from its contacts has its sixth direction at about 1e-10 of its
+//!   largest, so the stairs stance there comes back certified as a 5-D cone with 105 facets
+//!   (176 at the contacts; exact mode: 310, the slivers of the rounded input) - within the
+//!   contract, not what a user wants. Write wrenches about a point near the generators
+//!   (`stance-contact` does) or use [`Arithmetic::Exact`].
 //! - [`Continuation`] saves only the double description of the generators already converted
 //!   (and the SVD of the preconditioning while its coordinates stay well-conditioned): each
 //!   step runs the full certificate (64-68 % of a conversion of a 6-D wrench cone) on the
