@@ -74,6 +74,22 @@ fn polygon_of_a_flat_foot_is_its_rectangle() {
         .map(|i| verts[i][0] * verts[(i + 1) % 4][1] - verts[i][1] * verts[(i + 1) % 4][0])
         .sum();
     assert!(area > 0.0);
+    assert_eq!(v["dim"], 2);
+    assert_eq!(v["route"], "direct");
+    // The same polygon through U_stance.
+    let (code, out, _) = stance(&[
+        "equilibrium",
+        "polygon",
+        f.to_str().unwrap(),
+        "--via-u-stance",
+    ]);
+    assert_eq!(code, 0);
+    let w: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let verts2: Vec<[f64; 2]> = serde_json::from_value(w["vertices"].clone()).unwrap();
+    assert_eq!(verts2.len(), 4);
+    assert!(verts2.iter().all(|p| verts
+        .iter()
+        .any(|q| (p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9)));
 }
 
 #[test]

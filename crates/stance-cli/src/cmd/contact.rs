@@ -220,6 +220,8 @@ struct PolygonOut {
     status: &'static str,
     /// "direct", or "u_stance" with the reason when the direct route gave way.
     route: String,
+    /// 2 for a proper polygon, 1 for a segment, 0 for a point (or empty).
+    dim: usize,
     vertices: Vec<[f64; 2]>,
     halfplanes: Vec<[f64; 3]>,
     height: f64,
@@ -330,6 +332,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
                 &PolygonOut {
                     status: status_str(poly.status),
                     route,
+                    dim: poly.dim,
                     halfplanes: poly
                         .halfplanes
                         .iter()
