@@ -169,6 +169,29 @@ fn retime_reads_toml_motions() {
     }
 }
 
+/// TOML used to drop the extra numbers of a 4-number waypoint or angular-momentum sample.
+#[test]
+fn retime_rejects_toml_points_of_the_wrong_length() {
+    for (name, extra) in [
+        (
+            "waypoint4.toml",
+            "[path]\nwaypoints = [[0.0, 0.01, 0.8, 5.0], [0.0, -0.01, 0.8]]\n",
+        ),
+        (
+            "l1_4.toml",
+            "[path]\nwaypoints = [[0.0, 0.01, 0.8], [0.0, -0.01, 0.8]]\n\
+             [angular_momentum]\nl1 = [[0, 0, 0, 1], [0, 0, 0]]\nl2 = [[0, 0, 0], [0, 0, 0]]\n",
+        ),
+    ] {
+        let motion = tmp(name);
+        std::fs::write(&motion, format!("scene = \"double-support\"\n{extra}")).unwrap();
+        let out = stance().arg("retime").arg(&motion).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains("3 numbers"), "{name}: {err}");
+    }
+}
+
 #[test]
 fn demo_runs_the_built_in_examples() {
     let dir = tmp("demo");

@@ -28,8 +28,10 @@ fn identity() -> [[f64; 3]; 3] {
     [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
 }
 
-/// Fixed-length arrays that reject extra elements in every format (`deserialize_with`).
-mod strict {
+/// Fixed-length arrays that reject extra elements in every format (`deserialize_with`): a
+/// TOML `[f64; 3]` would otherwise drop the extra numbers silently. Public for the other crates'
+/// file formats.
+pub mod strict {
     use serde::de::{Deserialize, Deserializer, Error};
 
     fn exact<'de, D: Deserializer<'de>, const N: usize>(
@@ -56,6 +58,24 @@ mod strict {
         let [a, b, c] = rows;
         let row = |r: Vec<f64>| exact::<D, 3>(r, "a matrix row of 3 numbers");
         Ok([row(a)?, row(b)?, row(c)?])
+    }
+
+    /// Points `[[x, y, z], ...]`.
+    ///
+    /// ```
+    /// #[derive(serde::Deserialize)]
+    /// struct P {
+    ///     #[serde(deserialize_with = "stance_contact::scene::strict::points3")]
+    ///     p: Vec<[f64; 3]>,
+    /// }
+    /// assert!(toml::from_str::<P>("p = [[1, 2, 3]]").is_ok());
+    /// assert!(toml::from_str::<P>("p = [[1, 2, 3, 4]]").is_err());
+    /// ```
+    pub fn points3<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
+        let rows: Vec<Vec<f64>> = Vec::deserialize(d)?;
+        rows.into_iter()
+            .map(|r| exact::<D, 3>(r, "a point of 3 numbers [x, y, z]"))
+            .collect()
     }
 
     /// Polygon vertices `[[x, y], ...]`.

@@ -107,6 +107,7 @@ pub enum Interpolation {
 #[serde(deny_unknown_fields)]
 pub struct PathSpec {
     /// CoM waypoints in world coordinates (m), at least two.
+    #[serde(deserialize_with = "stance_contact::scene::strict::points3")]
     pub waypoints: Vec<[f64; 3]>,
     /// Path parameter at each waypoint (strictly increasing); default evenly spaced on `[0, 1]`.
     #[serde(default)]
@@ -188,8 +189,10 @@ pub struct AngularSpec {
     #[serde(default)]
     pub s: Option<Vec<f64>>,
     /// `l1` at each sample.
+    #[serde(deserialize_with = "stance_contact::scene::strict::points3")]
     pub l1: Vec<[f64; 3]>,
     /// `l2` at each sample.
+    #[serde(deserialize_with = "stance_contact::scene::strict::points3")]
     pub l2: Vec<[f64; 3]>,
 }
 
