@@ -27,6 +27,31 @@ fn foot(name: &str, p: [f64; 3], roll_deg: f64, half: (f64, f64)) -> Contact {
     Contact::new(name, p, rot, shape, 0.7, &Default::default()).unwrap()
 }
 
+/// The CoMs tested around `origin`: a 41 x 9 grid 0.8 m above it.
+fn com_grid(origin: [f64; 3]) -> impl Iterator<Item = [f64; 3]> {
+    (0..41).flat_map(move |i| {
+        (0..9).map(move |j| {
+            [
+                origin[0] - 0.25 + 0.0125 * i as f64,
+                origin[1] - 0.2 + 0.05 * j as f64,
+                origin[2] + 0.8,
+            ]
+        })
+    })
+}
+
+/// Two flat feet 20 cm apart (the second `dz` higher), centred on `o`.
+fn two_feet(o: [f64; 3], dz: f64, roll_deg: f64, half: (f64, f64)) -> Stance {
+    Stance::new(
+        vec![
+            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, half),
+            foot("RF", [o[0], o[1] - 0.1, o[2] + dz], roll_deg, half),
+        ],
+        FrictionModel::default(),
+    )
+    .unwrap()
+}
+
 fn check(stance: &Stance, origin: [f64; 3], what: &str) {
     check_direct_polygon(stance, origin, what);
     let giwc = match stance.u_stance(&Default::default()) {
@@ -41,29 +66,22 @@ fn check(stance: &Stance, origin: [f64; 3], what: &str) {
     let g = [0.0, 0.0, -9.81];
     let eq = StaticEquilibrium::new(&giwc, g, &Default::default()).unwrap();
     let mut agreed = 0;
-    for i in 0..41 {
-        for j in 0..9 {
-            let p = [
-                origin[0] - 0.25 + 0.0125 * i as f64,
-                origin[1] - 0.2 + 0.05 * j as f64,
-                origin[2] + 0.8,
-            ];
-            let w = w_gi_static(1.0, g, p);
-            let n = w.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let v = giwc.max_violation(&w) / n;
-            if v.abs() <= FACE_BAND {
-                continue;
-            }
-            let qp = supporting_forces(stance, &w, &Default::default()).unwrap();
-            let want = if v < 0.0 {
-                ForcesOutcome::Feasible
-            } else {
-                ForcesOutcome::Infeasible
-            };
-            assert_eq!(qp.outcome, want, "{what}: CoM {p:?}, face value {v}");
-            assert_eq!(eq.is_stable(p), v < 0.0, "{what}: half-spaces at {p:?}");
-            agreed += 1;
+    for p in com_grid(origin) {
+        let w = w_gi_static(1.0, g, p);
+        let n = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let v = giwc.max_violation(&w) / n;
+        if v.abs() <= FACE_BAND {
+            continue;
         }
+        let qp = supporting_forces(stance, &w, &Default::default()).unwrap();
+        let want = if v < 0.0 {
+            ForcesOutcome::Feasible
+        } else {
+            ForcesOutcome::Infeasible
+        };
+        assert_eq!(qp.outcome, want, "{what}: CoM {p:?}, face value {v}");
+        assert_eq!(eq.is_stable(p), v < 0.0, "{what}: half-spaces at {p:?}");
+        agreed += 1;
     }
     assert!(
         agreed > 300,
@@ -79,30 +97,22 @@ fn check_direct_polygon(stance: &Stance, origin: [f64; 3], what: &str) {
         .unwrap();
     eprintln!("{what}: direct polygon route {:?}", out.route);
     let mut agreed = 0;
-    for i in 0..41 {
-        for j in 0..9 {
-            let p = [
-                origin[0] - 0.25 + 0.0125 * i as f64,
-                origin[1] - 0.2 + 0.05 * j as f64,
-                origin[2] + 0.8,
-            ];
-            let m = out.polygon.margin([p[0], p[1]]);
-            if m.abs() <= 1e-6 {
-                continue;
-            }
-            let qp =
-                supporting_forces(stance, &w_gi_static(1.0, g, p), &Default::default()).unwrap();
-            let want = if m > 0.0 {
-                ForcesOutcome::Feasible
-            } else {
-                ForcesOutcome::Infeasible
-            };
-            assert_eq!(
-                qp.outcome, want,
-                "{what}: direct polygon at {p:?}, margin {m:e}"
-            );
-            agreed += 1;
+    for p in com_grid(origin) {
+        let m = out.polygon.margin([p[0], p[1]]);
+        if m.abs() <= 1e-6 {
+            continue;
         }
+        let qp = supporting_forces(stance, &w_gi_static(1.0, g, p), &Default::default()).unwrap();
+        let want = if m > 0.0 {
+            ForcesOutcome::Feasible
+        } else {
+            ForcesOutcome::Infeasible
+        };
+        assert_eq!(
+            qp.outcome, want,
+            "{what}: direct polygon at {p:?}, margin {m:e}"
+        );
+        agreed += 1;
     }
     assert!(
         agreed > 300,
@@ -113,28 +123,13 @@ fn check_direct_polygon(stance: &Stance, origin: [f64; 3], what: &str) {
 #[test]
 fn far_origin_1_km_direct_polygon() {
     let o = [1000.0, -600.0, 3.0];
-    let s = Stance::new(
-        vec![
-            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, (0.11, 0.065)),
-            foot("RF", [o[0], o[1] - 0.1, o[2]], 0.0, (0.11, 0.065)),
-        ],
-        FrictionModel::default(),
-    )
-    .unwrap();
-    check_direct_polygon(&s, o, "1 km origin");
+    check_direct_polygon(&two_feet(o, 0.0, 0.0, (0.11, 0.065)), o, "1 km origin");
 }
 
 #[test]
 fn out_of_plane_feet_direct_polygon() {
     for dz in [1e-5, 1e-7, 1e-9] {
-        let s = Stance::new(
-            vec![
-                foot("LF", [0.0, 0.1, 0.0], 0.0, (0.11, 0.065)),
-                foot("RF", [0.0, -0.1, dz], 0.0, (0.11, 0.065)),
-            ],
-            FrictionModel::default(),
-        )
-        .unwrap();
+        let s = two_feet([0.0; 3], dz, 0.0, (0.11, 0.065));
         check_direct_polygon(&s, [0.0; 3], &format!("{dz} m out of plane"));
     }
 }
@@ -142,15 +137,7 @@ fn out_of_plane_feet_direct_polygon() {
 #[test]
 fn far_origin_50_m() {
     let o = [50.0, -30.0, 2.0];
-    let s = Stance::new(
-        vec![
-            foot("LF", [o[0], o[1] + 0.1, o[2]], 0.0, (0.11, 0.065)),
-            foot("RF", [o[0], o[1] - 0.1, o[2]], 0.0, (0.11, 0.065)),
-        ],
-        FrictionModel::default(),
-    )
-    .unwrap();
-    check(&s, o, "50 m origin");
+    check(&two_feet(o, 0.0, 0.0, (0.11, 0.065)), o, "50 m origin");
 }
 
 /// A stance 1 km from the world origin (the torques of `w_GI` are 1e3 times the forces).
@@ -217,14 +204,7 @@ fn far_origin_1_km() {
 #[test]
 fn foot_rolled_by_small_angles() {
     for roll in [1.0, 0.1, 0.01] {
-        let s = Stance::new(
-            vec![
-                foot("LF", [0.0, 0.1, 0.0], 0.0, (0.11, 0.065)),
-                foot("RF", [0.0, -0.1, 0.0], roll, (0.11, 0.065)),
-            ],
-            FrictionModel::default(),
-        )
-        .unwrap();
+        let s = two_feet([0.0; 3], 0.0, roll, (0.11, 0.065));
         check(&s, [0.0; 3], &format!("roll {roll} deg"));
     }
 }
