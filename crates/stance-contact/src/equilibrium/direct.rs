@@ -433,8 +433,8 @@ impl PolygonWorkspace {
         dropped
     }
 
-    /// The certificate of the module doc; returns the gap (scaled units). Overwrites each
-    /// vertex's `y` with its edge's verified offset in `y[0]`.
+    /// The certificate of the module doc; returns the gap (scaled units) and leaves the
+    /// verified offsets of the edge lines in `self.offs`.
     fn certify(
         &mut self,
         b: &[f64; M],
@@ -549,9 +549,6 @@ impl PolygonWorkspace {
         if (turn - 2.0 * std::f64::consts::PI).abs() > 1e-6 || !(gap <= dist) {
             return Err(Fallback::Uncertified);
         }
-        for k in 0..nv {
-            self.verts[k].y[0] = offs[k];
-        }
         Ok(gap)
     }
 
@@ -570,10 +567,11 @@ impl PolygonWorkspace {
         let halfplanes = self
             .verts
             .iter()
-            .map(|p| {
+            .zip(&self.offs)
+            .map(|(p, off)| {
                 // (+ 0.0 turns a -0.0 into 0.0 in the output)
                 let n = [p.normal[0] + 0.0, p.normal[1] + 0.0];
-                let h = f.ell * (p.y[0] + dot2(n, shift)) + n[0] * f.c0[0] + n[1] * f.c0[1];
+                let h = f.ell * (off + dot2(n, shift)) + n[0] * f.c0[0] + n[1] * f.c0[1];
                 (n, h)
             })
             .collect();
