@@ -47,11 +47,13 @@
 //!   returned half-spaces instead).
 
 mod hull;
+mod hull3d;
 mod polygon;
 mod polyhedron;
 pub mod tol;
 
-pub use hull::{hull2, hull3};
+pub use hull::hull2;
+pub use hull3d::hull3;
 pub use polygon::{polygon_from_halfplanes, Polygon};
 pub use polyhedron::{polyhedron_from_halfspaces, Polyhedron};
 pub use tol::PolytopeOptions;
@@ -90,6 +92,19 @@ pub enum PolytopeError {
     /// The hull of an empty point set was asked for.
     #[error("no points given: the convex hull needs at least one point")]
     NoPoints,
+    /// The 3-D hull failed its check by both routes (the points are degenerate at the scale
+    /// of the tolerances, e.g. a slab a few `dist_tol` thick).
+    #[error(
+        "the 3-D convex hull failed its check (direct route: {direct}; polar route: {polar}): \
+         the points are degenerate at the scale of dist_tol; raise dist_tol and merge_tol to \
+         the accuracy of the data"
+    )]
+    HullCheck {
+        /// The first failed check of the direct route.
+        direct: &'static str,
+        /// The first failed check of the polar route.
+        polar: &'static str,
+    },
     /// Options out of range.
     #[error("polytope options must be finite and positive, with `far` larger than the tolerances")]
     BadOptions,

@@ -94,3 +94,14 @@ pub const REFINE_TRIES: usize = 4;
 /// about 1e-10 relative rounding, and distinct facets of the regions handled here differ by far
 /// more than 1e-7 rad. Structural.
 pub const HULL_SAME_FACET: f64 = 1e-7;
+
+/// The check of every 3-D hull ([`super::hull3`]) accepts a face normal whose length differs
+/// from 1 by at most this (dimensionless, 1e-9). Reason: normalized `f64` vectors are unit to
+/// a few ulps; anything farther was not normalized. Structural.
+pub const HULL_CHECK_UNIT_NORMAL: f64 = 1e-9;
+
+/// The check of every 3-D hull ([`super::hull3`]) accepts a face loop whose turning angles sum
+/// to `2 pi` within this (radians, 1e-6). Reason: a convex loop winds exactly once (sum
+/// `2 pi` up to rounding, about 1e-15 per vertex); a loop that winds twice or backwards is
+/// off by `2 pi`. Structural.
+pub const HULL_CHECK_WINDING: f64 = 1e-6;

@@ -1,0 +1,166 @@
+//! The check every 3-D hull passes before it is returned (cheap, and independent of how the
+//! hull was built: it reads only the points and the [`Polyhedron`]).
+//!
+//! For points `P` and a result with vertices `V`, faces `F` (vertex loops) and planes
+//! `n_f . p <= d_f`:
+//!
+//! 1. soundness: `n_f . p <= d_f + dist_tol` for every point `p` and face `f`, and `|n_f| = 1`;
+//! 2. vertices: every vertex is within `merge_tol` of a point of `P`, and lies on three or
+//!    more faces;
+//! 3. faces: at least three vertices, all within `dist_tol` of the face's plane, forming a
+//!    convex loop counter-clockwise around `n_f` (no vertex more than `dist_tol` inside the
+//!    chord of its two neighbours, turning angles summing to `2 pi`, positive area along
+//!    `n_f`; all in the face plane);
+//! 4. lattice: every edge is shared by exactly two faces, in opposite directions, two faces
+//!    share at most one edge, and Euler's formula `V - E + F = 2` holds.
+//!
+//! 1 and 2 say the returned region contains the points and has its corners among them; 3 and
+//! 4 say the faces close up into the boundary of a convex polyhedron.
+
+use std::collections::HashMap;
+
+use crate::polytope::tol::{HULL_CHECK_UNIT_NORMAL, HULL_CHECK_WINDING};
+use crate::polytope::{Polyhedron, PolytopeOptions, RegionStatus};
+
+/// `a <= b`, false when either is NaN (so a NaN fails every check).
+fn le(a: f64, b: f64) -> bool {
+    a <= b
+}
+/// `a < b`, false when either is NaN.
+fn lt(a: f64, b: f64) -> bool {
+    a < b
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `Ok` when `poly` passes the checks of the module doc for the points `pts`, else the first
+/// failed check.
+pub(crate) fn check_hull(
+    pts: &[[f64; 3]],
+    poly: &Polyhedron,
+    opts: &PolytopeOptions,
+) -> Result<(), &'static str> {
+    let tol = opts.dist_tol;
+    let (nv, nf) = (poly.vertices.len(), poly.faces.len());
+    if poly.status != RegionStatus::Bounded || poly.dim != 3 {
+        return Err("not a bounded solid");
+    }
+    if nf < 4 || nv < 4 || poly.planes.len() != nf || poly.active.len() != nf {
+        return Err("fewer than four faces or vertices, or inconsistent lengths");
+    }
+    // 1. Soundness.
+    for &(n, d) in &poly.planes {
+        if !le((dot(n, n).sqrt() - 1.0).abs(), HULL_CHECK_UNIT_NORMAL) || !d.is_finite() {
+            return Err("a face normal is not a unit vector");
+        }
+        if pts.iter().any(|&p| !le(dot(n, p), d + tol)) {
+            return Err("a point lies outside a face plane by more than dist_tol");
+        }
+    }
+    // 2. Vertices are input points.
+    for &v in &poly.vertices {
+        let near = pts
+            .iter()
+            .any(|&p| dot(sub(p, v), sub(p, v)).sqrt() <= opts.merge_tol);
+        if !near {
+            return Err("a vertex is not an input point");
+        }
+    }
+    // 3. Faces.
+    let mut degree = vec![0usize; nv];
+    for (face, &(n, d)) in poly.faces.iter().zip(&poly.planes) {
+        let m = face.len();
+        if m < 3 || face.iter().any(|&v| v >= nv) {
+            return Err("a face has fewer than three vertices or a bad index");
+        }
+        let mut sorted = face.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        if sorted.len() != m {
+            return Err("a face repeats a vertex");
+        }
+        let p: Vec<[f64; 3]> = face.iter().map(|&v| poly.vertices[v]).collect();
+        if p.iter().any(|&q| !le((dot(n, q) - d).abs(), tol)) {
+            return Err("a face vertex is farther than dist_tol from the face plane");
+        }
+        let mut winding = 0.0;
+        let mut area = [0.0; 3];
+        // Edges projected on the face plane: the turning angles of a planar loop sum to
+        // exactly 2 pi k (out-of-plane parts, up to dist_tol, would distort short edges).
+        let flat = |x: [f64; 3]| {
+            let h = dot(x, n);
+            [x[0] - h * n[0], x[1] - h * n[1], x[2] - h * n[2]]
+        };
+        for i in 0..m {
+            let (a, b, c) = (p[i], p[(i + 1) % m], p[(i + 2) % m]);
+            let (e, f) = (flat(sub(b, a)), flat(sub(c, b)));
+            let le = dot(e, e).sqrt();
+            if !lt(0.0, le) {
+                return Err("a face has a zero-length edge");
+            }
+            // Dent depth of b: its signed distance to the left of (inside) the chord a -> c,
+            // in the face plane (at most |b - a|, so short edges cannot inflate it).
+            let chord = flat(sub(c, a));
+            let lc = dot(chord, chord).sqrt();
+            if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc > tol {
+                return Err("a face is not convex (a vertex inside by more than dist_tol)");
+            }
+            winding += dot(n, cross(e, f)).atan2(dot(e, f));
+            let w = cross(sub(a, p[0]), sub(b, p[0]));
+            for k in 0..3 {
+                area[k] += 0.5 * w[k];
+            }
+        }
+        if !le((winding - std::f64::consts::TAU).abs(), HULL_CHECK_WINDING) {
+            return Err("a face loop does not wind once around its normal");
+        }
+        if !lt(0.0, dot(area, n)) {
+            return Err("a face has no positive area along its normal");
+        }
+        for &v in face {
+            degree[v] += 1;
+        }
+    }
+    if degree.iter().any(|&k| k < 3) {
+        return Err("a vertex lies on fewer than three faces");
+    }
+    // 4. Lattice.
+    let mut edge_face: HashMap<(usize, usize), usize> = HashMap::new();
+    for (f, face) in poly.faces.iter().enumerate() {
+        let m = face.len();
+        for i in 0..m {
+            if edge_face.insert((face[i], face[(i + 1) % m]), f).is_some() {
+                return Err("a directed edge appears twice");
+            }
+        }
+    }
+    let mut pair_count: HashMap<(usize, usize), usize> = HashMap::new();
+    for (&(a, b), &f) in &edge_face {
+        let Some(&g) = edge_face.get(&(b, a)) else {
+            return Err("an edge lies on only one face");
+        };
+        if f == g {
+            return Err("an edge has the same face on both sides");
+        }
+        *pair_count.entry((f.min(g), f.max(g))).or_default() += 1;
+    }
+    if pair_count.values().any(|&c| c != 2) {
+        return Err("two faces share more than one edge");
+    }
+    let ne = edge_face.len() / 2;
+    if nv + nf != ne + 2 {
+        return Err("Euler's formula V - E + F = 2 fails");
+    }
+    Ok(())
+}
