@@ -26,11 +26,19 @@
 //! input up to that tolerance: every returned vertex satisfies every half-space within
 //! `dist_tol` (plus rounding), and no point farther than `dist_tol` inside all half-spaces is
 //! missed. Vertices closer than `merge_tol` are merged, and vertices that are not corners
-//! (collinear or coplanar within `rank_tol`) are dropped. The hulls use the polar (3-D) or
-//! Andrew's monotone chain (2-D) with the same tolerances.
+//! (collinear or coplanar within `rank_tol`) are dropped. [`hull2`] is Andrew's monotone
+//! chain with the same tolerances. [`hull3`] builds the exact hull of the points (quickhull
+//! with an exact orientation predicate), merges its triangles into maximal facets coplanar
+//! within `dist_tol` with fitted planes, and checks the result (every point within
+//! `dist_tol` of every half-space, vertices among the points, convex faces on their planes,
+//! every edge on two faces, Euler's formula); on failure it falls back to the polar route
+//! (the previous method), checked the same way, and otherwise returns
+//! [`PolytopeError::HullCheck`] (see the `hull3d` module).
 //!
 //! Complexity: `O(n h)` in 2-D and `O(n F)` in 3-D, with `h` (`F`) the size of the running
 //! polygon (the number of running face vertices); fine for the hundreds of rows of a stance.
+//! [`hull3`]: `O(n log n)` expected for the exact hull (quickhull), `O(n F)` for the fitted
+//! planes and the check.
 //! In 3-D a second pass from a box just around the first result keeps the rounding at the
 //! result's scale (the first pass interpolates along the edges of the far box).
 //!
@@ -41,8 +49,22 @@
 //! - Regions reaching beyond `far` are reported unbounded even when they are bounded, and a
 //!   region lying entirely beyond `far` is reported empty: keep the data within `far` of the
 //!   origin (or raise `far`).
-//! - [`hull3`] goes through the polar of the whitened points: clusters of nearly coincident
-//!   points (closer than about 1e-3 of the extent) may split a face into coplanar pieces.
+//! - [`hull3`] answers are exact for the input up to `dist_tol`: structure finer than that
+//!   stays. Faces bent by more than `dist_tol` (e.g. vertices computed with a relative error
+//!   of 1e-11, 3e5 m from the origin, are 2e-6 m off their face) come back as several
+//!   faces: pass tolerances at the accuracy of the data.
+//! - [`hull3`]'s direct route fails its check on a small share of point sets with clusters
+//!   of nearly coincident points (a face loop dented inward by up to the cluster spacing,
+//!   because slivers inside the tolerance slab are merged into the face): the polar fallback
+//!   then passes or [`PolytopeError::HullCheck`] is returned. Measured on random clouds
+//!   stretched up to 1e3:1 and moved up to 1e4 from the origin, with clusters (2000 clouds per
+//!   spacing band, the ignored test `direct_failure_rates`): direct route failures 0.25 %
+//!   (spacing 1e-13 to 3e-10, below `merge_tol`), 1.6 % (3e-10 to 1e-8), 2.5 % (1e-8 to
+//!   1e-6), 0.1 % (1e-6 to 1e-4); errors after the fallback 0.25 %, 1.6 %, 1.7 %, 0 %. No
+//!   failure in 300 000 round trips of random polyhedra, nor on the robust regions of the
+//!   example stances.
+//! - [`hull3`] costs 20 us for 8 points and 220 us for the 67 vertices of the box-climbing
+//!   robust region (x1.4 and x0.85 the polar route), with allocations.
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

@@ -480,6 +480,7 @@ fn direct_failure_rates() {
         let mut runner = TestRunner::deterministic();
         let strat = clouds(lo..hi);
         let (mut n, mut direct_fail, mut polar_ok, mut errors) = (0, 0, 0, 0);
+        let mut reasons: Vec<&'static str> = vec![];
         for _ in 0..2000 {
             let pts = strat.new_tree(&mut runner).unwrap().current();
             let mut p = pts.clone();
@@ -488,10 +489,9 @@ fn direct_failure_rates() {
                 continue;
             }
             n += 1;
-            let ok = hull3_direct(&p, &opts)
-                .map(|h| check_hull(&p, &h, &opts).is_ok())
-                .unwrap_or(false);
-            if !ok {
+            let why = hull3_direct(&p, &opts).and_then(|h| check_hull(&p, &h, &opts));
+            if let Err(why) = why {
+                reasons.push(why);
                 direct_fail += 1;
                 match hull3(&pts, &opts) {
                     Ok(_) => polar_ok += 1,
@@ -503,5 +503,126 @@ fn direct_failure_rates() {
             "spacing 1e{lo}..1e{hi}: {n} clouds, direct route fails {direct_fail}, \
              polar fallback passes {polar_ok}, errors {errors}"
         );
+        reasons.sort_unstable();
+        reasons.dedup();
+        eprintln!("  direct route failures: {reasons:?}");
+    }
+}
+
+/// The robust static-equilibrium regions `M` of the example scenes (`testdata/polytope`): the
+/// direct hull of their vertices passes the check and finds the region's faces again.
+#[test]
+fn robust_region_vertices_round_trip() {
+    for (scene, faces, pts) in robust_regions() {
+        let poly = direct_checked(&pts, &PolytopeOptions::default());
+        assert_eq!(poly.vertices.len(), pts.len(), "{scene}");
+        assert_eq!(poly.faces.len(), faces, "{scene}");
+    }
+}
+
+fn robust_regions() -> Vec<(String, usize, Vec<[f64; 3]>)> {
+    let text = include_str!("../../../../../testdata/polytope/robust_region_vertices.json");
+    let v: serde_json::Value = serde_json::from_str(text).unwrap();
+    v["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r["scene"].as_str().unwrap().to_string(),
+                r["faces"].as_u64().unwrap() as usize,
+                serde_json::from_value(r["vertices"].clone()).unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Timing of the direct and polar routes (and the public `hull3`, checked) on the vertices of
+/// the robust regions. Run in release:
+/// `cargo test -p polycone --release --lib hull3_timing -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn hull3_timing() {
+    let opts = PolytopeOptions::default();
+    let time = |f: &dyn Fn()| {
+        let mut best = f64::INFINITY;
+        for _ in 0..7 {
+            let reps = 200;
+            let t = std::time::Instant::now();
+            for _ in 0..reps {
+                f();
+            }
+            best = best.min(t.elapsed().as_secs_f64() / reps as f64);
+        }
+        best * 1e6
+    };
+    eprintln!(
+        "scene            points faces  polar_us  direct_us  check_us  hull3_us  hull3/polar"
+    );
+    for (scene, faces, pts) in robust_regions() {
+        let polar = time(&|| {
+            std::hint::black_box(hull3_polar(&pts, &opts).unwrap());
+        });
+        let direct = time(&|| {
+            std::hint::black_box(hull3_direct(&pts, &opts).unwrap());
+        });
+        let h = hull3_direct(&pts, &opts).unwrap();
+        let check = time(&|| {
+            check_hull(&pts, &h, &opts).unwrap();
+        });
+        let public = time(&|| {
+            std::hint::black_box(hull3(&pts, &opts).unwrap());
+        });
+        eprintln!(
+            "{scene:16} {:6} {faces:5} {polar:9.1} {direct:10.1} {check:9.1} {public:9.1} {:12.2}",
+            pts.len(),
+            public / polar
+        );
+    }
+}
+
+/// Found by the round-trip proptest (30 000 cases, seed `61864d09` in
+/// `proptest-regressions/polytope/tests.txt`): the polar route returned a face plane off by
+/// 5e-8 in its normal and 9e-6 in its offset (a facet split by the polar's rounding). The
+/// direct route finds the polyhedron's faces.
+#[test]
+fn regression_polar_route_plane_off_seed_61864d09() {
+    let a = [
+        [0.6332484730829973, -0.7655401029627865, 0.11377487461552709],
+        [0.5806521320453847, 0.5836526030298433, -0.5676202432327774],
+        [
+            -0.19275043840213843,
+            -0.8109829025923304,
+            -0.552407458493006,
+        ],
+        [-0.5786884133766269, 0.7648909749849084, -0.2829514386078967],
+        [-0.6130893333412604, 0.5407956963253205, -0.5759005853263051],
+        [-0.6546447568458916, -0.4994092694269996, 0.5674774215284463],
+    ];
+    let b = [
+        0.25251374044360997,
+        1.4399266978789091,
+        0.3103146289285515,
+        1.5985392791131385,
+        0.30249578183219283,
+        1.343821346632104,
+    ];
+    round_trip_direct(&a, &b, 0.0).unwrap();
+    // The check catches the polar route's answer (a face vertex 9e-6 off its plane).
+    let o = PolytopeOptions::default();
+    let poly = polyhedron_from_halfspaces(&a, &b, &o).unwrap();
+    let polar = hull3_polar(&poly.vertices, &o).unwrap();
+    assert_eq!(
+        check_hull(&poly.vertices, &polar, &o),
+        Err("a face vertex is farther than dist_tol from the face plane")
+    );
+    // And through the public function, with absolute default tolerances.
+    let poly = polyhedron_from_halfspaces(&a, &b, &PolytopeOptions::default()).unwrap();
+    let hull = hull3(&poly.vertices, &PolytopeOptions::default()).unwrap();
+    assert_eq!(hull.faces.len(), poly.faces.len());
+    for (n, d) in &hull.planes {
+        assert!(poly.planes.iter().any(|(m, e)| {
+            (n[0] - m[0]).abs() + (n[1] - m[1]).abs() + (n[2] - m[2]).abs() + (d - e).abs() < 1e-7
+        }));
     }
 }
