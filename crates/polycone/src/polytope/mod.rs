@@ -63,8 +63,9 @@
 //!   1e-6), 0.1 % (1e-6 to 1e-4); errors after the fallback 0.25 %, 1.6 %, 1.7 %, 0 %. No
 //!   failure in 300 000 round trips of random polyhedra, nor on the robust regions of the
 //!   example stances.
-//! - [`hull3`] costs 20 us for 8 points and 220 us for the 67 vertices of the box-climbing
-//!   robust region (x1.4 and x0.85 the polar route), with allocations.
+//! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
+//!   region, 60 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
+//!   x1.2, x1.65 and x0.79 the polar route alone (`hull3_timing`, release, one core).
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

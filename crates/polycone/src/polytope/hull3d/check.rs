@@ -17,8 +17,6 @@
 //! 1 and 2 say the returned region contains the points and has its corners among them; 3 and
 //! 4 say the faces close up into the boundary of a convex polyhedron.
 
-use std::collections::HashMap;
-
 use crate::polytope::tol::{HULL_CHECK_UNIT_NORMAL, HULL_CHECK_WINDING};
 use crate::polytope::{Polyhedron, PolytopeOptions, RegionStatus};
 
@@ -135,27 +133,35 @@ pub(crate) fn check_hull(
     if degree.iter().any(|&k| k < 3) {
         return Err("a vertex lies on fewer than three faces");
     }
-    // 4. Lattice.
-    let mut edge_face: HashMap<(usize, usize), usize> = HashMap::new();
+    // 4. Lattice: directed edges (a, b, face), sorted.
+    let mut edge_face: Vec<(usize, usize, usize)> = Vec::new();
     for (f, face) in poly.faces.iter().enumerate() {
         let m = face.len();
         for i in 0..m {
-            if edge_face.insert((face[i], face[(i + 1) % m]), f).is_some() {
-                return Err("a directed edge appears twice");
-            }
+            edge_face.push((face[i], face[(i + 1) % m], f));
         }
     }
-    let mut pair_count: HashMap<(usize, usize), usize> = HashMap::new();
-    for (&(a, b), &f) in &edge_face {
-        let Some(&g) = edge_face.get(&(b, a)) else {
+    edge_face.sort_unstable();
+    if edge_face
+        .windows(2)
+        .any(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1))
+    {
+        return Err("a directed edge appears twice");
+    }
+    let mut face_pairs: Vec<(usize, usize)> = Vec::with_capacity(edge_face.len());
+    for &(a, b, f) in &edge_face {
+        let Ok(i) = edge_face.binary_search_by(|e| (e.0, e.1).cmp(&(b, a))) else {
             return Err("an edge lies on only one face");
         };
+        let g = edge_face[i].2;
         if f == g {
             return Err("an edge has the same face on both sides");
         }
-        *pair_count.entry((f.min(g), f.max(g))).or_default() += 1;
+        face_pairs.push((f.min(g), f.max(g)));
     }
-    if pair_count.values().any(|&c| c != 2) {
+    // Each shared edge gives its face pair twice (once per direction).
+    face_pairs.sort_unstable();
+    if face_pairs.windows(3).any(|w| w[0] == w[2]) {
         return Err("two faces share more than one edge");
     }
     let ne = edge_face.len() / 2;

@@ -19,8 +19,6 @@
 //! counter-clockwise orientation of the triangles. A facet whose boundary is not one simple
 //! loop (a hole or a pinch) is an error: the caller falls back.
 
-use std::collections::HashMap;
-
 use super::incremental::{tri_plane, Tri, NONE};
 use crate::polytope::{Polyhedron, PolytopeOptions, RegionStatus};
 
@@ -261,19 +259,20 @@ pub(crate) fn polyhedron_from_triangles(
     }
     let face_of: Vec<usize> = group.iter().map(|&g| id[find(&mut parent, g)]).collect();
     let nf = roots.len();
-    // Facets around each vertex; corners lie on three or more.
-    let mut around: Vec<Vec<usize>> = vec![Vec::new(); pts.len()];
+    // Facets around each vertex (the first three distinct ones); corners lie on three or more.
+    let mut around: Vec<[usize; 3]> = vec![[usize::MAX; 3]; pts.len()];
     for (t, tri) in tris.iter().enumerate() {
         for &v in &tri.v {
-            let list = &mut around[v as usize];
-            if !list.contains(&face_of[t]) {
-                list.push(face_of[t]);
+            let slots = &mut around[v as usize];
+            let f = face_of[t];
+            if let Some(k) = slots.iter().position(|&x| x == f || x == usize::MAX) {
+                slots[k] = f;
             }
         }
     }
-    let corner: Vec<bool> = around.iter().map(|a| a.len() >= 3).collect();
-    // Boundary edges of each facet: start vertex -> (end vertex, facet beyond).
-    let mut boundary: Vec<HashMap<u32, (u32, usize)>> = vec![HashMap::new(); nf];
+    let corner: Vec<bool> = around.iter().map(|a| a[2] != usize::MAX).collect();
+    // Boundary edges (facet, start, end, facet beyond), sorted by facet then start vertex.
+    let mut boundary: Vec<(usize, u32, u32, usize)> = Vec::with_capacity(3 * tris.len());
     for (t, tri) in tris.iter().enumerate() {
         for k in 0..3 {
             let s = tri.nb[k];
@@ -282,27 +281,40 @@ pub(crate) fn polyhedron_from_triangles(
             }
             let (f, g) = (face_of[t], face_of[s as usize]);
             if f != g {
-                let (a, b) = (tri.v[k], tri.v[(k + 1) % 3]);
-                if boundary[f].insert(a, (b, g)).is_some() {
-                    return Err("a facet touches itself at a vertex (pinched boundary)");
-                }
+                boundary.push((f, tri.v[k], tri.v[(k + 1) % 3], g));
             }
         }
     }
+    boundary.sort_unstable();
+    if boundary
+        .windows(2)
+        .any(|w| w[0].0 == w[1].0 && w[0].1 == w[1].1)
+    {
+        return Err("a facet touches itself at a vertex (pinched boundary)");
+    }
     let mut faces: Vec<Vec<u32>> = Vec::with_capacity(nf);
-    for edges in &boundary {
+    let mut lo = 0;
+    for f in 0..nf {
+        let hi = lo + boundary[lo..].iter().take_while(|e| e.0 == f).count();
+        let edges = &boundary[lo..hi];
+        lo = hi;
+        let leaving = |v: u32| {
+            edges
+                .binary_search_by(|e| e.1.cmp(&v))
+                .ok()
+                .map(|i| (edges[i].2, edges[i].3))
+        };
         let start = edges
-            .keys()
-            .copied()
-            .filter(|&v| corner[v as usize])
-            .min()
+            .iter()
+            .map(|e| e.1)
+            .find(|&v| corner[v as usize])
             .ok_or("a facet has no corner on its boundary")?;
         let mut face = Vec::new();
         let mut v = start;
         let mut beyond_run = usize::MAX;
         let mut walked = 0;
         loop {
-            let &(w, g) = edges.get(&v).ok_or("a facet boundary is not closed")?;
+            let (w, g) = leaving(v).ok_or("a facet boundary is not closed")?;
             if corner[v as usize] {
                 face.push(v);
                 beyond_run = g;

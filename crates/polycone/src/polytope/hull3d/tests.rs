@@ -626,3 +626,72 @@ fn regression_polar_route_plane_off_seed_61864d09() {
         }));
     }
 }
+
+/// The check rejects each kind of broken polyhedron (so that it can fail).
+#[test]
+fn check_rejects_broken_polyhedra() {
+    let mut pts = vec![];
+    for x in [0.0, 1.0] {
+        for y in [0.0, 1.0] {
+            for z in [0.0, 1.0] {
+                pts.push([x, y, z]);
+            }
+        }
+    }
+    let o = PolytopeOptions::default();
+    let cube = direct_checked(&pts, &o);
+    let broken = |f: &dyn Fn(&mut Polyhedron)| {
+        let mut p = cube.clone();
+        f(&mut p);
+        check_hull(&pts, &p, &o).unwrap_err()
+    };
+    assert_eq!(
+        broken(&|p| p.planes[0].1 -= 1e-6),
+        "a point lies outside a face plane by more than dist_tol"
+    );
+    assert_eq!(
+        broken(&|p| p.planes[0].1 += 1e-6),
+        "a face vertex is farther than dist_tol from the face plane"
+    );
+    assert_eq!(
+        broken(&|p| p.vertices[0][0] -= 1e-6),
+        "a vertex is not an input point"
+    );
+    assert_eq!(
+        broken(&|p| p.planes.iter_mut().for_each(|q| q.0[0] *= 1.0 + 1e-6)),
+        "a face normal is not a unit vector"
+    );
+    assert_eq!(
+        broken(&|p| p.faces[0].reverse()),
+        "a face is not convex (a vertex inside by more than dist_tol)"
+    );
+    assert_eq!(
+        broken(&|p| {
+            p.faces.pop();
+            p.planes.pop();
+            p.active.pop();
+        }),
+        "a vertex lies on fewer than three faces"
+    );
+    assert_eq!(
+        broken(&|p| p.faces[0].swap(0, 1)),
+        "a face is not convex (a vertex inside by more than dist_tol)"
+    );
+    assert_eq!(
+        broken(&|p| {
+            p.faces.push(p.faces[0].clone());
+            p.planes.push(p.planes[0]);
+            p.active.push(None);
+        }),
+        "a directed edge appears twice"
+    );
+    // An input point listed as a vertex but on no face.
+    let mut inside = pts.clone();
+    inside.push([0.5, 0.5, 0.5]);
+    let mut p = cube.clone();
+    p.vertices.push([0.5, 0.5, 0.5]);
+    assert_eq!(
+        check_hull(&inside, &p, &o).unwrap_err(),
+        "a vertex lies on fewer than three faces"
+    );
+}
