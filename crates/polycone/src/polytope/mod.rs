@@ -65,7 +65,10 @@
 //!   example stances.
 //! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
 //!   region, 60 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
-//!   x1.2, x1.65 and x0.79 the polar route alone (`hull3_timing`, release, one core).
+//!   x1.2, x1.65 and x0.79 the polar route alone (`hull3_timing`, release, one core). Each
+//!   orientation the floating-point filter cannot decide costs about 1 us (big integers);
+//!   the merging of near-duplicates before the hull is quadratic in the number of points
+//!   (meant for hundreds to a few thousand points).
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

@@ -105,3 +105,20 @@ pub const HULL_CHECK_UNIT_NORMAL: f64 = 1e-9;
 /// `2 pi` up to rounding, about 1e-15 per vertex); a loop that winds twice or backwards is
 /// off by `2 pi`. Structural.
 pub const HULL_CHECK_WINDING: f64 = 1e-6;
+
+/// Relative forward error bound of the floating-point filter of the 3-D hull's orientation
+/// predicate (dimensionless, `(7 + 56 u) u` with `u = 2^-53` the unit roundoff, Shewchuk 1997):
+/// the computed determinant differs from the true one by at most this times the permanent
+/// (the same expansion with absolute values), for the evaluation order used (differences,
+/// then the 3x3 cofactor expansion). Not a tolerance: a larger value only calls the exact
+/// path more often, a smaller one would be wrong.
+pub const ORIENT_ERR_BOUND: f64 = (7.0 + 56.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
+
+/// Magnitude range (`2^-400` to `2^400`) in which the orientation predicate trusts zero
+/// rounding residuals (fused multiply-add and two-sum) to certify an exact floating-point
+/// determinant: every input, difference, minor, product and sum is required to lie in the
+/// range (or be zero), and a product of two such numbers neither overflows nor underflows.
+/// Not a tolerance: outside the range the big-integer path decides.
+pub const ORIENT_RANGE_LO: f64 = 3.872591914849318e-121;
+/// Upper end of the range of [`ORIENT_RANGE_LO`].
+pub const ORIENT_RANGE_HI: f64 = 2.582249878086908e120;

@@ -38,8 +38,9 @@ pub(crate) use check::check_hull;
 /// holds `None`. A flat input (within `dist_tol`) gives `dim < 3`, the distinct points and no
 /// faces.
 ///
-/// Tolerances: points closer than `merge_tol` are one point; coplanar faces within `dist_tol`
-/// are one face; every input point is at most `dist_tol` above every returned plane and every
+/// Tolerances: points closer than `merge_tol` are one point (one of them is kept);
+/// coplanar faces within `dist_tol` are one face; every kept point is at most `dist_tol`
+/// above every returned plane (a dropped duplicate at most `dist_tol + merge_tol`), and every
 /// face's vertices lie at most `dist_tol` below its plane. The result passes the check of the
 /// `check` module (soundness, convex faces, each edge on two faces, Euler's formula) or is
 /// an error.

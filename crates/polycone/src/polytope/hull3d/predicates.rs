@@ -15,12 +15,7 @@
 use num_bigint::BigInt;
 use num_traits::{Float, Signed, Zero};
 
-/// Relative forward error bound of the filtered determinant below (dimensionless): with
-/// `u = 2^-53` the unit roundoff, the computed determinant differs from the true one by at
-/// most `(7 + 56 u) u` times the permanent (the same expression with absolute values), for the
-/// evaluation order used here (differences first, then the 3x3 expansion). Not a tolerance:
-/// a larger constant only calls the exact path more often.
-const ORIENT_ERR_BOUND: f64 = (7.0 + 56.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
+use crate::polytope::tol::{ORIENT_ERR_BOUND, ORIENT_RANGE_HI, ORIENT_RANGE_LO};
 
 /// The sign of the orientation of `d` against the triangle `a b c` (see the module doc): `1`,
 /// `-1` or `0`, exactly.
@@ -45,7 +40,72 @@ pub(crate) fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> 
             return -1;
         }
     }
+    if let Some(sign) = orient_if_exact_in_floats(a, b, c, d) {
+        return sign;
+    }
     orient_exact(a, b, c, d)
+}
+
+/// `a + b` with its rounding error: `a + b = s + e` exactly (Knuth's two-sum).
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bv = s - a;
+    let av = s - bv;
+    (s, (a - av) + (b - bv))
+}
+
+/// `a b - c d`, if every step is exact in `f64` (checked with fused multiply-add and
+/// two-sum residuals).
+#[inline]
+fn exact_minor(a: f64, b: f64, c: f64, d: f64) -> Option<f64> {
+    let (p, q) = (a * b, c * d);
+    if a.mul_add(b, -p) != 0.0 || c.mul_add(d, -q) != 0.0 {
+        return None;
+    }
+    let (m, e) = two_sum(p, -q);
+    (e == 0.0).then_some(m)
+}
+
+/// The determinant of [`orient`] when its floating-point evaluation is exact (no rounding in
+/// any difference, product or sum: common for exactly degenerate inputs on "round" numbers,
+/// where the filter cannot decide a zero). `None` otherwise, or when a value is outside
+/// [`ORIENT_RANGE_LO`] to [`ORIENT_RANGE_HI`] in magnitude (where underflow could hide a
+/// rounding).
+fn orient_if_exact_in_floats(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8> {
+    let ok = |x: f64| x == 0.0 || (x.abs() >= ORIENT_RANGE_LO && x.abs() <= ORIENT_RANGE_HI);
+    let diff = |p: &[f64; 3]| -> Option<[f64; 3]> {
+        let mut out = [0.0; 3];
+        for k in 0..3 {
+            let (s, e) = two_sum(p[k], -a[k]);
+            if e != 0.0 || !ok(p[k]) || !ok(a[k]) || !ok(s) {
+                return None;
+            }
+            out[k] = s;
+        }
+        Some(out)
+    };
+    let (u, v, w) = (diff(b)?, diff(c)?, diff(d)?);
+    let m0 = exact_minor(v[1], w[2], v[2], w[1])?;
+    let m1 = exact_minor(v[2], w[0], v[0], w[2])?;
+    let m2 = exact_minor(v[0], w[1], v[1], w[0])?;
+    let (t0, t1, t2) = (u[0] * m0, u[1] * m1, u[2] * m2);
+    if u[0].mul_add(m0, -t0) != 0.0 || u[1].mul_add(m1, -t1) != 0.0 || u[2].mul_add(m2, -t2) != 0.0
+    {
+        return None;
+    }
+    let (s, e0) = two_sum(t0, t1);
+    let (det, e1) = two_sum(s, t2);
+    if e0 != 0.0 || e1 != 0.0 || ![m0, m1, m2, t0, t1, t2, s, det].iter().all(|&x| ok(x)) {
+        return None;
+    }
+    Some(if det > 0.0 {
+        1
+    } else if det < 0.0 {
+        -1
+    } else {
+        0
+    })
 }
 
 /// [`orient`] in big integers (no filter).
@@ -140,6 +200,32 @@ mod tests {
         assert_eq!(s, orient_rational(&a, &b, &c, &d_up));
     }
 
+    /// Exactly degenerate quadruples on a grid of quarter units (coplanar, collinear, repeated
+    /// points): the floating-point exact path and the rational determinant agree.
+    #[test]
+    fn orient_on_a_grid_matches_rationals() {
+        let g = |k: i32| {
+            [
+                (k % 3) as f64 * 0.25 - 0.25,
+                (k / 3 % 3) as f64 * 0.5,
+                (k / 9) as f64 - 1.0,
+            ]
+        };
+        for i in 0..27 {
+            for j in (0..27).step_by(2) {
+                for k in (1..27).step_by(3) {
+                    for l in (0..27).step_by(5) {
+                        let (a, b, c, d) = (g(i), g(j), g(k), g(l));
+                        assert_eq!(orient(&a, &b, &c, &d), orient_rational(&a, &b, &c, &d));
+                        if let Some(s) = orient_if_exact_in_floats(&a, &b, &c, &d) {
+                            assert_eq!(s, orient_rational(&a, &b, &c, &d));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     fn coord() -> impl Strategy<Value = f64> {
         prop_oneof![
             -1e3f64..1e3,
@@ -166,6 +252,9 @@ mod tests {
             };
             prop_assert_eq!(orient(&a, &b, &c, &d), orient_rational(&a, &b, &c, &d));
             prop_assert_eq!(orient(&a, &b, &c, &d), -orient(&b, &a, &c, &d));
+            if let Some(s) = orient_if_exact_in_floats(&a, &b, &c, &d) {
+                prop_assert_eq!(s, orient_rational(&a, &b, &c, &d));
+            }
         }
     }
 }

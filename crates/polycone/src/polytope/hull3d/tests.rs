@@ -566,6 +566,9 @@ fn hull3_timing() {
         let direct = time(&|| {
             std::hint::black_box(hull3_direct(&pts, &opts).unwrap());
         });
+        let exact = time(&|| {
+            std::hint::black_box(incremental::exact_hull(&pts, opts.dist_tol).unwrap());
+        });
         let h = hull3_direct(&pts, &opts).unwrap();
         let check = time(&|| {
             check_hull(&pts, &h, &opts).unwrap();
@@ -574,7 +577,7 @@ fn hull3_timing() {
             std::hint::black_box(hull3(&pts, &opts).unwrap());
         });
         eprintln!(
-            "{scene:16} {:6} {faces:5} {polar:9.1} {direct:10.1} {check:9.1} {public:9.1} {:12.2}",
+            "{scene:16} {:6} {faces:5} {polar:9.1} {exact:9.1} {direct:10.1} {check:9.1} {public:9.1} {:12.2}",
             pts.len(),
             public / polar
         );
