@@ -100,10 +100,10 @@ pub const HULL_SAME_FACET: f64 = 1e-7;
 /// a few ulps; anything farther was not normalized. Structural.
 pub const HULL_CHECK_UNIT_NORMAL: f64 = 1e-9;
 
-/// The check of every 3-D hull ([`super::hull3`]) accepts a face loop whose turning angles sum
-/// to `2 pi` within this (radians, 1e-6). Reason: a convex loop winds exactly once (sum
-/// `2 pi` up to rounding, about 1e-15 per vertex); a loop that winds twice or backwards is
-/// off by `2 pi`. Structural.
+/// The check of every 3-D hull ([`super::hull3`]) accepts a face loop whose angles swept
+/// around its centroid sum to `2 pi` within this (radians, 1e-6). Reason: a convex loop
+/// winds exactly once (sum `2 pi` up to rounding, about 1e-15 per vertex); a loop that winds
+/// twice or backwards is off by `2 pi`. Structural.
 pub const HULL_CHECK_WINDING: f64 = 1e-6;
 
 /// Relative forward error bound of the floating-point filter of the 3-D hull's orientation

@@ -8,9 +8,11 @@
 //! 2. vertices: every vertex is within `merge_tol` of a point of `P`, and lies on three or
 //!    more faces;
 //! 3. faces: at least three vertices, all within `dist_tol` of the face's plane, forming a
-//!    convex loop counter-clockwise around `n_f` (no vertex more than `dist_tol` inside the
-//!    chord of its two neighbours, turning angles summing to `2 pi`, positive area along
-//!    `n_f`; all in the face plane);
+//!    convex loop counter-clockwise around `n_f` (angles swept around its centroid summing
+//!    to `2 pi`, positive area along `n_f`, all in the face plane, and no vertex inside the chord of its two
+//!    neighbours by more than `dist_tol / sin theta`, with `theta` the smallest angle between
+//!    the face and another face at that vertex: a corner of nearly parallel planes is only
+//!    located to that accuracy in the plane);
 //! 4. lattice: every edge is shared by exactly two faces, in opposite directions, two faces
 //!    share at most one edge, and Euler's formula `V - E + F = 2` holds.
 //!
@@ -76,12 +78,32 @@ pub(crate) fn check_hull(
         }
     }
     // 3. Faces.
-    let mut degree = vec![0usize; nv];
-    for (face, &(n, d)) in poly.faces.iter().zip(&poly.planes) {
-        let m = face.len();
-        if m < 3 || face.iter().any(|&v| v >= nv) {
+    // Faces around each vertex (compressed rows: faces_at[start[v]..start[v + 1]]).
+    let mut start = vec![0usize; nv + 1];
+    for face in &poly.faces {
+        if face.len() < 3 || face.iter().any(|&v| v >= nv) {
             return Err("a face has fewer than three vertices or a bad index");
         }
+        for &v in face {
+            start[v + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut faces_at = vec![0usize; start[nv]];
+    let mut fill = start.clone();
+    for (f, face) in poly.faces.iter().enumerate() {
+        for &v in face {
+            faces_at[fill[v]] = f;
+            fill[v] += 1;
+        }
+    }
+    if (0..nv).any(|v| start[v + 1] - start[v] < 3) {
+        return Err("a vertex lies on fewer than three faces");
+    }
+    for (fi, (face, &(n, d))) in poly.faces.iter().zip(&poly.planes).enumerate() {
+        let m = face.len();
         let mut sorted = face.clone();
         sorted.sort_unstable();
         sorted.dedup();
@@ -94,27 +116,46 @@ pub(crate) fn check_hull(
         }
         let mut winding = 0.0;
         let mut area = [0.0; 3];
-        // Edges projected on the face plane: the turning angles of a planar loop sum to
-        // exactly 2 pi k (out-of-plane parts, up to dist_tol, would distort short edges).
+        // Vectors projected on the face plane (out-of-plane parts, up to dist_tol, would
+        // distort short edges).
         let flat = |x: [f64; 3]| {
             let h = dot(x, n);
             [x[0] - h * n[0], x[1] - h * n[1], x[2] - h * n[2]]
         };
+        let mut centre = [0.0; 3];
+        for q in &p {
+            for k in 0..3 {
+                centre[k] += q[k] / m as f64;
+            }
+        }
         for i in 0..m {
             let (a, b, c) = (p[i], p[(i + 1) % m], p[(i + 2) % m]);
-            let (e, f) = (flat(sub(b, a)), flat(sub(c, b)));
-            let le = dot(e, e).sqrt();
-            if !lt(0.0, le) {
+            let e = flat(sub(b, a));
+            if !lt(0.0, dot(e, e)) {
                 return Err("a face has a zero-length edge");
             }
             // Dent depth of b: its signed distance to the left of (inside) the chord a -> c,
-            // in the face plane (at most |b - a|, so short edges cannot inflate it).
+            // in the face plane (at most |b - a|, so short edges cannot inflate it). The
+            // in-plane position of b, a corner of this face and of faces at angles theta to
+            // it, is known to dist_tol / sin(theta): the allowed depth.
             let chord = flat(sub(c, a));
             let lc = dot(chord, chord).sqrt();
-            if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc > tol {
-                return Err("a face is not convex (a vertex inside by more than dist_tol)");
+            let vb = face[(i + 1) % m];
+            let sin_min = faces_at[start[vb]..start[vb + 1]]
+                .iter()
+                .filter(|&&g| g != fi)
+                .map(|&g| {
+                    let x = cross(n, poly.planes[g].0);
+                    dot(x, x).sqrt()
+                })
+                .fold(1.0, f64::min);
+            if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc * sin_min > tol {
+                return Err("a face is not convex (a vertex inside by more than dist_tol / sin)");
             }
-            winding += dot(n, cross(e, f)).atan2(dot(e, f));
+            // The loop seen from its centroid: the angle swept from a to b (short edges in
+            // a cluster far from the centroid sweep tiny angles whatever their direction).
+            let (ra, rb) = (flat(sub(a, centre)), flat(sub(b, centre)));
+            winding += dot(n, cross(ra, rb)).atan2(dot(ra, rb));
             let w = cross(sub(a, p[0]), sub(b, p[0]));
             for k in 0..3 {
                 area[k] += 0.5 * w[k];
@@ -126,12 +167,6 @@ pub(crate) fn check_hull(
         if !lt(0.0, dot(area, n)) {
             return Err("a face has no positive area along its normal");
         }
-        for &v in face {
-            degree[v] += 1;
-        }
-    }
-    if degree.iter().any(|&k| k < 3) {
-        return Err("a vertex lies on fewer than three faces");
     }
     // 4. Lattice: directed edges (a, b, face), sorted.
     let mut edge_face: Vec<(usize, usize, usize)> = Vec::new();
