@@ -64,12 +64,11 @@
 //!   of its two neighbours by up to `dist_tol / sin theta` (`theta` the smallest angle
 //!   between the face and another face at that vertex), which clusters of points on nearly
 //!   parallel faces produce (4e-8 m seen for `theta` = 6e-4).
-//! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
-//!   region, 60 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
-//!   x1.2, x1.65 and x0.79 the polar route alone (`hull3_timing`, release, one core). Each
-//!   orientation the floating-point filter cannot decide costs about 1 us (big integers);
-//!   the merging of near-duplicates before the hull is quadratic in the number of points
-//!   (meant for hundreds to a few thousand points).
+//! - [`hull3`] (with its check) costs 16 us for the 8 vertices of a single-support robust
+//!   region, 48 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
+//!   x1.12, x1.22 and x0.76 the polar route alone (`hull3_timing`, release, one core); about
+//!   half of it is the exact hull, half the facets. The merging of near-duplicates before
+//!   the hull is quadratic in the number of points (meant for hundreds to a few thousand).
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

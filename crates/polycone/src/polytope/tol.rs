@@ -114,11 +114,11 @@ pub const HULL_CHECK_WINDING: f64 = 1e-6;
 /// path more often, a smaller one would be wrong.
 pub const ORIENT_ERR_BOUND: f64 = (7.0 + 56.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
 
-/// Magnitude range (`2^-400` to `2^400`) in which the orientation predicate trusts zero
-/// rounding residuals (fused multiply-add and two-sum) to certify an exact floating-point
-/// determinant: every input, difference, minor, product and sum is required to lie in the
-/// range (or be zero), and a product of two such numbers neither overflows nor underflows.
-/// Not a tolerance: outside the range the big-integer path decides.
-pub const ORIENT_RANGE_LO: f64 = 3.872591914849318e-121;
+/// Magnitude range (`2^-300` to `2^300`) of the non-zero parts of the coordinate differences
+/// for which the exact orientation predicate of the 3-D hull works in floating-point
+/// expansions: products of three such numbers and their rounding errors are then exact `f64`
+/// values (no overflow, no underflow below the subnormal granularity). Not a tolerance:
+/// outside the range the big-integer path decides.
+pub const ORIENT_RANGE_LO: f64 = 4.909093465297727e-91;
 /// Upper end of the range of [`ORIENT_RANGE_LO`].
-pub const ORIENT_RANGE_HI: f64 = 2.582249878086908e120;
+pub const ORIENT_RANGE_HI: f64 = 2.037035976334486e90;

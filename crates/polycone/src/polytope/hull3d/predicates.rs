@@ -8,9 +8,11 @@
 //!
 //! Method: a floating-point filter (the determinant in `f64` with a forward error bound in the
 //! style of Shewchuk 1997, "Adaptive precision floating-point arithmetic and fast robust
-//! geometric predicates"), then, when the bound does not decide the sign (or on overflow), the
-//! determinant in big integers: the 12 coordinates are written `m 2^e` and scaled by a common
-//! power of two, so the integer determinant has exactly the sign of the real one.
+//! geometric predicates"); when the bound does not decide the sign, the exact determinant as
+//! a floating-point expansion (exact differences by two-sum, exact products by fused
+//! multiply-add, summed into a nonoverlapping expansion, no allocation); for coordinates so
+//! small or large that a product could underflow or overflow, the determinant in big
+//! integers (the 12 coordinates written `m 2^e` and scaled by a common power of two).
 
 use num_bigint::BigInt;
 use num_traits::{Float, Signed, Zero};
@@ -40,7 +42,7 @@ pub(crate) fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> 
             return -1;
         }
     }
-    if let Some(sign) = orient_if_exact_in_floats(a, b, c, d) {
+    if let Some(sign) = orient_expansion(a, b, c, d) {
         return sign;
     }
     orient_exact(a, b, c, d)
@@ -55,57 +57,114 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (s, (a - av) + (b - bv))
 }
 
-/// `a b - c d`, if every step is exact in `f64` (checked with fused multiply-add and
-/// two-sum residuals).
+/// `a b` with its rounding error: `a b = p + e` exactly, when no underflow occurs.
 #[inline]
-fn exact_minor(a: f64, b: f64, c: f64, d: f64) -> Option<f64> {
-    let (p, q) = (a * b, c * d);
-    if a.mul_add(b, -p) != 0.0 || c.mul_add(d, -q) != 0.0 {
-        return None;
-    }
-    let (m, e) = two_sum(p, -q);
-    (e == 0.0).then_some(m)
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
 }
 
-/// The determinant of [`orient`] when its floating-point evaluation is exact (no rounding in
-/// any difference, product or sum: common for exactly degenerate inputs on "round" numbers,
-/// where the filter cannot decide a zero). `None` otherwise, or when a value is outside
-/// [`ORIENT_RANGE_LO`] to [`ORIENT_RANGE_HI`] in magnitude (where underflow could hide a
-/// rounding).
-fn orient_if_exact_in_floats(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8> {
+/// Capacity of [`Expansion`]: the determinant has at most 6 x 8 x 4 = 192 parts.
+const EXPANSION_CAP: usize = 192;
+
+/// An exact sum of doubles as a nonoverlapping expansion in increasing magnitude, zero
+/// components removed (Shewchuk 1997, GROW-EXPANSION-ZEROELIM), on the stack.
+struct Expansion {
+    c: [f64; EXPANSION_CAP],
+    len: usize,
+}
+
+impl Expansion {
+    /// Adds `b` exactly.
+    #[inline]
+    fn add(&mut self, b: f64) {
+        if b == 0.0 {
+            return;
+        }
+        let mut q = b;
+        let mut k = 0;
+        for i in 0..self.len {
+            let (s, h) = two_sum(q, self.c[i]);
+            q = s;
+            if h != 0.0 {
+                self.c[k] = h;
+                k += 1;
+            }
+        }
+        if q != 0.0 {
+            self.c[k] = q;
+            k += 1;
+        }
+        self.len = k;
+    }
+
+    /// The sign of the sum: that of its largest component, which dominates the others.
+    fn sign(&self) -> i8 {
+        match self.len.checked_sub(1).map(|k| self.c[k]) {
+            Some(x) if x > 0.0 => 1,
+            Some(x) if x < 0.0 => -1,
+            _ => 0,
+        }
+    }
+}
+
+/// The exact sign of [`orient`] in floating-point expansions (no allocation): the differences
+/// as exact two-term sums, each of the six triple products of the determinant as an exact sum
+/// of doubles (`two_prod`), all added into one [`Expansion`]. `None` when a non-zero part of
+/// a difference lies outside [`ORIENT_RANGE_LO`] to [`ORIENT_RANGE_HI`] in magnitude (where
+/// a product could underflow or overflow): the big-integer path decides then.
+fn orient_expansion(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8> {
     let ok = |x: f64| x == 0.0 || (x.abs() >= ORIENT_RANGE_LO && x.abs() <= ORIENT_RANGE_HI);
-    let diff = |p: &[f64; 3]| -> Option<[f64; 3]> {
-        let mut out = [0.0; 3];
+    let diff = |p: &[f64; 3]| -> Option<[[f64; 2]; 3]> {
+        let mut out = [[0.0; 2]; 3];
         for k in 0..3 {
-            let (s, e) = two_sum(p[k], -a[k]);
-            if e != 0.0 || !ok(p[k]) || !ok(a[k]) || !ok(s) {
+            let (hi, lo) = two_sum(p[k], -a[k]);
+            if !(ok(hi) && ok(lo)) {
                 return None;
             }
-            out[k] = s;
+            out[k] = [hi, lo];
         }
         Some(out)
     };
     let (u, v, w) = (diff(b)?, diff(c)?, diff(d)?);
-    let m0 = exact_minor(v[1], w[2], v[2], w[1])?;
-    let m1 = exact_minor(v[2], w[0], v[0], w[2])?;
-    let m2 = exact_minor(v[0], w[1], v[1], w[0])?;
-    let (t0, t1, t2) = (u[0] * m0, u[1] * m1, u[2] * m2);
-    if u[0].mul_add(m0, -t0) != 0.0 || u[1].mul_add(m1, -t1) != 0.0 || u[2].mul_add(m2, -t2) != 0.0
-    {
-        return None;
+    let mut e = Expansion {
+        c: [0.0; EXPANSION_CAP],
+        len: 0,
+    };
+    // det = sum of sign * u[i] v[j] w[k] over the permutations (i, j, k) of (0, 1, 2).
+    let terms: [(f64, usize, usize, usize); 6] = [
+        (1.0, 0, 1, 2),
+        (-1.0, 0, 2, 1),
+        (1.0, 1, 2, 0),
+        (-1.0, 1, 0, 2),
+        (1.0, 2, 0, 1),
+        (-1.0, 2, 1, 0),
+    ];
+    for (sg, i, j, k) in terms {
+        for &x in &u[i] {
+            if x == 0.0 {
+                continue;
+            }
+            for &y in &v[j] {
+                if y == 0.0 {
+                    continue;
+                }
+                let (p, q) = two_prod(sg * x, y);
+                for &z in &w[k] {
+                    if z == 0.0 {
+                        continue;
+                    }
+                    let (r1, r2) = two_prod(p, z);
+                    let (r3, r4) = two_prod(q, z);
+                    e.add(r1);
+                    e.add(r2);
+                    e.add(r3);
+                    e.add(r4);
+                }
+            }
+        }
     }
-    let (s, e0) = two_sum(t0, t1);
-    let (det, e1) = two_sum(s, t2);
-    if e0 != 0.0 || e1 != 0.0 || ![m0, m1, m2, t0, t1, t2, s, det].iter().all(|&x| ok(x)) {
-        return None;
-    }
-    Some(if det > 0.0 {
-        1
-    } else if det < 0.0 {
-        -1
-    } else {
-        0
-    })
+    Some(e.sign())
 }
 
 /// [`orient`] in big integers (no filter).
@@ -217,11 +276,34 @@ mod tests {
                     for l in (0..27).step_by(5) {
                         let (a, b, c, d) = (g(i), g(j), g(k), g(l));
                         assert_eq!(orient(&a, &b, &c, &d), orient_rational(&a, &b, &c, &d));
-                        if let Some(s) = orient_if_exact_in_floats(&a, &b, &c, &d) {
+                        if let Some(s) = orient_expansion(&a, &b, &c, &d) {
                             assert_eq!(s, orient_rational(&a, &b, &c, &d));
                         }
                     }
                 }
+            }
+        }
+    }
+
+    /// Coordinates so small or large that products underflow or overflow: the big-integer
+    /// path decides, and agrees with the rationals.
+    #[test]
+    fn orient_at_extreme_scales_matches_rationals() {
+        for scale in [1e-200, 1e-120, 1e120, 1e200] {
+            let g = |k: i32| {
+                [
+                    (k % 3) as f64 * scale,
+                    (k / 3 % 3) as f64 * scale,
+                    ((k / 9) as f64 - 0.5) * scale,
+                ]
+            };
+            for (i, j, k, l) in [(0, 1, 3, 9), (0, 1, 2, 5), (4, 13, 22, 8), (1, 5, 9, 26)] {
+                let (a, b, c, d) = (g(i), g(j), g(k), g(l));
+                assert_eq!(
+                    orient(&a, &b, &c, &d),
+                    orient_rational(&a, &b, &c, &d),
+                    "scale {scale}"
+                );
             }
         }
     }
@@ -252,9 +334,9 @@ mod tests {
             };
             prop_assert_eq!(orient(&a, &b, &c, &d), orient_rational(&a, &b, &c, &d));
             prop_assert_eq!(orient(&a, &b, &c, &d), -orient(&b, &a, &c, &d));
-            if let Some(s) = orient_if_exact_in_floats(&a, &b, &c, &d) {
-                prop_assert_eq!(s, orient_rational(&a, &b, &c, &d));
-            }
+            let s = orient_expansion(&a, &b, &c, &d);
+            prop_assert_eq!(s, Some(orient_rational(&a, &b, &c, &d)));
+            prop_assert_eq!(orient_exact(&a, &b, &c, &d), orient_rational(&a, &b, &c, &d));
         }
     }
 }

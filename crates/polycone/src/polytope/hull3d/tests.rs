@@ -566,7 +566,7 @@ fn hull3_timing() {
         best * 1e6
     };
     eprintln!(
-        "scene            points faces  polar_us  direct_us  check_us  hull3_us  hull3/polar"
+        "scene            points faces  polar_us  exact_us  direct_us  check_us  hull3_us  hull3/polar"
     );
     for (scene, faces, pts) in robust_regions() {
         let polar = time(&|| {
