@@ -64,11 +64,12 @@
 //!   of its two neighbours by up to `dist_tol / sin theta` (`theta` the smallest angle
 //!   between the face and another face at that vertex), which clusters of points on nearly
 //!   parallel faces produce (4e-8 m seen for `theta` = 6e-4).
-//! - [`hull3`] (with its check) costs 16 us for the 8 vertices of a single-support robust
-//!   region, 48 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
-//!   x1.12, x1.22 and x0.76 the polar route alone (`hull3_timing`, release, one core); about
-//!   half of it is the exact hull, half the facets. The merging of near-duplicates before
-//!   the hull is quadratic in the number of points (meant for hundreds to a few thousand).
+//! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
+//!   region, 50 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
+//!   x1.1, x1.3 and x0.8 the polar route alone (`hull3_timing`, release, one core); about
+//!   half of it is the exact hull, half the facets. 1.6 ms for 500 points (300 on the hull),
+//!   x2.5 Qhull's time (`bench/peers/hull3.md`): the fitted planes and the check are
+//!   `O(n F)`.
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

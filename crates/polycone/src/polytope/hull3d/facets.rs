@@ -19,6 +19,8 @@
 //! counter-clockwise orientation of the triangles. A facet whose boundary is not one simple
 //! loop (a hole or a pinch) is an error: the caller falls back.
 
+#[cfg(doc)]
+use super::incremental::exact_hull;
 use super::incremental::{tri_plane, Tri, NONE};
 use crate::polytope::{Polyhedron, PolytopeOptions, RegionStatus};
 
@@ -48,8 +50,10 @@ struct Facet {
 }
 
 /// The plane of the vertices `verts` for the normal `n`: offset at the top of their slab, if
-/// the slab is at most `tol` wide and no point of `pts` is more than `tol` above it.
-fn slab(pts: &[[f64; 3]], verts: &[u32], n: [f64; 3], tol: f64) -> Option<f64> {
+/// the slab is at most `tol` wide and no point of `support` is more than `tol` above it
+/// (`support`: the hull's vertices and the marginal points, where every linear function
+/// takes its maximum over all the points).
+fn slab(pts: &[[f64; 3]], support: &[u32], verts: &[u32], n: [f64; 3], tol: f64) -> Option<f64> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in verts {
         let h = dot(n, pts[v as usize]);
@@ -59,7 +63,10 @@ fn slab(pts: &[[f64; 3]], verts: &[u32], n: [f64; 3], tol: f64) -> Option<f64> {
     if hi - lo > tol || (hi - lo).is_nan() {
         return None;
     }
-    pts.iter().all(|p| dot(n, *p) <= hi + tol).then_some(hi)
+    support
+        .iter()
+        .all(|&p| dot(n, pts[p as usize]) <= hi + tol)
+        .then_some(hi)
 }
 
 /// Least-squares plane of `verts` around the normal `n0`: heights `h = n0 . (p - c)` fitted as
@@ -106,7 +113,13 @@ fn fit_normal(pts: &[[f64; 3]], verts: &[u32], n0: [f64; 3]) -> Option<[f64; 3]>
 
 /// The best plane of `verts` among the normal `n0` and its least-squares refinement: the one
 /// with the thinner slab that satisfies [`slab`].
-fn best_plane(pts: &[[f64; 3]], verts: &[u32], n0: [f64; 3], tol: f64) -> Option<([f64; 3], f64)> {
+fn best_plane(
+    pts: &[[f64; 3]],
+    support: &[u32],
+    verts: &[u32],
+    n0: [f64; 3],
+    tol: f64,
+) -> Option<([f64; 3], f64)> {
     let width = |n: [f64; 3]| {
         let hs = verts.iter().map(|&v| dot(n, pts[v as usize]));
         let (lo, hi) = hs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
@@ -124,7 +137,7 @@ fn best_plane(pts: &[[f64; 3]], verts: &[u32], n0: [f64; 3], tol: f64) -> Option
     }
     cands
         .into_iter()
-        .find_map(|n| slab(pts, verts, n, tol).map(|d| (n, d)))
+        .find_map(|n| slab(pts, support, verts, n, tol).map(|d| (n, d)))
 }
 
 fn union_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
@@ -145,13 +158,19 @@ fn find(parent: &mut [usize], mut x: usize) -> usize {
 }
 
 /// Facets and face lattice of the triangulated hull `tris` of `pts` (see the module doc).
+/// `marginal`: the points outside the exact hull by at most `dist_tol` ([`exact_hull`]).
 /// `Err` names the first structural problem found.
 pub(crate) fn polyhedron_from_triangles(
     pts: &[[f64; 3]],
     tris: &[Tri],
+    marginal: &[u32],
     opts: &PolytopeOptions,
 ) -> Result<Polyhedron, &'static str> {
     let tol = opts.dist_tol;
+    let mut support: Vec<u32> = tris.iter().flat_map(|t| t.v).collect();
+    support.extend_from_slice(marginal);
+    support.sort_unstable();
+    support.dedup();
     let planes: Vec<([f64; 3], f64)> = tris.iter().map(|t| tri_plane(pts, t.v)).collect();
     let mut order: Vec<usize> = (0..tris.len()).collect();
     order.sort_by(|&a, &b| planes[b].1.total_cmp(&planes[a].1));
@@ -200,7 +219,7 @@ pub(crate) fn polyhedron_from_triangles(
         let mut verts: Vec<u32> = members.iter().flat_map(|&t| tris[t].v).collect();
         verts.sort_unstable();
         verts.dedup();
-        let (n, d) = best_plane(pts, &verts, n0, tol)
+        let (n, d) = best_plane(pts, &support, &verts, n0, tol)
             .ok_or("a facet's vertices do not fit a supporting slab of width dist_tol")?;
         let area = members.iter().map(|&t| planes[t].1).sum();
         facets.push(Facet { verts, n, d, area });
@@ -234,7 +253,7 @@ pub(crate) fn polyhedron_from_triangles(
                 (b, a)
             };
             let verts = union_sorted(&facets[big].verts, &facets[small].verts);
-            if let Some((n, d)) = best_plane(pts, &verts, facets[big].n, tol) {
+            if let Some((n, d)) = best_plane(pts, &support, &verts, facets[big].n, tol) {
                 parent[small] = big;
                 facets[big].area += facets[small].area;
                 facets[big].verts = verts;

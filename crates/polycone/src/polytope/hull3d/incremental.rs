@@ -197,7 +197,10 @@ fn simplex(pts: &[[f64; 3]]) -> Option<[usize; 4]> {
 /// Points at most `tol` above the current hull (by the float height above the triangles they
 /// see) are not added: they are within `tol` of the hull (of the hull at that time; the final
 /// check of [`super::check`] verifies every point against the final faces).
-pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
+///
+/// Returns the triangles and the *marginal* points: exactly outside the hull but at most
+/// `tol` above its triangles. Every other point that is no hull vertex is inside the hull.
+pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u32>)> {
     let [i0, i1, i2, i3] = simplex(pts)?.map(|i| i as u32);
     let mut w = Work {
         tris: Vec::with_capacity(4 * pts.len()),
@@ -213,12 +216,18 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
     w.push(pts, [i1, i3, i2], [1, 3, 0]);
     w.push(pts, [i2, i3, i0], [2, 1, 0]);
     let n = pts.len() as u32;
+    // Points exactly outside the hull but skipped as within `tol` of it ("marginal"): the only
+    // ones that can end up above a later triangle. A point found inside the exact hull stays
+    // inside every later one.
+    let mut marginal = vec![false; pts.len()];
     for p in 0..n {
         if [i0, i1, i2, i3].contains(&p) {
             continue;
         }
         if let Some(t) = (0..4).find(|&t| w.outside_of(pts, t, p)) {
             w.outside[t].push(p);
+        } else if (0..4).any(|t| w.sees(pts, t, p)) {
+            marginal[p as usize] = true;
         }
     }
     let mut visible: Vec<u32> = Vec::new();
@@ -229,10 +238,6 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
     let mut next_of: Vec<u32> = vec![NONE; pts.len()];
     let mut orphans: Vec<u32> = Vec::new();
     let mut new_tris: Vec<u32> = Vec::new();
-    let mut on_hull = vec![false; pts.len()];
-    for i in [i0, i1, i2, i3] {
-        on_hull[i as usize] = true;
-    }
     let mut cursor = 0usize;
     loop {
         // Next triangle with a non-empty outside set (triangles are only appended).
@@ -245,12 +250,13 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
             // triangles, and go on if any is still outside.
             let mut again = false;
             for q in 0..n {
-                if on_hull[q as usize] {
+                if !marginal[q as usize] {
                     continue;
                 }
                 if let Some(t) = (0..w.tris.len()).find(|&t| w.alive[t] && w.outside_of(pts, t, q))
                 {
                     w.outside[t].push(q);
+                    marginal[q as usize] = false;
                     again = true;
                 }
             }
@@ -264,7 +270,6 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
         let p = *w.outside[t0]
             .iter()
             .max_by(|&&a, &&b| w.height(pts, t0, a).total_cmp(&w.height(pts, t0, b)))?;
-        on_hull[p as usize] = true;
         // The visible region: the connected set of triangles that see p.
         is_visible.resize(w.tris.len(), false);
         visible.clear();
@@ -350,6 +355,8 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
                 if let Some(t) = (0..w.tris.len()).find(|&t| w.alive[t] && w.outside_of(pts, t, q))
                 {
                     w.outside[t].push(q);
+                } else {
+                    marginal[q as usize] = true;
                 }
             }
         }
@@ -376,7 +383,8 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<Vec<Tri>> {
             }
         }
     }
-    Some(out)
+    let marginal = (0..n).filter(|&q| marginal[q as usize]).collect();
+    Some((out, marginal))
 }
 
 #[cfg(test)]
@@ -415,7 +423,8 @@ mod tests {
                 }
             }
         }
-        let tris = exact_hull(&pts, f64::NEG_INFINITY).unwrap();
+        let (tris, marginal) = exact_hull(&pts, f64::NEG_INFINITY).unwrap();
+        assert!(marginal.is_empty());
         assert_exact_hull(&pts, &tris);
     }
 
@@ -434,7 +443,8 @@ mod tests {
             let n = dot(p, p).sqrt();
             pts.push([p[0] / n, p[1] / n, p[2] / n]);
         }
-        let tris = exact_hull(&pts, f64::NEG_INFINITY).unwrap();
+        let (tris, marginal) = exact_hull(&pts, f64::NEG_INFINITY).unwrap();
+        assert!(marginal.is_empty());
         assert_exact_hull(&pts, &tris);
     }
 

@@ -97,9 +97,9 @@ pub(crate) fn hull3_direct(
     pts: &[[f64; 3]],
     opts: &PolytopeOptions,
 ) -> Result<Polyhedron, &'static str> {
-    let tris = incremental::exact_hull(pts, opts.dist_tol)
+    let (tris, marginal) = incremental::exact_hull(pts, opts.dist_tol)
         .ok_or("the exact hull found the points coplanar or lost consistency")?;
-    facets::polyhedron_from_triangles(pts, &tris, opts)
+    facets::polyhedron_from_triangles(pts, &tris, &marginal, opts)
 }
 
 /// The polar route alone, unchecked; for the tests.
