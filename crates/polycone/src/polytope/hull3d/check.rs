@@ -9,7 +9,8 @@
 //!    more faces;
 //! 3. faces: at least three vertices, all within `dist_tol` of the face's plane, forming a
 //!    convex loop counter-clockwise around `n_f` (angles swept around its centroid summing
-//!    to `2 pi`, positive area along `n_f`, all in the face plane, and no vertex inside the chord of its two
+//!    to `2 pi` when the centroid is clear of the edges by more than their in-plane accuracy
+//!    below, positive area along `n_f`, all in the face plane, and no vertex inside the chord of its two
 //!    neighbours by more than `dist_tol / sin theta`, with `theta` the smallest angle between
 //!    the face and another face at that vertex: a corner of nearly parallel planes is only
 //!    located to that accuracy in the plane);
@@ -42,6 +43,18 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
+}
+
+/// Distance from the point `x` to the segment from the origin to `e` (both in one plane).
+fn segment_distance(x: [f64; 3], e: [f64; 3]) -> f64 {
+    let ee = dot(e, e);
+    let t = if ee > 0.0 {
+        (dot(x, e) / ee).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let r = sub(x, [t * e[0], t * e[1], t * e[2]]);
+    dot(r, r).sqrt()
 }
 
 /// `Ok` when `poly` passes the checks of the module doc for the points `pts`, else the first
@@ -115,6 +128,10 @@ pub(crate) fn check_hull(
             return Err("a face vertex is farther than dist_tol from the face plane");
         }
         let mut winding = 0.0;
+        // In-plane accuracy of the loop (the largest dist_tol / sin theta of its corners) and
+        // the distance from the centroid to the nearest edge.
+        let mut accuracy = tol;
+        let mut clearance = f64::INFINITY;
         let mut area = [0.0; 3];
         // Vectors projected on the face plane (out-of-plane parts, up to dist_tol, would
         // distort short edges).
@@ -152,6 +169,8 @@ pub(crate) fn check_hull(
             if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc * sin_min > tol {
                 return Err("a face is not convex (a vertex inside by more than dist_tol / sin)");
             }
+            accuracy = accuracy.max(tol / sin_min);
+            clearance = clearance.min(segment_distance(flat(sub(centre, a)), e));
             // The loop seen from its centroid: the angle swept from a to b (short edges in
             // a cluster far from the centroid sweep tiny angles whatever their direction).
             let (ra, rb) = (flat(sub(a, centre)), flat(sub(b, centre)));
@@ -161,7 +180,10 @@ pub(crate) fn check_hull(
                 area[k] += 0.5 * w[k];
             }
         }
-        if !le((winding - std::f64::consts::TAU).abs(), HULL_CHECK_WINDING) {
+        // The winding is decided only when the centroid is clear of the edges by more than
+        // their accuracy (not for needle faces, whose centroid lies within it).
+        if clearance > accuracy && !le((winding - std::f64::consts::TAU).abs(), HULL_CHECK_WINDING)
+        {
             return Err("a face loop does not wind once around its normal");
         }
         if !lt(0.0, dot(area, n)) {

@@ -16,8 +16,9 @@
 //! The polytope: a vertex is a *corner* when it lies on three or more facets (vertices inside
 //! a facet or on the boundary between two facets are within `dist_tol` of their planes and are
 //! dropped); a face is the loop of corners along the boundary of its facet, in the
-//! counter-clockwise orientation of the triangles. A facet whose boundary is not one simple
-//! loop (a hole or a pinch) is an error: the caller falls back.
+//! counter-clockwise orientation of the triangles. A facet with fewer than three corners (a
+//! sliver along the common edge of two faces) is dissolved into a neighbour. A facet whose
+//! boundary is not one simple loop (a hole or a pinch) is an error: the caller falls back.
 
 #[cfg(doc)]
 use super::incremental::exact_hull;
@@ -149,6 +150,49 @@ fn union_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
     u
 }
 
+/// Corners (vertices on three or more facets) and boundary edges `(facet, start, end, facet
+/// beyond)` sorted by facet then start vertex, for the facet of each triangle `face_of`.
+#[allow(clippy::type_complexity)]
+fn lattice(
+    tris: &[Tri],
+    face_of: &[usize],
+    n_points: usize,
+) -> Result<(Vec<bool>, Vec<(usize, u32, u32, usize)>), &'static str> {
+    // Facets around each vertex (the first three distinct ones).
+    let mut around: Vec<[usize; 3]> = vec![[usize::MAX; 3]; n_points];
+    for (t, tri) in tris.iter().enumerate() {
+        for &v in &tri.v {
+            let slots = &mut around[v as usize];
+            let f = face_of[t];
+            if let Some(k) = slots.iter().position(|&x| x == f || x == usize::MAX) {
+                slots[k] = f;
+            }
+        }
+    }
+    let corner: Vec<bool> = around.iter().map(|a| a[2] != usize::MAX).collect();
+    let mut boundary: Vec<(usize, u32, u32, usize)> = Vec::with_capacity(3 * tris.len());
+    for (t, tri) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let s = tri.nb[k];
+            if s == NONE {
+                return Err("the triangulated hull is not closed");
+            }
+            let (f, g) = (face_of[t], face_of[s as usize]);
+            if f != g {
+                boundary.push((f, tri.v[k], tri.v[(k + 1) % 3], g));
+            }
+        }
+    }
+    boundary.sort_unstable();
+    if boundary
+        .windows(2)
+        .any(|w| w[0].0 == w[1].0 && w[0].1 == w[1].1)
+    {
+        return Err("a facet touches itself at a vertex (pinched boundary)");
+    }
+    Ok((corner, boundary))
+}
+
 fn find(parent: &mut [usize], mut x: usize) -> usize {
     while parent[x] != x {
         parent[x] = parent[parent[x]];
@@ -278,42 +322,42 @@ pub(crate) fn polyhedron_from_triangles(
     }
     let face_of: Vec<usize> = group.iter().map(|&g| id[find(&mut parent, g)]).collect();
     let nf = roots.len();
-    // Facets around each vertex (the first three distinct ones); corners lie on three or more.
-    let mut around: Vec<[usize; 3]> = vec![[usize::MAX; 3]; pts.len()];
-    for (t, tri) in tris.iter().enumerate() {
-        for &v in &tri.v {
-            let slots = &mut around[v as usize];
-            let f = face_of[t];
-            if let Some(k) = slots.iter().position(|&x| x == f || x == usize::MAX) {
-                slots[k] = f;
+    let mut face_of = face_of;
+    let mut alive = vec![true; nf];
+    let (corner, boundary) = loop {
+        let (corner, boundary) = lattice(tris, &face_of, pts.len())?;
+        // A facet with fewer than three corners (a sliver between two faces, all its
+        // vertices on their two common lines) is dissolved into a neighbour: its vertices lie
+        // below every plane within dist_tol (the slabs support all points), and the check
+        // verifies the result.
+        let mut lo = 0;
+        let mut dissolve = None;
+        while lo < boundary.len() {
+            let f = boundary[lo].0;
+            let hi = lo + boundary[lo..].iter().take_while(|e| e.0 == f).count();
+            let corners = boundary[lo..hi]
+                .iter()
+                .filter(|e| corner[e.1 as usize])
+                .count();
+            if corners < 3 {
+                dissolve = Some((f, boundary[lo].3));
+                break;
+            }
+            lo = hi;
+        }
+        match dissolve {
+            None => break (corner, boundary),
+            Some((f, g)) => {
+                for x in face_of.iter_mut().filter(|x| **x == f) {
+                    *x = g;
+                }
+                alive[f] = false;
             }
         }
-    }
-    let corner: Vec<bool> = around.iter().map(|a| a[2] != usize::MAX).collect();
-    // Boundary edges (facet, start, end, facet beyond), sorted by facet then start vertex.
-    let mut boundary: Vec<(usize, u32, u32, usize)> = Vec::with_capacity(3 * tris.len());
-    for (t, tri) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let s = tri.nb[k];
-            if s == NONE {
-                return Err("the triangulated hull is not closed");
-            }
-            let (f, g) = (face_of[t], face_of[s as usize]);
-            if f != g {
-                boundary.push((f, tri.v[k], tri.v[(k + 1) % 3], g));
-            }
-        }
-    }
-    boundary.sort_unstable();
-    if boundary
-        .windows(2)
-        .any(|w| w[0].0 == w[1].0 && w[0].1 == w[1].1)
-    {
-        return Err("a facet touches itself at a vertex (pinched boundary)");
-    }
+    };
     let mut faces: Vec<Vec<u32>> = Vec::with_capacity(nf);
     let mut lo = 0;
-    for f in 0..nf {
+    for f in (0..nf).filter(|&f| alive[f]) {
         let hi = lo + boundary[lo..].iter().take_while(|e| e.0 == f).count();
         let edges = &boundary[lo..hi];
         lo = hi;
@@ -370,7 +414,12 @@ pub(crate) fn polyhedron_from_triangles(
         .into_iter()
         .map(|f| f.into_iter().map(|v| index[v as usize]).collect())
         .collect();
-    let planes = roots.iter().map(|&r| (facets[r].n, facets[r].d)).collect();
+    let planes = roots
+        .iter()
+        .zip(&alive)
+        .filter(|(_, &a)| a)
+        .map(|(&r, _)| (facets[r].n, facets[r].d))
+        .collect();
     Ok(Polyhedron {
         status: RegionStatus::Bounded,
         dim: 3,

@@ -697,6 +697,22 @@ fn check_rejects_broken_polyhedra() {
         }),
         "a directed edge appears twice"
     );
+    // A pentagonal prism whose top face is walked as a pentagram (winds twice).
+    let mut prism = vec![];
+    for z in [0.0, 1.0] {
+        for k in 0..5 {
+            let t = std::f64::consts::TAU * k as f64 / 5.0;
+            prism.push([t.cos(), t.sin(), z]);
+        }
+    }
+    let mut p = direct_checked(&prism, &o);
+    let top = p.planes.iter().position(|(n, _)| n[2] > 0.5).unwrap();
+    let f = p.faces[top].clone();
+    p.faces[top] = vec![f[0], f[2], f[4], f[1], f[3]];
+    assert_eq!(
+        check_hull(&prism, &p, &o).unwrap_err(),
+        "a face loop does not wind once around its normal"
+    );
     // An input point listed as a vertex but on no face.
     let mut inside = pts.clone();
     inside.push([0.5, 0.5, 0.5]);
@@ -706,4 +722,36 @@ fn check_rejects_broken_polyhedra() {
         check_hull(&inside, &p, &o).unwrap_err(),
         "a vertex lies on fewer than three faces"
     );
+}
+
+/// How often the direct route fails on random slabs barely thicker than `dist_tol` (run with
+/// `cargo test -p polycone --release --lib slab_failure_rates -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn slab_failure_rates() {
+    let o = PolytopeOptions::default();
+    for th in [1.1e-9, 1.5e-9, 2e-9, 3e-9, 5e-9, 1e-8] {
+        let mut rng = Lcg(3);
+        let (mut ok, mut n) = (0, 0);
+        for _ in 0..200 {
+            let mut pts = vec![];
+            for _ in 0..30 {
+                let z = if rng.next() > 0.0 { th } else { 0.0 };
+                pts.push([rng.next(), rng.next(), z]);
+            }
+            let mut p = pts.clone();
+            dedup_points(&mut p, o.merge_tol);
+            if affine_dim(&p, o.dist_tol) < 3 {
+                continue;
+            }
+            n += 1;
+            if hull3_direct(&p, &o)
+                .and_then(|h| check_hull(&p, &h, &o))
+                .is_ok()
+            {
+                ok += 1;
+            }
+        }
+        eprintln!("slab thickness {th:e}: the direct route passes on {ok} of {n}");
+    }
 }
