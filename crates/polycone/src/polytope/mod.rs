@@ -66,7 +66,7 @@
 //!   parallel faces produce (4e-8 m seen for `theta` = 6e-4).
 //! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
 //!   region, 50 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
-//!   x1.1, x1.3 and x0.8 the polar route alone (`hull3_timing`, release, one core); about
+//!   x1.1, x1.2 and x0.8 the polar route alone (`hull3_timing`, release, one core); about
 //!   half of it is the exact hull, half the facets. 1.6 ms for 500 points (300 on the hull),
 //!   x2.5 Qhull's time (`bench/peers/hull3.md`): the fitted planes and the check are
 //!   `O(n F)`.

@@ -13,9 +13,10 @@
 //!
 //! 1. The exact hull as triangles ([`incremental`]): quickhull with conflict lists and an exact
 //!    orientation predicate ([`predicates`]); points at most `dist_tol` above the current hull
-//!    are not added.
+//!    are not added (and are swept again against the final triangles).
 //! 2. Facets ([`facets`]): coplanar triangles (within `dist_tol`) merged into maximal facets
-//!    with a fitted plane; the corners and face loops of the polytope.
+//!    with a fitted plane; slivers with fewer than three corners dissolved; the corners and
+//!    face loops of the polytope.
 //! 3. The check ([`check`]): soundness, vertices among the points, convex faces on their
 //!    planes, every edge on two faces, Euler's formula. On failure the polar route
 //!    ([`polar`], the previous method) is tried and checked the same way; if it fails too,
