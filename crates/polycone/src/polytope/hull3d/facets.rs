@@ -11,7 +11,8 @@
 //!    normal; then fit the normal (least squares in the seed's frame) and keep the better of
 //!    the seed and the fitted normal;
 //! 2. union: adjacent facets whose union still fits such a slab (most parallel pairs first)
-//!    are merged, until no pair merges; this makes the facets maximal whatever the seeds.
+//!    are merged, until no adjacent pair can be (the facets are maximal in that sense,
+//!    whatever the seeds).
 //!
 //! The polytope: a vertex is a *corner* when it lies on three or more facets (vertices inside
 //! a facet or on the boundary between two facets are within `dist_tol` of their planes and are
