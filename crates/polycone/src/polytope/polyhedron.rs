@@ -363,17 +363,33 @@ fn far_box(bounds: [[f64; 3]; 2]) -> (Vec<[f64; 3]>, Vec<Face>) {
     (verts, faces)
 }
 
-/// Removes points within `tol` of an earlier point (quadratic; the sets here are small).
+/// Removes points within `tol` of a kept point, keeping the order of the others. A sweep
+/// along x (only points within `tol` in x can be merged): `O(n log n)` unless many points
+/// share an x within `tol`.
 pub(crate) fn dedup_points(pts: &mut Vec<[f64; 3]>, tol: f64) {
-    let mut k = 0;
-    while k < pts.len() {
-        let p = pts[k];
-        if pts[..k].iter().any(|&q| norm(sub(p, q)) <= tol) {
-            pts.swap_remove(k);
-        } else {
-            k += 1;
+    let mut order: Vec<usize> = (0..pts.len()).collect();
+    order.sort_by(|&a, &b| pts[a][0].total_cmp(&pts[b][0]).then(a.cmp(&b)));
+    let mut keep = vec![true; pts.len()];
+    for k in 0..order.len() {
+        let p = pts[order[k]];
+        let mut j = k;
+        while j > 0 {
+            j -= 1;
+            let q = pts[order[j]];
+            if p[0] - q[0] > tol {
+                break;
+            }
+            if keep[order[j]] && norm(sub(p, q)) <= tol {
+                keep[order[k]] = false;
+                break;
+            }
         }
     }
+    let mut i = 0;
+    pts.retain(|_| {
+        i += 1;
+        keep[i - 1]
+    });
 }
 
 /// Affine dimension of a point set, with a distance tolerance.

@@ -94,3 +94,31 @@ pub const REFINE_TRIES: usize = 4;
 /// about 1e-10 relative rounding, and distinct facets of the regions handled here differ by far
 /// more than 1e-7 rad. Structural.
 pub const HULL_SAME_FACET: f64 = 1e-7;
+
+/// The check of every 3-D hull ([`super::hull3`]) accepts a face normal whose length differs
+/// from 1 by at most this (dimensionless, 1e-9). Reason: normalized `f64` vectors are unit to
+/// a few ulps; anything farther was not normalized. Structural.
+pub const HULL_CHECK_UNIT_NORMAL: f64 = 1e-9;
+
+/// The check of every 3-D hull ([`super::hull3`]) accepts a face loop whose angles swept
+/// around its centroid sum to `2 pi` within this (radians, 1e-6). Reason: a convex loop
+/// winds exactly once (sum `2 pi` up to rounding, about 1e-15 per vertex); a loop that winds
+/// twice or backwards is off by `2 pi`. Structural.
+pub const HULL_CHECK_WINDING: f64 = 1e-6;
+
+/// Relative forward error bound of the floating-point filter of the 3-D hull's orientation
+/// predicate (dimensionless, `(7 + 56 u) u` with `u = 2^-53` the unit roundoff, Shewchuk 1997):
+/// the computed determinant differs from the true one by at most this times the permanent
+/// (the same expansion with absolute values), for the evaluation order used (differences,
+/// then the 3x3 cofactor expansion). Not a tolerance: a larger value only calls the exact
+/// path more often, a smaller one would be wrong.
+pub const ORIENT_ERR_BOUND: f64 = (7.0 + 56.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
+
+/// Magnitude range (`2^-300` to `2^300`) of the non-zero parts of the coordinate differences
+/// for which the exact orientation predicate of the 3-D hull works in floating-point
+/// expansions: products of three such numbers and their rounding errors are then exact `f64`
+/// values (no overflow, no underflow below the subnormal granularity). Not a tolerance:
+/// outside the range the big-integer path decides.
+pub const ORIENT_RANGE_LO: f64 = 4.909093465297727e-91;
+/// Upper end of the range of [`ORIENT_RANGE_LO`].
+pub const ORIENT_RANGE_HI: f64 = 2.037035976334486e90;
