@@ -71,13 +71,14 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x3.6 (16 generators) to x9.1 (32 and more,
+//! - Speed: the certified tolerance mode is x3.7 (16 generators) to x10.0 (32 and more,
 //!   median) faster than cddlib's float mode on 6-D wrench cones (x16 to x23 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at. The certificate is what costs: about two
-//!   thirds of a conversion, most of it the per-facet double descriptions of the completeness
-//!   check (about 0.5 us each for the 8 to 9 tight generators of a single-support facet; see
-//!   [`DdOptions::check_completeness`]). `bench/peers/cones.md` has the measured table and the
-//!   breakdown.
+//!   generators), short of the x10 / x30 aimed at. The checks are what cost: on the stairs
+//!   (32 generators, 176 facets, 0.17-0.20 ms) the double description is about a quarter, the
+//!   completeness check (per-facet double descriptions, about 0.5 us each for the 8 to 9 tight
+//!   generators of a single-support facet; [`DdOptions::check_completeness`]) about a third
+//!   (0.12 ms without it), the support ranks, slacks, preconditioning and output the rest.
+//!   `bench/peers/cones.md` has the measured table and the breakdown.
 //! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
 //!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
 //!   tests compare them), only the speed differs.
