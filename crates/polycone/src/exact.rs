@@ -44,15 +44,14 @@ struct Ray {
     z: Vec<u64>,
 }
 
-/// The integer generator `row` scaled by a power of two.
-fn row_to_int(row: &[f64]) -> Vec<BigInt> {
-    let dec: Vec<(u64, i16, i8)> = row.iter().map(|&x| x.integer_decode()).collect();
-    let emin = dec.iter().filter(|d| d.0 != 0).map(|d| d.1).min();
-    let Some(emin) = emin else {
-        return vec![BigInt::zero(); row.len()];
+/// `xs` as integers, all multiplied by one power of two (exact: every double is an integer
+/// times a power of two); all zero when `xs` is.
+pub(crate) fn floats_to_ints(xs: impl Iterator<Item = f64>) -> Vec<BigInt> {
+    let dec: Vec<(u64, i16, i8)> = xs.map(|x| x.integer_decode()).collect();
+    let Some(emin) = dec.iter().filter(|d| d.0 != 0).map(|d| d.1).min() else {
+        return vec![BigInt::zero(); dec.len()];
     };
-    let mut out: Vec<BigInt> = dec
-        .iter()
+    dec.iter()
         .map(|&(m, e, s)| {
             if m == 0 {
                 BigInt::zero()
@@ -65,7 +64,12 @@ fn row_to_int(row: &[f64]) -> Vec<BigInt> {
                 }
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The integer generator `row` scaled by a power of two.
+fn row_to_int(row: &[f64]) -> Vec<BigInt> {
+    let mut out = floats_to_ints(row.iter().copied());
     primitive(&mut out);
     out
 }

@@ -15,7 +15,7 @@
 //! integers (the 12 coordinates written `m 2^e` and scaled by a common power of two).
 
 use num_bigint::BigInt;
-use num_traits::{Float, Signed, Zero};
+use num_traits::Signed;
 
 use crate::polytope::tol::{ORIENT_ERR_BOUND, ORIENT_RANGE_HI, ORIENT_RANGE_LO};
 
@@ -169,32 +169,7 @@ fn orient_expansion(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> O
 
 /// [`orient`] in big integers (no filter).
 pub(crate) fn orient_exact(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> i8 {
-    let coords = [a, b, c, d];
-    let dec: Vec<(u64, i16, i8)> = coords
-        .iter()
-        .flat_map(|p| p.iter().map(|&x| x.integer_decode()))
-        .collect();
-    let emin = dec
-        .iter()
-        .filter(|t| t.0 != 0)
-        .map(|t| t.1)
-        .min()
-        .unwrap_or(0);
-    let ints: Vec<BigInt> = dec
-        .iter()
-        .map(|&(m, e, s)| {
-            if m == 0 {
-                BigInt::zero()
-            } else {
-                let v = BigInt::from(m) << ((e - emin) as usize);
-                if s < 0 {
-                    -v
-                } else {
-                    v
-                }
-            }
-        })
-        .collect();
+    let ints = crate::exact::floats_to_ints([a, b, c, d].into_iter().flatten().copied());
     let p = |k: usize, j: usize| &ints[3 * k + j];
     let diff =
         |k: usize| -> [BigInt; 3] { [p(k, 0) - p(0, 0), p(k, 1) - p(0, 1), p(k, 2) - p(0, 2)] };
@@ -212,13 +187,18 @@ pub(crate) fn orient_exact(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use num_rational::BigRational;
     use proptest::prelude::*;
 
-    /// Independent reference: the determinant in big rationals.
-    fn orient_rational(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> i8 {
+    /// Independent reference: the determinant in big rationals (also used by the hull tests).
+    pub(in crate::polytope::hull3d) fn orient_rational(
+        a: &[f64; 3],
+        b: &[f64; 3],
+        c: &[f64; 3],
+        d: &[f64; 3],
+    ) -> i8 {
         let r = |x: f64| BigRational::from_float(x).unwrap();
         let diff = |p: &[f64; 3]| [r(p[0]) - r(a[0]), r(p[1]) - r(a[1]), r(p[2]) - r(a[2])];
         let (u, v, w) = (diff(b), diff(c), diff(d));

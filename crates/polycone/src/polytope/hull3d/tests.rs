@@ -4,7 +4,6 @@
 
 use super::*;
 use crate::polytope::polyhedron_from_halfspaces;
-use num_rational::BigRational;
 use num_traits::Signed;
 use proptest::prelude::*;
 
@@ -17,21 +16,7 @@ fn direct_checked(pts: &[[f64; 3]], opts: &PolytopeOptions) -> Polyhedron {
     poly
 }
 
-fn orient_rational(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> i8 {
-    let r = |x: f64| BigRational::from_float(x).unwrap();
-    let diff = |p: &[f64; 3]| [r(p[0]) - r(a[0]), r(p[1]) - r(a[1]), r(p[2]) - r(a[2])];
-    let (u, v, w) = (diff(b), diff(c), diff(d));
-    let det = &u[0] * (&v[1] * &w[2] - &v[2] * &w[1])
-        + &u[1] * (&v[2] * &w[0] - &v[0] * &w[2])
-        + &u[2] * (&v[0] * &w[1] - &v[1] * &w[0]);
-    if det.is_positive() {
-        1
-    } else if det.is_negative() {
-        -1
-    } else {
-        0
-    }
-}
+use super::predicates::tests::orient_rational;
 
 /// Brute-force hull in rational arithmetic: the triangles `i j k` (counter-clockwise from
 /// outside) with no point above them. For points in general position these are the facets.
