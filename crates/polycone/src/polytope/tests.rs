@@ -86,7 +86,8 @@ fn halfplanes2() -> impl Strategy<Value = (Vec<[f64; 2]>, Vec<f64>)> {
         })
 }
 
-fn halfspaces3() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
+/// Random bounded-or-not half-spaces `a . p <= b` (unit normals), also used by the hull3 tests.
+pub(super) fn halfspaces3() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
     prop::collection::vec(
         (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, 0.2f64..2.0),
         4..14,

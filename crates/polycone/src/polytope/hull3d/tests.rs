@@ -75,25 +75,7 @@ proptest! {
     }
 }
 
-fn halfspaces3() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
-    prop::collection::vec(
-        (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0, 0.2f64..2.0),
-        4..14,
-    )
-    .prop_filter_map("zero normal", |rows| {
-        let mut a = vec![];
-        let mut b = vec![];
-        for (x, y, z, r) in rows {
-            let n = (x * x + y * y + z * z).sqrt();
-            if n < 0.1 {
-                return None;
-            }
-            a.push([x / n, y / n, z / n]);
-            b.push(r);
-        }
-        Some((a, b))
-    })
-}
+use crate::polytope::tests::halfspaces3;
 
 /// Half-spaces -> polyhedron -> direct hull of its vertices: the check passes, and every hull
 /// plane is a plane of the polyhedron (normals to 1e-7, offsets to 1e-7 of the size). When the
