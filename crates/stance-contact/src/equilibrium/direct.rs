@@ -60,7 +60,7 @@ use polycone::polytope::RegionStatus;
 
 use super::simplex::{Lp4, LpStop, M};
 use super::statics::{StaticEquilibrium, StaticPolygon};
-use super::EquilibriumOptions;
+use super::{seg_dist, EquilibriumOptions};
 use crate::{ContactError, GiwcOptions, Stance};
 
 /// Why the direct route gave way to `U_stance`.
@@ -649,16 +649,4 @@ fn dot2(a: [f64; 2], b: [f64; 2]) -> f64 {
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = [a[0] - b[0], a[1] - b[1]];
     (d[0] * d[0] + d[1] * d[1]).sqrt()
-}
-
-/// Distance from `p` to the segment `[s, e]`.
-fn seg_dist(p: [f64; 2], s: [f64; 2], e: [f64; 2]) -> f64 {
-    let d = [e[0] - s[0], e[1] - s[1]];
-    let l2 = dot2(d, d);
-    let t = if l2 > 0.0 {
-        (((p[0] - s[0]) * d[0] + (p[1] - s[1]) * d[1]) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    dist2(p, [s[0] + t * d[0], s[1] + t * d[1]])
 }

@@ -60,3 +60,18 @@ pub(crate) fn scaled_gravity(g: [f64; 3]) -> [f64; 3] {
         g
     }
 }
+
+/// Distance from `p` to the segment `[s, e]` (a point when `s = e`).
+pub(crate) fn seg_dist(p: [f64; 2], s: [f64; 2], e: [f64; 2]) -> f64 {
+    let d = [e[0] - s[0], e[1] - s[1]];
+    let l2 = d[0] * d[0] + d[1] * d[1];
+    let t = if l2 > 0.0 {
+        (((p[0] - s[0]) * d[0] + (p[1] - s[1]) * d[1]) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (x, y) = (p[0] - s[0] - t * d[0], p[1] - s[1] - t * d[1]);
+    // (not hypot: this runs V^2 times in the direct polygon's gap check, and lengths here are
+    // far from overflow: polygons stay within the polytope `far` bound)
+    (x * x + y * y).sqrt()
+}

@@ -67,19 +67,9 @@ impl StaticPolygon {
         }
         // Outside: distance to the nearest boundary segment (or vertex).
         let n = self.vertices.len();
-        let mut best = f64::INFINITY;
-        for i in 0..n {
-            let (s, e) = (self.vertices[i], self.vertices[(i + 1) % n]);
-            let (dx, dy) = (e[0] - s[0], e[1] - s[1]);
-            let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 {
-                (((p[0] - s[0]) * dx + (p[1] - s[1]) * dy) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (qx, qy) = (s[0] + t * dx, s[1] + t * dy);
-            best = best.min((p[0] - qx).hypot(p[1] - qy));
-        }
+        let best = (0..n)
+            .map(|i| super::seg_dist(p, self.vertices[i], self.vertices[(i + 1) % n]))
+            .fold(f64::INFINITY, f64::min);
         -best
     }
 }
