@@ -86,3 +86,92 @@ fn wrong_equations_or_lineality_fail() {
     let c = certify_span_to_face(&v2, &missing, &r2.lineality, &opts).unwrap();
     assert!(!c.certified);
 }
+
+/// Inputs whose facets go through every path of the completeness check (the claimed-neighbour
+/// check, the closed forms, the per-facet double descriptions, and the facets Balinski's
+/// theorem lets go with support only): the golden cones and stress stances.
+fn completeness_corpus() -> Vec<(String, DMatrix<f64>)> {
+    let mut out = Vec::new();
+    for name in [
+        "single_support_flat",
+        "surface_cwc_foot",
+        "double_support_flat",
+        "double_support_stairs",
+        "tilted_foot_hand_ledge",
+        "opposing_walls_frictionless",
+    ] {
+        let j = load(name);
+        out.push((
+            name.to_string(),
+            matrix_hex(&j["generators"]["float64_hex"], 6),
+        ));
+    }
+    let foot = [0.11, 0.065];
+    let two = |dz: f64, roll_deg: f64, half: [f64; 2]| {
+        giwc_generators(&[
+            Contact::flat([0.0, 0.1, 0.0], half, 0.7),
+            Contact {
+                pos: [0.05, -0.1, dz],
+                rot: rotation([1.0, 0.0, 0.0], roll_deg.to_radians()),
+                half,
+                mu: 0.7,
+            },
+        ])
+    };
+    out.push(("flat".into(), two(0.0, 0.0, foot)));
+    out.push(("out_of_plane_1e-7".into(), two(1e-7, 0.0, foot)));
+    out.push(("rolled_1deg".into(), two(0.0, 1.0, foot)));
+    out.push(("patch_1mm".into(), two(0.0, 0.0, [5e-4, 5e-4])));
+    out.push((
+        "origin_50m".into(),
+        shift_wrenches(&two(0.0, 0.0, foot), [50.0, -30.0, 2.0]),
+    ));
+    out
+}
+
+/// Every face form with one facet missing (each facet in turn), with several missing, or with
+/// a facet repeated, is rejected; the complete one is certified.
+#[test]
+fn every_incomplete_or_repeated_face_form_is_rejected() {
+    let opts = DdOptions::default();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    for (case, v) in completeness_corpus() {
+        let r = span_to_face(&v, &opts).unwrap();
+        let ok = certify_span_to_face(&v, &r.face, &r.lineality, &opts).unwrap();
+        assert!(ok.certified, "{case}: {ok:?}");
+        let nf = r.face.facets.nrows();
+        let mut drops: Vec<Vec<usize>> = (0..nf).map(|i| vec![i]).collect();
+        for size in [2, 3, 5] {
+            for _ in 0..10 {
+                let mut d: Vec<usize> = (0..size.min(nf - 1)).map(|_| next(nf)).collect();
+                d.sort_unstable();
+                d.dedup();
+                drops.push(d);
+            }
+        }
+        for drop in &drops {
+            let partial =
+                FaceForm::new(without_rows(&r.face.facets, drop), r.face.equations.clone())
+                    .unwrap();
+            let c = certify_span_to_face(&v, &partial, &r.lineality, &opts).unwrap();
+            assert!(!c.certified, "{case}: dropping {drop:?} must not certify");
+        }
+        for rep in (0..nf).step_by((nf / 12).max(1)) {
+            let facets = DMatrix::from_fn(nf + 1, 6, |i, j| {
+                r.face.facets[(if i == nf { rep } else { i }, j)]
+            });
+            let repeated = FaceForm::new(facets, r.face.equations.clone()).unwrap();
+            let c = certify_span_to_face(&v, &repeated, &r.lineality, &opts).unwrap();
+            assert!(
+                !c.certified,
+                "{case}: repeating facet {rep} must not certify"
+            );
+        }
+    }
+}

@@ -23,6 +23,21 @@
 //!    would be adjacent to a missing one, and the ridge `F ∩ F*` would lie in one claimed facet
 //!    only. (`t = 1`: exactly one facet; `t = 2`: exactly two.)
 //!
+//!    A facet with more than `t` tight generators is first tried from the other side: its
+//!    claimed neighbours cut its hyperplane into a cone `Q_F` that contains `cone(T_F)`, and
+//!    when `Q_F` has `t - 1` or `t` constraints its extreme rays come in closed form and must
+//!    each be matched by a tight generator (the `neighbours` module, which proves the same
+//!    thing: no facet adjacent to `F` is missing). Only when that does not decide does the
+//!    facet get its double description.
+//!
+//!    **Balinski's theorem** (the graph of a `k`-polytope is `k`-connected) saves up to
+//!    `t - 2` of those double descriptions: the facets of `C` are the vertices of a
+//!    `(t - 1)`-polytope (a section of the polar), so if facets `M` are missing, the claimed
+//!    facets adjacent to `M` separate `M` from the other claimed facets (or are all of them,
+//!    at least `t`): there are at least `t - 1` of them. If at most `t - 2` claimed facets are
+//!    not checked, one of those adjacent to `M` is, and fails. The unchecked facets still get
+//!    the support check (a missing facet must be detected by genuine facets).
+//!
 //! # Near-simplicial facets
 //!
 //! Let `F` have `k + 1` tight generators `g_1..g_{k+1}` spanning its hyperplane (`k = t - 1`),
@@ -66,11 +81,14 @@
 //! passes 1 and 2 but fails 4. Equations are checked separately: every generator satisfies them and their number
 //! is `d - r`.
 
+mod neighbours;
+
 use crate::dd::{DdCore, DdFailure, Scan, SmallDd};
 use crate::linalg::{dot, normalize, rank_of};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
 use crate::Arithmetic;
+use neighbours::{neighbours_prove_facet, Hyperplane, NeighbourScratch};
 
 /// Counts a facet in the test-only [`RidgeStats`] (no code outside test builds).
 macro_rules! record {
@@ -172,6 +190,8 @@ pub(crate) struct CertScratch {
     drops: Vec<(usize, usize)>,
     lambda: Vec<f64>,
     vbuf: Vec<f64>,
+    /// The neighbour check of facets (`neighbours` module).
+    nb: NeighbourScratch,
     /// Linear algebra scratch.
     buf: Vec<f64>,
 }
@@ -433,6 +453,7 @@ pub(crate) fn certify_whitened(
         drops: &mut cs.drops,
         lambda: &mut cs.lambda,
         vbuf: &mut cs.vbuf,
+        nb: &mut cs.nb,
         buf: &mut cs.buf,
     };
     let open_ridges = if !check_completeness {
@@ -591,6 +612,7 @@ struct RidgeWork<'a> {
     drops: &'a mut Vec<(usize, usize)>,
     lambda: &'a mut Vec<f64>,
     vbuf: &'a mut Vec<f64>,
+    nb: &'a mut NeighbourScratch,
     buf: &'a mut Vec<f64>,
 }
 
@@ -642,6 +664,7 @@ fn count_open_ridges(
     let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
     let scan = Scan::detect();
     let mut open = 0;
+    let mut skipped = 0usize;
     w.vbuf.clear();
     w.vbuf.resize(t, 0.0);
     w.lambda.clear();
@@ -661,18 +684,6 @@ fn count_open_ridges(
             open += 1;
             continue;
         }
-        // The other facets that may share a ridge with this one (one-word rows only).
-        w.neighbours.clear();
-        if gw == 1 {
-            w.cand.clear();
-            scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
-            w.neighbours.extend(
-                w.cand
-                    .iter()
-                    .filter(|&&g| g as usize != f)
-                    .map(|&g| inc[g as usize]),
-            );
-        }
         // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
         // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
         // are orthonormal coordinates of g in u^perp.
@@ -685,15 +696,38 @@ fn count_open_ridges(
         v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
         let vv = dot(v, v);
         let k = t - 1;
+        let hp = Hyperplane {
+            v: &w.vbuf[..],
+            vv,
+            j,
+        };
+        // The other facets that may share a ridge with this one (one-word rows only).
+        if gw == 1 {
+            w.cand.clear();
+            scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
+            if members.len() > t
+                && !force_dd()
+                && neighbours_prove_facet(incd, f, w.cand, &hp, tol, w.nb)
+            {
+                // Completeness (and support) from the claimed neighbours (`neighbours`).
+                record!(neighbours);
+                continue;
+            }
+        }
+        w.neighbours.clear();
+        if gw == 1 {
+            w.neighbours.extend(
+                w.cand
+                    .iter()
+                    .filter(|&&g| g as usize != f)
+                    .map(|&g| inc[g as usize]),
+            );
+        }
         let rows = &mut *w.rows;
         rows.clear();
         rows.resize(members.len() * k, 0.0);
         for (&i, out) in members.iter().zip(rows.chunks_exact_mut(k)) {
-            let g = &gp[i * t..(i + 1) * t];
-            let c = 2.0 * dot(v, g) / vv;
-            for (o, q) in out.iter_mut().zip((0..j).chain(j + 1..t)) {
-                *o = g[q] - c * v[q];
-            }
+            hp.project(&gp[i * t..(i + 1) * t], out);
             // No normalization needed: H is orthogonal and the dropped coordinate is
             // `±u . g`, at most `incidence` for a tight generator, so the row's norm is 1 to
             // within `incidence^2 / 2` (1e-18 by default), far below every threshold.
@@ -755,6 +789,23 @@ fn count_open_ridges(
                 }
                 None => {}
             }
+        }
+        if skipped + 2 < t && !force_dd() {
+            // Balinski's theorem (module doc): up to `t - 2` facets need only support.
+            if rank_of(
+                (0..members.len()).map(|q| &rows[q * k..(q + 1) * k]),
+                k,
+                k,
+                tol.support_rank,
+                w.buf,
+            ) < k
+            {
+                unsupported.push(f);
+                open += 1;
+            }
+            skipped += 1;
+            record!(skipped);
+            continue;
         }
         record!(dd);
         // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows),
@@ -824,10 +875,34 @@ fn near_simplicial_ridges(
     scratch: &mut Vec<f64>,
     drops: &mut Vec<(usize, usize)>,
 ) -> Option<bool> {
+    near_simplicial(rows, k, tol, lambda, scratch, drops).map(|(pointed, _)| pointed)
+}
+
+/// [`near_simplicial_ridges`], also returning `c = sqrt(sum_q det(G \ {g_q})^2)` (so that
+/// `|det(G \ {g_q})| = c |lambda_q|`).
+pub(crate) fn near_simplicial(
+    rows: &[f64],
+    k: usize,
+    tol: &Tolerances,
+    lambda: &mut [f64],
+    scratch: &mut Vec<f64>,
+    drops: &mut Vec<(usize, usize)>,
+) -> Option<(bool, f64)> {
     drops.clear();
     let c = dependency(rows, k, tol.support_rank, lambda, scratch)?;
-    let m = k + 1;
-    let lambda = &lambda[..m];
+    ridges_from_dependency(&lambda[..k + 1], c, tol, drops).map(|pointed| (pointed, c))
+}
+
+/// The sign logic of [`near_simplicial_ridges`], given the unit dependency `lambda` (`k + 1`
+/// entries) and `c`. Fills `drops`; `None` when a sign is not clear.
+pub(crate) fn ridges_from_dependency(
+    lambda: &[f64],
+    c: f64,
+    tol: &Tolerances,
+    drops: &mut Vec<(usize, usize)>,
+) -> Option<bool> {
+    drops.clear();
+    let m = lambda.len();
     // Non-zero: every slack it implies off a ridge is at least `certificate` (ten times
     // `incidence`); zero: the slacks it implies are at most `incidence^2 / certificate` (a
     // tenth of `incidence`). Margins of ten either way, so that the double description,
@@ -879,8 +954,12 @@ pub(crate) struct RidgeStats {
     pub simplicial: usize,
     /// Near-simplicial facets (`t` tight generators) decided by the closed form.
     pub closed_form: usize,
+    /// Facets decided from their claimed neighbours (`neighbours` module).
+    pub neighbours: usize,
     /// Facets decided by a double description in their hyperplane.
     pub dd: usize,
+    /// Facets whose ridges were not enumerated (support only; Balinski's theorem).
+    pub skipped: usize,
 }
 
 #[cfg(test)]
@@ -889,7 +968,7 @@ thread_local! {
     pub(crate) static FORCE_DD: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     /// Test counters, accumulated over the certificates of this thread.
     pub(crate) static STATS: std::cell::Cell<RidgeStats> =
-        const { std::cell::Cell::new(RidgeStats { simplicial: 0, closed_form: 0, dd: 0 }) };
+        const { std::cell::Cell::new(RidgeStats { simplicial: 0, closed_form: 0, neighbours: 0, dd: 0, skipped: 0 }) };
 }
 
 #[cfg(test)]
@@ -926,7 +1005,15 @@ fn dependency(
         }
     }
     // Row echelon with column pivots; the free column is the last non-pivot one.
-    let mut piv_col = vec![usize::MAX; k];
+    // Pivot columns: on the stack for the dimensions of wrench cones and far beyond.
+    let mut piv_small = [usize::MAX; 16];
+    let mut piv_big = Vec::new();
+    let piv_col: &mut [usize] = if k <= piv_small.len() {
+        &mut piv_small[..k]
+    } else {
+        piv_big.resize(k, usize::MAX);
+        &mut piv_big
+    };
     let mut row = 0;
     let mut free = usize::MAX;
     for c in 0..n {
@@ -1257,13 +1344,20 @@ mod tests {
             assert_eq!(fast, slow, "{name}");
             assert_eq!(s_slow.closed_form, 0, "{name}");
             assert_eq!(s_fast.simplicial, s_slow.simplicial, "{name}");
-            assert_eq!(s_fast.closed_form + s_fast.dd, s_slow.dd, "{name}");
+            assert_eq!(
+                s_fast.closed_form + s_fast.neighbours + s_fast.dd + s_fast.skipped,
+                s_slow.dd,
+                "{name}"
+            );
             eprintln!("{name}: {s_fast:?}");
             total.simplicial += s_fast.simplicial;
             total.closed_form += s_fast.closed_form;
+            total.neighbours += s_fast.neighbours;
             total.dd += s_fast.dd;
+            total.skipped += s_fast.skipped;
         }
         eprintln!("total: {total:?}");
         assert!(total.closed_form > 0, "{total:?}");
+        assert!(total.neighbours > 0, "{total:?}");
     }
 }
