@@ -336,14 +336,7 @@ fn split_lineality(fw: &[f64], nf: usize, r: usize, rank_tol: f64) -> (Vec<f64>,
             Vec::new(),
             DMatrix::<f64>::identity(r, r).as_slice().to_vec(),
         )
-    } else if crate::linalg::rank_of(
-        (0..nf).map(|f| &fw[f * r..(f + 1) * r]),
-        r,
-        r,
-        rank_tol,
-        &mut Vec::new(),
-    ) == r
-    {
+    } else if crate::linalg::spans(fw, nf, r, rank_tol, &mut Vec::new()) {
         // Facets span R^r (a pointed cone): no lineality, any orthonormal basis is L^perp.
         (
             DMatrix::<f64>::identity(r, r).as_slice().to_vec(),

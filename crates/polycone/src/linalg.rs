@@ -161,3 +161,68 @@ pub(crate) fn normalize(v: &mut [f64]) -> f64 {
     }
     n
 }
+
+/// `|det|` of the `K x K` matrix `m` by Gaussian elimination with partial pivoting (0 when a
+/// pivot vanishes).
+pub(crate) fn abs_det<const K: usize>(mut m: [[f64; K]; K]) -> f64 {
+    let mut det = 1.0;
+    for c in 0..K {
+        let mut p = c;
+        for r in c + 1..K {
+            if m[r][c].abs() > m[p][c].abs() {
+                p = r;
+            }
+        }
+        let piv = m[p][c];
+        if piv == 0.0 {
+            return 0.0;
+        }
+        m.swap(p, c);
+        det *= piv.abs();
+        let inv = 1.0 / piv;
+        for r in c + 1..K {
+            let f = m[r][c] * inv;
+            for q in c..K {
+                m[r][q] -= f * m[c][q];
+            }
+        }
+    }
+    det
+}
+
+/// Whether `n` unit vectors of `R^k` (`flat`, row-major) have rank `k` in the sense of
+/// [`rank_of`] with threshold `eps`, with a fixed-size determinant first (dimensions 2 to 8):
+/// `k` unit vectors with `|det| > eps` have every Gram-Schmidt residual above `eps` (their
+/// product is `|det|`, each at most 1); with more vectors, the first `k` having
+/// `|det| > k eps` leave a residual above `eps` for every `(k - 1)`-dimensional subspace
+/// (expanding the determinant along its normal), so the pivoted count reaches `k` too.
+/// Otherwise [`rank_of`] decides.
+pub(crate) fn spans(flat: &[f64], n: usize, k: usize, eps: f64, buf: &mut Vec<f64>) -> bool {
+    if n < k {
+        return false;
+    }
+    let bound = if n == k { eps } else { k as f64 * eps };
+    let det = match k {
+        2 => Some(abs_det(first_rows::<2>(flat))),
+        3 => Some(abs_det(first_rows::<3>(flat))),
+        4 => Some(abs_det(first_rows::<4>(flat))),
+        5 => Some(abs_det(first_rows::<5>(flat))),
+        6 => Some(abs_det(first_rows::<6>(flat))),
+        7 => Some(abs_det(first_rows::<7>(flat))),
+        8 => Some(abs_det(first_rows::<8>(flat))),
+        _ => None,
+    };
+    if det.is_some_and(|d| d > bound) {
+        return true;
+    }
+    rank_of((0..n).map(|i| &flat[i * k..(i + 1) * k]), k, k, eps, buf) == k
+}
+
+/// The first `K` rows of `flat` as a fixed-size matrix.
+fn first_rows<const K: usize>(flat: &[f64]) -> [[f64; K]; K] {
+    let mut m = [[0.0; K]; K];
+    for (r, row) in m.iter_mut().enumerate() {
+        row.copy_from_slice(&flat[r * K..(r + 1) * K]);
+    }
+    m
+}

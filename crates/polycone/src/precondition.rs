@@ -172,6 +172,10 @@ fn whiten_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
         let gt = &w[t * r..(t + 1) * r];
         for &s in &distinct {
             let gs = &w[s * r..(s + 1) * r];
+            // Most pairs differ in the first coordinate already.
+            if (gt[0] - gs[0]).abs() > tol.duplicate {
+                continue;
+            }
             let d2: f64 = gt.iter().zip(gs).map(|(a, b)| (a - b) * (a - b)).sum();
             if d2 <= tol.duplicate * tol.duplicate {
                 continue 'outer;

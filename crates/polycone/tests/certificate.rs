@@ -175,3 +175,92 @@ fn every_incomplete_or_repeated_face_form_is_rejected() {
         }
     }
 }
+
+/// Random stances (two or three contacts; flat, coplanar, slightly rolled or raised, tiny
+/// patches): the conversion is certified, and the face form without one random facet, or
+/// without two, never is. `cargo test --release -p polycone --test certificate --
+/// --ignored` (2000 stances, about a minute); the first 40 run in the default suite.
+#[test]
+fn random_incomplete_face_forms_are_rejected() {
+    random_incomplete_sweep(40);
+}
+
+#[test]
+#[ignore]
+fn random_incomplete_face_forms_are_rejected_sweep() {
+    random_incomplete_sweep(2000);
+}
+
+fn random_incomplete_sweep(n: usize) {
+    let opts = DdOptions::default();
+    let mut state = 0x853c_49e6_748f_ea9b_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut rejected = 0;
+    for case in 0..n {
+        let kind = case % 4;
+        let count = 2 + case % 2;
+        let contacts: Vec<Contact> = (0..count)
+            .map(|c| {
+                let half = if kind == 3 {
+                    [1e-3 * (0.5 + next()), 1e-3 * (0.5 + next())]
+                } else {
+                    [0.02 + 0.1 * next(), 0.02 + 0.06 * next()]
+                };
+                let pos = [next() - 0.5, next() - 0.5, 0.3 * (next() - 0.5)];
+                let (pos, angle) = match kind {
+                    // Coplanar flat contacts.
+                    0 => ([pos[0], pos[1], 0.0], 0.0),
+                    // Slightly rolled or raised (1e-7 m to 1 cm, 1e-4 to 1 degree).
+                    1 if c > 0 => (
+                        [pos[0], pos[1], 10f64.powf(-7.0 + 5.0 * next())],
+                        10f64.powf(-4.0 + 4.0 * next()).to_radians(),
+                    ),
+                    1 => ([pos[0], pos[1], 0.0], 0.0),
+                    _ => (pos, 0.7 * (next() - 0.5)),
+                };
+                let axis = if next() < 0.5 {
+                    [1.0, 0.0, 0.0]
+                } else {
+                    [0.0, 1.0, 0.0]
+                };
+                Contact {
+                    pos,
+                    rot: rotation(axis, angle),
+                    half,
+                    mu: 0.3 + 0.7 * next(),
+                }
+            })
+            .collect();
+        let v = giwc_generators(&contacts);
+        let r = match span_to_face(&v, &opts) {
+            Ok(r) => r,
+            Err(e) => panic!("case {case}: {e}"),
+        };
+        assert!(r.certificate.certified, "case {case}");
+        let nf = r.face.facets.nrows();
+        if nf < 2 {
+            continue;
+        }
+        let one = (next() * nf as f64) as usize % nf;
+        let two = (one + 1 + (next() * (nf - 1) as f64) as usize % (nf - 1)) % nf;
+        for drop in [vec![one], vec![one, two]] {
+            let partial = FaceForm::new(
+                without_rows(&r.face.facets, &drop),
+                r.face.equations.clone(),
+            )
+            .unwrap();
+            let c = certify_span_to_face(&v, &partial, &r.lineality, &opts).unwrap();
+            assert!(
+                !c.certified,
+                "case {case}: dropping {drop:?} of {nf} certified"
+            );
+            rejected += 1;
+        }
+    }
+    assert!(rejected > n, "{rejected}");
+}

@@ -84,7 +84,7 @@
 mod neighbours;
 
 use crate::dd::{DdCore, DdFailure, Scan, SmallDd};
-use crate::linalg::{dot, normalize, rank_of};
+use crate::linalg::{dot, normalize, rank_of, spans};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
 use crate::Arithmetic;
@@ -736,14 +736,7 @@ fn count_open_ridges(
         if members.len() == t - 1 {
             // Simplicial facet (when its generators are independent: support): its ridges drop
             // one generator each.
-            if rank_of(
-                (0..k).map(|q| &rows[q * k..(q + 1) * k]),
-                k,
-                k,
-                tol.support_rank,
-                w.buf,
-            ) < k
-            {
+            if !spans(&rows[..k * k], k, k, tol.support_rank, w.buf) {
                 unsupported.push(f);
                 open += 1;
                 continue;
@@ -792,14 +785,7 @@ fn count_open_ridges(
         }
         if skipped + 2 < t && !force_dd() {
             // Balinski's theorem (module doc): up to `t - 2` facets need only support.
-            if rank_of(
-                (0..members.len()).map(|q| &rows[q * k..(q + 1) * k]),
-                k,
-                k,
-                tol.support_rank,
-                w.buf,
-            ) < k
-            {
+            if !spans(rows, members.len(), k, tol.support_rank, w.buf) {
                 unsupported.push(f);
                 open += 1;
             }

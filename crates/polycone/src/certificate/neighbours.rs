@@ -49,7 +49,7 @@
 //! reject them.
 
 use super::{ridges_from_dependency, Incidence};
-use crate::linalg::{dot, rank_of};
+use crate::linalg::{abs_det, dot, spans};
 use crate::tol::Tolerances;
 
 /// Buffers of [`neighbours_prove_facet`].
@@ -92,34 +92,6 @@ fn volume_factor(k: usize) -> f64 {
         let (a, b) = ((k - 1) as f64, (k - 2) as f64);
         (a / b).powf(b / 2.0)
     }
-}
-
-/// `|det|` of the `K x K` matrix `m` by Gaussian elimination with partial pivoting (0 when a
-/// pivot vanishes).
-fn abs_det<const K: usize>(mut m: [[f64; K]; K]) -> f64 {
-    let mut det = 1.0;
-    for c in 0..K {
-        let mut p = c;
-        for r in c + 1..K {
-            if m[r][c].abs() > m[p][c].abs() {
-                p = r;
-            }
-        }
-        let piv = m[p][c];
-        if piv == 0.0 {
-            return 0.0;
-        }
-        m.swap(p, c);
-        det *= piv.abs();
-        let inv = 1.0 / piv;
-        for r in c + 1..K {
-            let f = m[r][c] * inv;
-            for q in c..K {
-                m[r][q] -= f * m[c][q];
-            }
-        }
-    }
-    det
 }
 
 /// The unit linear dependency `lambda` of `K + 1` vectors `y` of `R^K` of rank `K`, and
@@ -416,27 +388,12 @@ fn prove_k<const K: usize>(
     if ng < K {
         return false;
     }
-    // Support: the matched generators span the hyperplane. `|det|` of `K` unit vectors is the
-    // product of their Gram-Schmidt residuals, each at most 1: a determinant above
-    // `support_rank` proves rank `K`; otherwise count the rank of all of them.
-    let mut m = [[0.0f64; K]; K];
-    m.copy_from_slice(&gh[..K]);
-    if abs_det(m) > tol.support_rank {
-        return true;
-    }
+    // Support: the matched generators span the hyperplane.
     s.rows.clear();
     for g in &gh[..ng] {
         s.rows.extend_from_slice(g);
     }
-    let rows = &s.rows;
-    let nm = ng;
-    rank_of(
-        (0..nm).map(|q| &rows[q * K..(q + 1) * K]),
-        K,
-        K,
-        tol.support_rank,
-        &mut s.buf,
-    ) == K
+    spans(&s.rows, ng, K, tol.support_rank, &mut s.buf)
 }
 
 #[cfg(test)]
