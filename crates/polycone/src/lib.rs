@@ -47,9 +47,14 @@
 //!    spurious: each is, within `eps`, a facet of the true cone);
 //! 3. **lineality**: the generators lying in the returned lineality space positively span it;
 //! 4. **completeness**: every ridge of every returned facet (computed from the generators
-//!    incident to it) lies in exactly two returned facets; with 1 and 2 this proves that no
-//!    facet is missing (the facet graph of a cone is connected), which is what cddlib's float
-//!    mode gets wrong on near-degenerate stances while passing 1 and 2.
+//!    incident to it) lies in exactly two returned facets, or, equivalently for this proof,
+//!    the returned facets next to a facet cut its hyperplane down to exactly the cone of its
+//!    incident generators (checked ray by ray with a proven angle bound); with 1 and 2 this
+//!    proves that no facet is missing (the facet graph of a cone is connected), which is what
+//!    cddlib's float mode gets wrong on near-degenerate stances while passing 1 and 2. Up to
+//!    `t - 2` facets of a `t`-dimensional pointed part need not be checked (Balinski's
+//!    theorem: the facet graph is `(t - 1)`-connected); the certificate module docs give the
+//!    arguments.
 //!
 //! So a certified answer is the face form of `span(V)` up to merging structure degenerate
 //! within `eps`. What is not proven: a bound on the distance between the returned and the true

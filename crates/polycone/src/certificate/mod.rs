@@ -123,11 +123,16 @@ pub struct Certificate {
     pub unsupported_facets: Vec<usize>,
     /// The lineality space is positively spanned by generators.
     pub lineality: bool,
-    /// Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
+    /// Completeness: no facet is missing (module docs: the ridges of the claimed facets, all
+    /// but at most `t - 2` of them, are covered, as counted from the facet's tight generators
+    /// or proven from its claimed neighbours).
     pub completeness: bool,
-    /// Number of ridges (of claimed facets) not covered by exactly two claimed facets
-    /// (`usize::MAX` when the facet count is impossible for the dimension, or when the check
-    /// was not run: [`crate::DdOptions::check_completeness`]).
+    /// Number of ridges not covered by exactly two claimed facets, among the facets checked
+    /// ridge by ridge (a facet its neighbours do not prove complete is checked that way, so a
+    /// failed completeness check always counts at least one; a facet with too few tight
+    /// generators counts one) (`usize::MAX` when the facet count is
+    /// impossible for the dimension, or when the check was not run:
+    /// [`crate::DdOptions::check_completeness`]).
     pub open_ridges: usize,
 }
 

@@ -234,6 +234,10 @@ pub(crate) fn neighbours_prove_facet(
             }
             s.meet[keep] = s.meet[a];
             keep += 1;
+            if keep > t {
+                // More than `t` = k + 1 neighbours: no closed form (the DD decides).
+                return false;
+            }
         }
     }
     s.meet.truncate(keep);
