@@ -197,6 +197,8 @@ pub(crate) struct CertScratch {
     vbuf: Vec<f64>,
     /// The neighbour check of facets (`neighbours` module).
     nb: NeighbourScratch,
+    /// Facets left unchecked by Balinski's theorem (at most `t - 2`).
+    skip: Vec<usize>,
     /// Linear algebra scratch.
     buf: Vec<f64>,
 }
@@ -459,6 +461,7 @@ pub(crate) fn certify_whitened(
         lambda: &mut cs.lambda,
         vbuf: &mut cs.vbuf,
         nb: &mut cs.nb,
+        skip: &mut cs.skip,
         buf: &mut cs.buf,
     };
     let open_ridges = if !check_completeness {
@@ -618,6 +621,7 @@ struct RidgeWork<'a> {
     lambda: &'a mut Vec<f64>,
     vbuf: &'a mut Vec<f64>,
     nb: &'a mut NeighbourScratch,
+    skip: &'a mut Vec<usize>,
     buf: &'a mut Vec<f64>,
 }
 
@@ -669,7 +673,24 @@ fn count_open_ridges(
     let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
     let scan = Scan::detect();
     let mut open = 0;
-    let mut skipped = 0usize;
+    // The `t - 2` facets with the most tight generators beyond `t` (ties: the first).
+    w.skip.clear();
+    let mut sizes = [0usize; 64];
+    for f in 0..nf {
+        let m = (0..gw).map(|wi| inc[f * gw + wi].count_ones()).sum::<u32>() as usize;
+        if m <= t {
+            continue;
+        }
+        if w.skip.len() < (t - 2).min(sizes.len()) {
+            sizes[w.skip.len()] = m;
+            w.skip.push(f);
+        } else if let Some(low) = (0..w.skip.len()).min_by_key(|&q| sizes[q]) {
+            if m > sizes[low] {
+                sizes[low] = m;
+                w.skip[low] = f;
+            }
+        }
+    }
     w.vbuf.clear();
     w.vbuf.resize(t, 0.0);
     w.lambda.clear();
@@ -707,7 +728,10 @@ fn count_open_ridges(
             j,
         };
         // The other facets that may share a ridge with this one (one-word rows only).
-        if gw == 1 {
+        // Balinski's theorem (module doc): up to `t - 2` facets need only support; those with
+        // the most tight generators (beyond `t`) are the expensive ones.
+        let skip = !force_dd() && w.skip.contains(&f);
+        if gw == 1 && !skip {
             w.cand.clear();
             scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
             if members.len() > t
@@ -720,7 +744,7 @@ fn count_open_ridges(
             }
         }
         w.neighbours.clear();
-        if gw == 1 {
+        if gw == 1 && !skip {
             w.neighbours.extend(
                 w.cand
                     .iter()
@@ -736,6 +760,14 @@ fn count_open_ridges(
             // No normalization needed: H is orthogonal and the dropped coordinate is
             // `±u . g`, at most `incidence` for a tight generator, so the row's norm is 1 to
             // within `incidence^2 / 2` (1e-18 by default), far below every threshold.
+        }
+        if skip {
+            if !spans(rows, members.len(), k, tol.support_rank, w.buf) {
+                unsupported.push(f);
+                open += 1;
+            }
+            record!(skipped);
+            continue;
         }
         let ridge = &mut *w.ridge;
         if members.len() == t - 1 {
@@ -787,16 +819,6 @@ fn count_open_ridges(
                 }
                 None => {}
             }
-        }
-        if skipped + 2 < t && !force_dd() {
-            // Balinski's theorem (module doc): up to `t - 2` facets need only support.
-            if !spans(rows, members.len(), k, tol.support_rank, w.buf) {
-                unsupported.push(f);
-                open += 1;
-            }
-            skipped += 1;
-            record!(skipped);
-            continue;
         }
         record!(dd);
         // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows),
