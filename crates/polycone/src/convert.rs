@@ -275,15 +275,27 @@ impl Workspace {
             wh.facet_to_world(u_w, u);
         }
         let mut order: Vec<usize> = (0..nf).collect();
+        // The first coordinate as an integer of the same total order (`f64::total_cmp`)
+        // decides most comparisons.
+        let key = |x: f64| {
+            let b = x.to_bits() as i64;
+            b ^ ((((b >> 63) as u64) >> 1) as i64)
+        };
+        let first: Vec<i64> = (0..nf).map(|f| key(facets[f * d])).collect();
         order.sort_unstable_by(|&a, &b| {
-            facets[a * d..(a + 1) * d]
-                .iter()
-                .zip(&facets[b * d..(b + 1) * d])
-                .map(|(x, y)| x.total_cmp(y))
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-                // Equal rows are interchangeable; the index keeps the order total.
-                .then(a.cmp(&b))
+            let o = first[a].cmp(&first[b]);
+            if o.is_ne() {
+                return o;
+            }
+            let (ra, rb) = (&facets[a * d..(a + 1) * d], &facets[b * d..(b + 1) * d]);
+            for (x, y) in ra.iter().zip(rb) {
+                let o = x.total_cmp(y);
+                if o.is_ne() {
+                    return o;
+                }
+            }
+            // Equal rows are interchangeable; the index keeps the order total.
+            a.cmp(&b)
         });
         let facets_m = DMatrix::from_fn(nf, d, |i, j| facets[order[i] * d + j]);
         // Lineality in world coordinates.

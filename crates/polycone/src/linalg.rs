@@ -215,7 +215,40 @@ pub(crate) fn spans(flat: &[f64], n: usize, k: usize, eps: f64, buf: &mut Vec<f6
     if det.is_some_and(|d| d > bound) {
         return true;
     }
+    if n > k && greedy_det(flat, n, k, buf) > k as f64 * eps {
+        return true;
+    }
     rank_of((0..n).map(|i| &flat[i * k..(i + 1) * k]), k, k, eps, buf) == k
+}
+
+/// `|det|` of `k` of the `n` unit rows of `flat`, picked in order by Gram-Schmidt: a row joins
+/// when its residual is at least a tenth (0 when fewer than `k` do). The product of the
+/// residuals is the determinant of the rows picked, so [`spans`] can use it like the first
+/// `k` rows' (the rows of a facet matrix often start with dependent ones).
+fn greedy_det(flat: &[f64], n: usize, k: usize, q: &mut Vec<f64>) -> f64 {
+    q.clear();
+    let mut det = 1.0;
+    let mut picked = 0;
+    let mut r = vec![0.0; k];
+    for row in flat.chunks_exact(k).take(n) {
+        r.copy_from_slice(row);
+        for b in q.chunks_exact(k) {
+            let c = dot(b, &r);
+            for (x, y) in r.iter_mut().zip(b) {
+                *x -= c * y;
+            }
+        }
+        let res = dot(&r, &r).sqrt();
+        if res >= 0.1 {
+            det *= res;
+            q.extend(r.iter().map(|x| x / res));
+            picked += 1;
+            if picked == k {
+                return det;
+            }
+        }
+    }
+    0.0
 }
 
 /// The first `K` rows of `flat` as a fixed-size matrix.
@@ -225,4 +258,46 @@ fn first_rows<const K: usize>(flat: &[f64]) -> [[f64; K]; K] {
         row.copy_from_slice(&flat[r * K..(r + 1) * K]);
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// The fast paths of `spans` never claim a rank the pivoted count denies: random unit
+        /// rows, some of them copies or near-combinations of others (dependent first rows, a
+        /// thin direction of size `10^-e`).
+        #[test]
+        fn spans_agrees_with_the_pivoted_rank(
+            k in 2usize..=8,
+            extra in 0usize..6,
+            raw in proptest::collection::vec(-1.0f64..1.0, 14 * 8),
+            thin in 0u32..14,
+            copies in 0usize..4,
+        ) {
+            let n = k + extra;
+            let mut rows: Vec<f64> = raw[..n * k].to_vec();
+            // Squash the last coordinate of every row to 10^-thin (a nearly flat set).
+            for r in rows.chunks_exact_mut(k) {
+                r[k - 1] *= 10f64.powi(-(thin as i32));
+            }
+            // The first rows repeat the next ones.
+            for c in 0..copies.min(n - 1) {
+                let src = (c + 1) * k;
+                let row: Vec<f64> = rows[src..src + k].to_vec();
+                rows[c * k..(c + 1) * k].copy_from_slice(&row);
+            }
+            for r in rows.chunks_exact_mut(k) {
+                normalize(r);
+            }
+            let eps = 1e-7;
+            let mut buf = Vec::new();
+            let fast = spans(&rows, n, k, eps, &mut buf);
+            let slow = rank_of((0..n).map(|i| &rows[i * k..(i + 1) * k]), k, k, eps, &mut buf) == k;
+            prop_assert_eq!(fast, slow);
+        }
+    }
 }

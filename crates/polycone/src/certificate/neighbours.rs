@@ -218,7 +218,7 @@ pub(crate) fn neighbours_prove_facet(
         let mut twin = false;
         for b in 0..n {
             let mb = s.meet[b].0;
-            if a != b && ma & !mb == 0 {
+            if ma & !mb == 0 && a != b {
                 if ma != mb {
                     maximal = false;
                     break;
@@ -320,12 +320,19 @@ fn prove_k<const K: usize>(
     let mut gh = [[0.0f64; K]; 16];
     let mut gi = [usize::MAX; 16];
     let mut ng = 0usize;
+    // Tight generators of each neighbour, and the smallest norm before normalization (the a
+    // priori bound below uses it for every S').
+    let mut gmask = [0u64; 9];
+    for (q, &(_, g)) in s.meet.iter().enumerate() {
+        gmask[q] = inc[g as usize];
+    }
+    let min_ny = ny[..p].iter().copied().fold(f64::INFINITY, f64::min);
     for &(a, b) in &s.drops {
-        // The facets the ray is tight on: all but the dropped ones.
+        // The generators tight on the facets the ray is tight on: all but the dropped ones.
         let mut tight = tf;
-        for (q, &(_, g)) in s.meet.iter().enumerate() {
+        for (q, &gm) in gmask[..p].iter().enumerate() {
             if q != a && q != b {
-                tight &= inc[g as usize];
+                tight &= gm;
             }
         }
         if tight == 0 {
@@ -364,12 +371,6 @@ fn prove_k<const K: usize>(
         if sigma.is_nan() || sigma <= 0.0 {
             return false;
         }
-        let mut min_ny = f64::INFINITY;
-        for q in 0..p {
-            if q != a && q != skip {
-                min_ny = min_ny.min(ny[q]);
-            }
-        }
         let mut beta = root * tight_cos / min_ny / sigma;
         if beta > tol.support_rank {
             // The a priori bound is too coarse: measure the cosines.
@@ -392,7 +393,14 @@ fn prove_k<const K: usize>(
     if ng < K {
         return false;
     }
-    // Support: the matched generators span the hyperplane.
+    // Support: the matched generators span the hyperplane (the determinant fast path of
+    // `spans`, on the first `K` of them, then `spans` itself).
+    let mut m = [[0.0f64; K]; K];
+    m.copy_from_slice(&gh[..K]);
+    let bound = if ng == K { 1.0 } else { K as f64 } * tol.support_rank;
+    if abs_det(m) > bound {
+        return true;
+    }
     s.rows.clear();
     for g in &gh[..ng] {
         s.rows.extend_from_slice(g);
