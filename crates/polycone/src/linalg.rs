@@ -222,23 +222,27 @@ pub(crate) fn spans(flat: &[f64], n: usize, k: usize, eps: f64, buf: &mut Vec<f6
 }
 
 /// `|det|` of `k` of the `n` unit rows of `flat`, picked in order by Gram-Schmidt: a row joins
-/// when its residual is at least a tenth (0 when fewer than `k` do). The product of the
+/// when its residual is at least a tenth (0 when fewer than `k` do, or `k > 16`). The product of the
 /// residuals is the determinant of the rows picked, so [`spans`] can use it like the first
 /// `k` rows' (the rows of a facet matrix often start with dependent ones).
 fn greedy_det(flat: &[f64], n: usize, k: usize, q: &mut Vec<f64>) -> f64 {
+    if k > 16 {
+        return 0.0;
+    }
     q.clear();
     let mut det = 1.0;
     let mut picked = 0;
-    let mut r = vec![0.0; k];
+    let mut r_buf = [0.0f64; 16];
+    let r = &mut r_buf[..k];
     for row in flat.chunks_exact(k).take(n) {
         r.copy_from_slice(row);
         for b in q.chunks_exact(k) {
-            let c = dot(b, &r);
+            let c = dot(b, r);
             for (x, y) in r.iter_mut().zip(b) {
                 *x -= c * y;
             }
         }
-        let res = dot(&r, &r).sqrt();
+        let res = dot(r, r).sqrt();
         if res >= 0.1 {
             det *= res;
             q.extend(r.iter().map(|x| x / res));
