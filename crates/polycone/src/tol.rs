@@ -60,6 +60,14 @@ pub struct Tolerances {
     /// chains of combinations, and on near-degenerate stances (5 mm patches) reached `3e-11`,
     /// which turned facet normals by `1.3e-8` rad against the conversion from scratch.
     pub polish: f64,
+    /// The wrench preconditioning ([`crate::DdOptions::wrench`]) solves `A o = b` for the centre
+    /// of the generators (`A = sum_i |f_i|^2 I - f_i f_i^T`, see [`crate::wrench`]) on the
+    /// eigenvectors of `A` whose eigenvalue is above `wrench_center` times the largest; along the
+    /// others (forces all parallel, or nearly) the centre takes the minimum-norm solution. Unit:
+    /// relative eigenvalue (the square of a relative spread of force directions). Default
+    /// `1e-12`: force directions spread by less than `1e-6` rad do not locate the centre along
+    /// them better than rounding would let a 1 km offset show.
+    pub wrench_center: f64,
 }
 
 impl Default for Tolerances {
@@ -73,6 +81,7 @@ impl Default for Tolerances {
             support_rank: 1e-7,
             continuation_condition: 10.0,
             polish: 1e-12,
+            wrench_center: 1e-12,
         }
     }
 }
@@ -89,6 +98,7 @@ impl Tolerances {
             ("support_rank", self.support_rank),
             ("continuation_condition", self.continuation_condition),
             ("polish", self.polish),
+            ("wrench_center", self.wrench_center),
         ];
         for (name, v) in all {
             if !(v.is_finite() && v >= 0.0) {
