@@ -67,6 +67,14 @@
 //!   [`crate::Arithmetic::Exact`] the option is refused (the map rounds the input, and exact
 //!   mode already decides ranks exactly). The exact fallback of tolerance mode runs on the
 //!   re-centred (rounded) input. [`crate::Continuation`] refuses the option.
+//!
+//! # Cost
+//!
+//! Two passes over the input (the fit and the map), copies of the input and of the answer, and
+//! one small SVD per non-empty equation or lineality basis: on the stairs stance (32 generators,
+//! 176 facets) the median conversion goes from 0.166 ms to 0.181 ms (release build, median of
+//! 1000, `cone_bench --wrench` on the stairs written about its origin; 0.18-0.19 ms about points
+//! 1 km to 100 km away, where the plain conversion returns a 5-D or 4-D cone).
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 
