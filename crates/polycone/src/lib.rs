@@ -185,7 +185,7 @@ pub struct DdOptions {
     pub allow_uncertified: bool,
     /// The wrench preconditioning ([`wrench`] module): for 6-D cones of wrenches
     /// `(f_x, f_y, f_z, tau_x, tau_y, tau_z)` only, re-centre the torques on the least-squares
-    /// centre of the generators and divide them by their RMS lever arm before the conversion,
+    /// centre of the generators and divide them by their median lever arm before the conversion,
     /// then map the answer back, so that the rank decision, hence the answer, does not depend
     /// on the reference point or the unit of length. The certificate is that of the
     /// re-centred problem. Refused ([`ConeError::NotAWrench`]) for other dimensions, and

@@ -19,26 +19,49 @@
 //! lineality directions `x = M^{-1} x'`, and the same extreme generators (a row is extreme in
 //! `V` iff it is in `M V`).
 //!
-//! **The centre.** `o` minimizes `sum_i |tau_i - o x f_i|^2` over the generators: the normal
-//! equations are `A o = b` with `A = sum_i (|f_i|^2 I - f_i f_i^T)` (symmetric, positive
-//! semi-definite) and `b = sum_i f_i x tau_i`. For wrenches of forces applied at one point `p`
-//! (`tau_i = p x f_i`), `o = p`. `A` is singular exactly when every force is parallel to a line
-//! (or zero); along such null directions `n` (eigenvalues at most
-//! [`crate::tol::Tolerances::wrench_center`] times the largest) the residual does not depend on
-//! `o` (`n x f_i = 0`), and `o` takes the minimum-norm solution (component 0). Moving the
+//! **The centre.** Each row with a force is read as a unit force direction `d_i = f_i / |f_i|`
+//! and a moment per unit force `m_i = tau_i / |f_i|` (a positive scale of a row does not change
+//! the cone, so it must not change the fit); `|m_i - o x d_i|` is its lever arm about `o`.
+//! `o` minimizes `sum_i w_i |m_i - o x d_i|^2`: the normal equations are `A o = b` with
+//! `A = sum_i w_i (I - d_i d_i^T)` (symmetric, positive semi-definite) and
+//! `b = sum_i w_i d_i x m_i`. For wrenches of forces applied at one point `p`
+//! (`tau_i = p x f_i`), `o = p`. The fit runs twice: first with `w_i = |f_i|^2 / |(f_i, tau_i)|^2`
+//! (the rows normalized, so that rows with almost no force - lever arms near infinity, like
+//! facet normals without torque part in face -> span - weigh little), then with `w_i = 1` on the
+//! rows whose lever arm about the first centre is at most
+//! [`crate::tol::Tolerances::wrench_outlier`] times the median. `A` is singular exactly when
+//! every force is parallel to a line; along such null directions `n` (eigenvalues at most
+//! [`crate::tol::Tolerances::wrench_center`] times the largest) the lever arms do not depend on
+//! `o` (`n x d_i = 0`), and `o` takes the minimum-norm solution (component 0). Moving the
 //! reference point by `s` (`tau_i -> tau_i - s x f_i`) moves `o` by `s` (up to the null
 //! directions, which do not change `o x f_i`), so the re-centred torques `tau_i - o x f_i` do
 //! not depend on where the reference point was, up to rounding (`|s| u` relative to the
-//! torques at the contacts, `u` the unit roundoff: `~1e-11` for 30 km and 0.1 m feet).
+//! torques at the contacts, `u` the unit roundoff: `~3e-11` for 30 km and 0.1 m feet) - and
+//! up to the first fit's weights, which change with the reference point when the rows' lever
+//! arms differ (they only select the rows of the second fit).
+//! The fit is computed on the rows scaled by a power of two (exact) so that its sums neither
+//! overflow nor underflow.
 //!
-//! **The length.** `L = sqrt(sum_i |tau_i - o x f_i|^2 / sum_i |f_i|^2)`, the root mean square
-//! lever arm of the generators about `o` (weighted by their force, so that a generator with a
-//! tiny force and a large torque, or a facet normal nearly without torque part in face -> span,
-//! does not dominate it): the size of the contact set seen from `o`. Measuring lengths in
-//! another unit (`tau -> c tau`) gives `o -> c o` and `L -> c L`, so the re-centred generators
-//! `(f, (tau - o x f) / L)` do not change: the conversion no longer sees the unit. When no
-//! generator has a force, or every re-centred torque is zero, `L = 1` (the cone then does not
-//! mix forces and torques, and the unit does not matter).
+//! **The length.** `L` is the median lever arm `|m_i - o x d_i|` over the rows with a force: the
+//! size of the contact set seen from `o` (a median, so that a few rows at "infinity" do not
+//! set it). Measuring lengths in another unit (`tau -> c tau`) gives `o -> c o` and `L -> c L`,
+//! so the re-centred generators `(f, (tau - o x f) / L)` do not change: the conversion no longer
+//! sees the unit. When no row has a force (norm above
+//! [`crate::tol::Tolerances::zero_generator`] times the row's), `o = 0` and `L = 1` (the cone
+//! then does not mix forces and torques, and the unit does not matter).
+//!
+//! **Rounding.** Where `tau_i - o x f_i` cancels (the torque of a force through `o`), it is
+//! computed with an error of about `u |o| |f_i|` (`u` the unit roundoff; `|o|` is about the
+//! distance from the reference point to the contacts, and the caller's torques were already
+//! rounded at that scale). When every re-centred torque cancels (a point contact: all forces
+//! through `o`), dividing that noise by an `L` made of it would blow it up to the size of the
+//! forces and invent a 6-D cone; so `L` is at least
+//! [`crate::tol::Tolerances::wrench_length`] times `|o|`, which keeps the noise at most
+//! `u / wrench_length` (`1.1e-11`) relative to the forces, below the rank threshold. The floor
+//! depends on the reference point; it is active only when the contacts are smaller than
+//! `wrench_length` times their distance to it (`0.3 m` at 30 km), where it only scales the
+//! torques (the whitening undoes any scaling; the rank decision sees it, with a margin of
+//! `L / size` far above its threshold).
 //!
 //! Together: the same stance written about any reference point and in any unit of length gives
 //! the same re-centred generators up to rounding, so the rank decision
@@ -46,10 +69,15 @@
 //! [`crate::precondition`] does not make invariant - is taken on the same numbers.
 //!
 //! **face -> span.** The input rows are covectors `u = (u_f, u_t)`; the same fit with the roles
-//! swapped (`u_t` plays the force, `u_f` the moment) gives `o` and `L` with
-//! `M^{-T} u = (u_f - o x u_t, L u_t)`, which is the same map `M` (a covector of the re-centred
-//! problem is `M^{-T} u`). The extreme rays `x'` and lineality of the re-centred cone map back by
-//! `M^{-1}`.
+//! swapped (`u_t` plays the force, `u_f` the moment: moving the reference point by `s` maps
+//! `u_f -> u_f + s x u_t`) gives `o` and `L`, hence `M`, from the facets; the conversion runs
+//! on the rows `M^{-T} u = (u_f - o x u_t, L u_t)`, the facets of the re-centred cone `M C`
+//! (not necessarily the `M` the generators of `C` would give: any invertible `M` is exact,
+//! this one is computed from what the caller gave; facets computed far from the contacts carry
+//! the rounding of that frame amplified in their torque-free part, so this frame is less
+//! invariant than the one of the generators: 0.1 m apart for the stairs about a point 30 km
+//! away). The extreme rays `x'` and lineality of
+//! `M C` map back by `M^{-1}`; the indices of irredundant facets are unchanged.
 //!
 //! # What is and is not guaranteed
 //!
@@ -59,10 +87,14 @@
 //!   lexicographic order.
 //! - The certificate is the one of the re-centred problem `M V`: its angles and residuals are
 //!   measured in the re-centred, whitened coordinates, not in the caller's.
-//! - Invariance is up to rounding of `tau - o x f`: structure degenerate within
-//!   [`crate::tol::Tolerances::incidence`] of the re-centred problem may still be merged
-//!   differently for different reference points (the rounding is far smaller for physical
-//!   stances, see above).
+//! - Invariance is up to rounding of `tau - o x f`, and of the input itself: wrenches written
+//!   about a point `s` away from the contacts carry torque errors of `|s| u |f|` from the
+//!   start, which no re-centring removes. Structure degenerate within
+//!   [`crate::tol::Tolerances::incidence`] of the re-centred problem may then be merged
+//!   differently for different reference points: the stairs stance gives its 176 facets in
+//!   floating point up to 100 km away, but written about `(1e6, 1e6, 1e6)` m its rounded input
+//!   fails the float certificate and the exact fallback returns 349 facets (the slivers of the
+//!   rounding; 339 without the option).
 //! - Only for `d = 6` with rows `(f_x, f_y, f_z, tau_x, tau_y, tau_z)`; with
 //!   [`crate::Arithmetic::Exact`] the option is refused (the map rounds the input, and exact
 //!   mode already decides ranks exactly). The exact fallback of tolerance mode runs on the
@@ -73,8 +105,9 @@
 //! Two passes over the input (the fit and the map), copies of the input and of the answer, and
 //! one small SVD per non-empty equation or lineality basis: on the stairs stance (32 generators,
 //! 176 facets) the median conversion goes from 0.166 ms to 0.181 ms (release build, median of
-//! 1000, `cone_bench --wrench` on the stairs written about its origin; 0.18-0.19 ms about points
-//! 1 km to 100 km away, where the plain conversion returns a 5-D or 4-D cone).
+//! 1000, `cone_bench --wrench` on the stairs written about its origin); 0.18-0.19 ms about
+//! points 1 km to 100 km away, where the plain conversion takes 0.17 ms at 1 km (176 facets)
+//! and returns a 5-D cone with 116 facets at 30 km and a 4-D one with 37 at 100 km.
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 
@@ -90,7 +123,7 @@ pub const WRENCH_DIM: usize = 6;
 pub struct WrenchFrame {
     /// The centre `o` (in the caller's unit of length, coordinates about its reference point).
     pub center: [f64; 3],
-    /// The length scale `L > 0` (same unit).
+    /// The length scale `L > 0`, the median lever arm about `center` (same unit).
     pub length: f64,
 }
 
@@ -100,6 +133,48 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
+}
+
+fn norm3(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// `|m - o x d|` for a unit force direction `d` and moment per unit force `m`.
+fn lever(d: [f64; 3], m: [f64; 3], o: [f64; 3]) -> f64 {
+    let od = cross(o, d);
+    norm3([m[0] - od[0], m[1] - od[1], m[2] - od[2]])
+}
+
+/// The median of the lever arms about `o` (the upper one for an even count).
+fn median_lever(levers: &[([f64; 3], [f64; 3], f64)], o: [f64; 3]) -> f64 {
+    let mut r: Vec<f64> = levers.iter().map(|(d, m, _)| lever(*d, *m, o)).collect();
+    r.sort_by(f64::total_cmp);
+    r[r.len() / 2]
+}
+
+/// The weighted least-squares centre: minimizes `sum_i w_i |m_i - o x d_i|^2`, minimum-norm
+/// along the eigenvectors of `A` at most `wrench_center` times its largest eigenvalue.
+fn solve_center(levers: &[([f64; 3], [f64; 3], f64)], w: &[f64], tol: &Tolerances) -> [f64; 3] {
+    let mut m_a = Matrix3::<f64>::zeros();
+    let mut rhs = Vector3::<f64>::zeros();
+    for ((d, m, _), &wi) in levers.iter().zip(w) {
+        let dv = Vector3::from(*d);
+        m_a += (Matrix3::identity() * dv.norm_squared() - dv * dv.transpose()) * wi;
+        rhs += Vector3::from(cross(*d, *m)) * wi;
+    }
+    let eig = SymmetricEigen::new(m_a);
+    let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
+    let mut o = Vector3::<f64>::zeros();
+    if lmax > 0.0 {
+        for k in 0..3 {
+            let l = eig.eigenvalues[k];
+            if l > tol.wrench_center * lmax {
+                let q = eig.eigenvectors.column(k);
+                o += q * (q.dot(&rhs) / l);
+            }
+        }
+    }
+    [o[0], o[1], o[2]]
 }
 
 fn check_dim(d: usize) -> Result<(), ConeError> {
@@ -124,8 +199,8 @@ pub(crate) fn check_options(d: usize, opts: &crate::DdOptions) -> Result<(), Con
 
 impl WrenchFrame {
     /// The frame of wrench generators `v` (`n x 6`, rows `(f, tau)`, finite): `o` the least
-    /// squares centre, `L` the RMS lever arm about it (module docs). The fit sees only the
-    /// rows, not the cone, so zero and duplicate generators count as given.
+    /// squares centre, `L` the median lever arm about it (module docs). The fit sees only the
+    /// rows, not the cone, so duplicate generators count as given.
     ///
     /// ```
     /// use polycone::{nalgebra::DMatrix, tol::Tolerances, wrench::WrenchFrame};
@@ -207,35 +282,49 @@ impl WrenchFrame {
                 ([g(a), g(a + 1), g(a + 2)], [g(b), g(b + 1), g(b + 2)])
             })
             .collect();
-        let mut m_a = Matrix3::<f64>::zeros();
-        let mut rhs = Vector3::<f64>::zeros();
-        for (f, t) in &rows {
-            let fv = Vector3::from(*f);
-            m_a += Matrix3::identity() * fv.norm_squared() - fv * fv.transpose();
-            rhs += Vector3::from(cross(*f, *t));
+        // Per row: the force direction and the moment per unit force, `(a_i, b_i) / |a_i|`
+        // (a positive scale of a row does not change the cone); rows without force are left out.
+        let levers: Vec<([f64; 3], [f64; 3], f64)> = rows
+            .iter()
+            .filter_map(|(f, t)| {
+                let nf = norm3(*f);
+                let nrow = (nf * nf + norm3(*t).powi(2)).sqrt();
+                (nf > 0.0 && nf > tol.zero_generator * nrow).then(|| {
+                    let d = [f[0] / nf, f[1] / nf, f[2] / nf];
+                    let m = [t[0] / nf, t[1] / nf, t[2] / nf];
+                    // Weight of the first fit: the row normalized to unit norm.
+                    (d, m, (nf / nrow).powi(2))
+                })
+            })
+            .collect();
+        if levers.is_empty() {
+            return Self {
+                center: [0.0; 3],
+                length: 1.0,
+            };
         }
-        // Minimum-norm solution on the eigenvectors above the threshold.
-        let eig = SymmetricEigen::new(m_a);
-        let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
-        let mut o = Vector3::<f64>::zeros();
-        if lmax > 0.0 {
-            for k in 0..3 {
-                let l = eig.eigenvalues[k];
-                if l > tol.wrench_center * lmax {
-                    let q = eig.eigenvectors.column(k);
-                    o += q * (q.dot(&rhs) / l);
+        // First fit: unit rows (rows at "infinite" lever arm weigh little), then the rows whose
+        // lever arm about it exceeds `wrench_outlier` times the median are left out of the
+        // second fit, where every row weighs the same.
+        let all: Vec<f64> = levers.iter().map(|l| l.2).collect();
+        let o1 = solve_center(&levers, &all, tol);
+        let l1 = median_lever(&levers, o1).max(tol.wrench_length * norm3(o1));
+        let trimmed: Vec<f64> = levers
+            .iter()
+            .map(|(d, m, _)| {
+                if lever(*d, *m, o1) <= tol.wrench_outlier * l1 {
+                    1.0
+                } else {
+                    0.0
                 }
-            }
-        }
-        let center = [o[0], o[1], o[2]];
-        // RMS lever arm: sqrt(sum |tau_i - o x f_i|^2 / sum |f_i|^2).
-        let (mut num, mut den) = (0.0, 0.0);
-        for (f, t) in &rows {
-            let of = cross(center, *f);
-            num += (t[0] - of[0]).powi(2) + (t[1] - of[1]).powi(2) + (t[2] - of[2]).powi(2);
-            den += f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
-        }
-        let length = (num / den).sqrt();
+            })
+            .collect();
+        let center = if trimmed.iter().any(|&w| w > 0.0) {
+            solve_center(&levers, &trimmed, tol)
+        } else {
+            o1
+        };
+        let length = median_lever(&levers, center).max(tol.wrench_length * norm3(center));
         let length = if length.is_finite() && length > 0.0 {
             length
         } else {

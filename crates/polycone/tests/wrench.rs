@@ -319,3 +319,48 @@ proptest! {
         prop_assert!(same_rows_up_to_scaling(&r0.face.facets, &back, MAX_ANGLE).is_some());
     }
 }
+
+/// Remove from each row of `facets` its components along the orthonormalized rows of `eq`.
+fn project_out(facets: &DMatrix<f64>, eq: &DMatrix<f64>) -> DMatrix<f64> {
+    let q = eq.transpose().qr().q(); // 6 x k, orthonormal columns spanning the equations
+    let mut out = facets.clone();
+    for i in 0..facets.nrows() {
+        let x = facets.row(i).transpose();
+        let p = &x - &q * (q.transpose() * &x);
+        out.row_mut(i).copy_from(&p.transpose());
+    }
+    normalized(&out)
+}
+
+/// A point contact (a 3-D cone in the 6-D wrench space: three equations) 30 km from the
+/// reference point: the option gives the equations and facets of the contact at the origin,
+/// mapped exactly; face -> span gives back its four edges.
+#[test]
+fn lower_dimensional_wrench_cones() {
+    let mut c = Contact::flat([0.1, 0.2, 0.05], [0.0, 0.0], 0.5);
+    c.rot = rotation([1.0, 0.0, 0.0], 0.3);
+    let v0 = giwc_generators(&[c]).rows(0, 4).into_owned();
+    let r0 = span_to_face(&v0, &DdOptions::default()).unwrap();
+    assert_eq!(r0.face.equations.nrows(), 3);
+    assert_eq!(r0.face.facets.nrows(), 4);
+    let v = shift_wrenches(&v0, FAR);
+    let r = span_to_face(&v, &wrench_opts()).unwrap();
+    assert!(r.certificate.certified);
+    assert_eq!(r.face.equations.nrows(), 3);
+    // Equations: orthonormal, and the same subspace once pulled back.
+    let gram = &r.face.equations * r.face.equations.transpose();
+    assert!((gram - DMatrix::<f64>::identity(3, 3)).amax() < 1e-12);
+    let eq_back = pull_back_facets(&r.face.equations, FAR);
+    assert!(same_span(&eq_back, &r0.face.equations, 1e-9));
+    let back = project_out(&pull_back_facets(&r.face.facets, FAR), &r0.face.equations);
+    let worst = same_rows_up_to_scaling(&r0.face.facets, &back, MAX_ANGLE);
+    assert!(worst.is_some(), "facets differ");
+    // Facets orthogonal to the equations, as documented.
+    assert!((&r.face.facets * r.face.equations.transpose()).amax() < 1e-12);
+    // face -> span: the four edges, in the far frame.
+    let g = face_to_span(&r.face, &wrench_opts()).unwrap();
+    assert!(g.certificate.certified);
+    assert_eq!(g.span.lineality.nrows(), 0);
+    let worst = same_rows_up_to_scaling(&normalized(&v), &g.span.generators, MAX_ANGLE);
+    assert!(worst.is_some(), "edges differ");
+}
