@@ -104,7 +104,7 @@
 //!   horizontally (`(21213.2, 21213.2, 0)` m) comes back certified as a 5-D cone with 116
 //!   facets, at 100 km along `x` as a 4-D cone with 37, and at 50 km along `x` the float
 //!   answer fails its certificate and the exact fallback returns the 276 facets of the
-//!   rounded input (0.7 s in the dev profile) - within the contract, not what a user wants. For 6-D wrench
+//!   rounded input (0.66 s in a release build) - within the contract, not what a user wants. For 6-D wrench
 //!   cones, [`DdOptions::wrench`] (the [`wrench`] module) fixes this: the generators are
 //!   re-centred on their least-squares centre and scaled by their lever arm before the rank
 //!   decision, and all three cases give the 176 facets in floating point (pulled back to the
@@ -112,7 +112,7 @@
 //!   in the far frame (`|s| u` of lever arm, `u` the unit roundoff), so from about 1000 km the
 //!   rounding breaks the stance's degeneracies at the scale of
 //!   [`tol::Tolerances::incidence`] even with the option (the stairs at `(1e6, 1e6, 1e6)` m:
-//!   349 facets from the exact fallback); other dimensions, [`Arithmetic::Exact`] and
+//!   353 facets from the exact fallback); other dimensions, [`Arithmetic::Exact`] and
 //!   [`Continuation`] do not take the option. Without it, write wrenches about a point near
 //!   the generators (`stance-contact` does) or use [`Arithmetic::Exact`].
 //! - [`Continuation`] saves only the double description of the generators already converted

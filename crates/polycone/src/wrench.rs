@@ -93,7 +93,7 @@
 //!   [`crate::tol::Tolerances::incidence`] of the re-centred problem may then be merged
 //!   differently for different reference points: the stairs stance gives its 176 facets in
 //!   floating point up to 100 km away, but written about `(1e6, 1e6, 1e6)` m its rounded input
-//!   fails the float certificate and the exact fallback returns 349 facets (the slivers of the
+//!   fails the float certificate and the exact fallback returns 353 facets (the slivers of the
 //!   rounding; 339 without the option).
 //! - Only for `d = 6` with rows `(f_x, f_y, f_z, tau_x, tau_y, tau_z)`; with
 //!   [`crate::Arithmetic::Exact`] the option is refused (the map rounds the input, and exact
@@ -102,13 +102,16 @@
 //!
 //! # Cost
 //!
-//! Two passes over the input (the fit and the map), copies of the input and of the answer, and
-//! one small SVD per non-empty equation or lineality basis: on the stairs stance (32 generators,
-//! 176 facets) the median conversion goes from 0.166 ms to 0.181 ms (release build, median of
-//! 1000, `cone_bench --wrench` on the stairs written about its origin); 0.18-0.19 ms about
-//! points 1 km to 100 km away, where the plain conversion takes 0.17 ms at 1 km (176 facets)
-//! and returns a 5-D cone with 116 facets at 30 km and a 4-D one with 37 at 100 km.
-
+//! Two least-squares fits and a median over the input, the map, copies of the input and of
+//! the answer, and one small SVD per non-empty equation or lineality basis. Measured on the
+//! stairs stance (32 generators, 176 facets; release build, median of 1000 conversions,
+//! `cargo run --release -p polycone --example cone_bench -- INPUT.json 1000 [--wrench]` on the
+//! fixture written about each point): at its own origin 0.168 ms without the option, 0.178 ms
+//! with it; about points 1 km to 100 km away 0.177-0.193 ms with it, where without it the
+//! conversion takes 0.169 ms at 1 km (176 facets) and returns a 5-D cone with 116 facets at
+//! 30 km (0.063 ms), a 4-D one with 37 at 100 km (0.023 ms), and at 50 km along `x` fails the
+//! float certificate and spends 0.66 s in the exact fallback (276 facets); 0.24 ms with it.
+//!
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 
 use crate::linalg::{normalize, sorted_svd};

@@ -180,6 +180,29 @@ fn misuse_is_an_error() {
         Continuation::new(&stairs(), &wrench_opts()),
         Err(ConeError::IncompatibleOptions(_))
     ));
+    let mut bad = wrench_opts();
+    bad.tol.wrench_length = f64::NAN;
+    assert!(matches!(
+        span_to_face(&stairs(), &bad),
+        Err(ConeError::BadTolerance {
+            name: "wrench_length",
+            ..
+        })
+    ));
+    // Extreme magnitudes: an answer (the same as at unit scale) or an error, never a panic.
+    let r0 = span_to_face(&stairs(), &wrench_opts()).unwrap();
+    for scale in [1e300, 1e-300, 1e-310] {
+        match span_to_face(&(stairs() * scale), &wrench_opts()) {
+            Ok(r) => {
+                assert!(r.certificate.certified, "{scale}");
+                assert!(
+                    same_rows_up_to_scaling(&r0.face.facets, &r.face.facets, MAX_ANGLE).is_some(),
+                    "{scale}"
+                );
+            }
+            Err(e) => eprintln!("scale {scale}: {e}"),
+        }
+    }
     let msg = span_to_face(&v3, &wrench_opts()).unwrap_err().to_string();
     assert!(msg.contains("6 columns"), "{msg}");
     // Degenerate wrench inputs are answers, not panics: no generator, pure torques, parallel
