@@ -6,7 +6,8 @@
 //! object: per case the facet count, equations, lineality dimension, certified flag, the facets
 //! (unit rows) and the median and minimum time per conversion in milliseconds (a warm
 //! [`polycone::Workspace`], `REPEATS` runs, default 200). `--exact` uses exact arithmetic,
-//! `--no-completeness` skips the completeness check of the certificate (to measure its cost).
+//! `--no-completeness` skips the completeness check of the certificate (to measure its cost),
+//! `--wrench` sets [`DdOptions::wrench`] (6-D wrench cones; measures the re-centring's cost).
 
 use std::time::Instant;
 
@@ -38,7 +39,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let path = args
         .get(1)
-        .expect("usage: cone_bench INPUT.json [REPEATS] [--exact] [--no-completeness]");
+        .expect("usage: cone_bench INPUT.json [REPEATS] [--exact] [--no-completeness] [--wrench]");
     let repeats: usize = args
         .get(2)
         .and_then(|s| s.parse().ok())
@@ -46,6 +47,7 @@ fn main() {
         .max(1);
     let exact = args.iter().any(|a| a == "--exact");
     let no_completeness = args.iter().any(|a| a == "--no-completeness");
+    let wrench = args.iter().any(|a| a == "--wrench");
     let text = std::fs::read_to_string(path).expect("read input");
     let json: serde_json::Value = serde_json::from_str(&text).expect("parse input");
     let opts = DdOptions {
@@ -55,6 +57,7 @@ fn main() {
             Arithmetic::Tolerance
         },
         check_completeness: !no_completeness,
+        wrench,
         ..DdOptions::default()
     };
     let mut ws = Workspace::new();

@@ -422,6 +422,12 @@ impl Continuation {
         opts: &DdOptions,
     ) -> Result<Self, ConeError> {
         check_generators(generators, None)?;
+        if opts.wrench {
+            return Err(ConeError::IncompatibleOptions(
+                "`wrench` with a Continuation: convert each stance with `span_to_face`, or move \
+                 the reference point near the contacts yourself",
+            ));
+        }
         let (result, frame, resumable) = from_scratch(&mut ws, generators, opts)?;
         let dd_rows = dd_rows_of(&frame);
         Ok(Self {

@@ -21,6 +21,7 @@ use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
 use crate::precondition::{whiten, Whitened};
+use crate::wrench::{check_options as check_wrench_options, WrenchFrame};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
 /// The result of [`span_to_face`].
@@ -124,6 +125,9 @@ impl Workspace {
             return Err(ConeError::ZeroDimension);
         }
         check_finite("generators", generators)?;
+        if opts.wrench {
+            return self.span_to_face_wrench(generators, opts);
+        }
         let p = self.polar(generators, opts)?;
         Ok(SpanToFace {
             face: FaceForm {
@@ -166,6 +170,9 @@ impl Workspace {
             g.view_mut((nu + ne, 0), (ne, d))
                 .copy_from(&(-&face.equations));
         }
+        if opts.wrench {
+            return self.face_to_span_wrench(&g, nu, opts);
+        }
         let p = self.polar(&g, opts)?;
         let irredundant_facets = p.extreme.iter().copied().filter(|&i| i < nu).collect();
         Ok(FaceToSpan {
@@ -175,6 +182,68 @@ impl Workspace {
                 lineality: p.equations,
             },
             irredundant_facets,
+            certificate: p.certificate,
+        })
+    }
+
+    /// [`Self::span_to_face`] with the wrench preconditioning: convert `M V`, map back.
+    fn span_to_face_wrench(
+        &mut self,
+        generators: &DMatrix<f64>,
+        opts: &DdOptions,
+    ) -> Result<SpanToFace, ConeError> {
+        check_wrench_options(generators.ncols(), opts)?;
+        opts.tol.validate()?;
+        let frame = WrenchFrame::of_wrenches(generators, &opts.tol)?;
+        let v_centred = frame.vectors_forward(generators);
+        check_finite("re-centred generators", &v_centred)?;
+        let inner = DdOptions {
+            wrench: false,
+            ..opts.clone()
+        };
+        let p = self.polar(&v_centred, &inner)?;
+        let equations = frame.basis_back(&p.equations, false);
+        let lineality = frame.basis_back(&p.lineality, true);
+        let facets = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
+        Ok(SpanToFace {
+            face: FaceForm {
+                dim: generators.ncols(),
+                facets,
+                equations,
+            },
+            lineality,
+            extreme_generators: p.extreme,
+            certificate: p.certificate,
+        })
+    }
+
+    /// [`Self::face_to_span`] with the wrench preconditioning on the polar's generators `g`
+    /// (`[U; E; -E]`, the first `nu` rows facets): convert `M^{-T} g`, map back.
+    fn face_to_span_wrench(
+        &mut self,
+        g: &DMatrix<f64>,
+        nu: usize,
+        opts: &DdOptions,
+    ) -> Result<FaceToSpan, ConeError> {
+        check_wrench_options(g.ncols(), opts)?;
+        opts.tol.validate()?;
+        let frame = WrenchFrame::of_covectors(g, &opts.tol)?;
+        let g_centred = frame.covectors_forward(g);
+        check_finite("re-centred facets", &g_centred)?;
+        let inner = DdOptions {
+            wrench: false,
+            ..opts.clone()
+        };
+        let p = self.polar(&g_centred, &inner)?;
+        let lineality = frame.basis_back(&p.equations, true);
+        let generators = frame.rays_back(&p.facets, true, &[&lineality]);
+        Ok(FaceToSpan {
+            span: SpanForm {
+                dim: g.ncols(),
+                generators,
+                lineality,
+            },
+            irredundant_facets: p.extreme.iter().copied().filter(|&i| i < nu).collect(),
             certificate: p.certificate,
         })
     }
@@ -416,6 +485,25 @@ pub fn certify_span_to_face(
     }
     check_finite("lineality", lineality)?;
     opts.tol.validate()?;
+    if opts.wrench {
+        // Certify the re-centred problem: generators by `M`, facets and equations by `M^{-T}`,
+        // lineality by `M`.
+        check_wrench_options(d, opts)?;
+        let frame = WrenchFrame::of_wrenches(generators, &opts.tol)?;
+        let v_centred = frame.vectors_forward(generators);
+        check_finite("re-centred generators", &v_centred)?;
+        let face_centred = FaceForm {
+            dim: d,
+            facets: frame.covectors_forward(&face.facets),
+            equations: frame.covectors_forward(&face.equations),
+        };
+        let lineality_centred = frame.vectors_forward(lineality);
+        let inner = DdOptions {
+            wrench: false,
+            ..opts.clone()
+        };
+        return certify_span_to_face(&v_centred, &face_centred, &lineality_centred, &inner);
+    }
     let tol = &opts.tol;
     let wh = whiten(generators, tol);
     let r = wh.r;

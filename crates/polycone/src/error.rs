@@ -38,6 +38,15 @@ pub enum ConeError {
         /// Its value.
         value: f64,
     },
+    /// [`crate::DdOptions::wrench`] was set for a cone that is not 6-D.
+    #[error("the wrench preconditioning needs 6 columns (f_x, f_y, f_z, tau_x, tau_y, tau_z) but the dimension is {dim}: turn the `wrench` option off for other cones")]
+    NotAWrench {
+        /// The ambient dimension given.
+        dim: usize,
+    },
+    /// Two options that cannot be used together.
+    #[error("incompatible options: {0}")]
+    IncompatibleOptions(&'static str),
     /// The input is beyond what the engine supports (dimension too large for the bitsets, ...).
     #[error("unsupported input: {0}")]
     Unsupported(String),

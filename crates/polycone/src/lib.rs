@@ -20,7 +20,8 @@
 //! The **polar** `C° = {u : u . x <= 0 for all x in C}` swaps the two: the facets of `C` are the
 //! extreme rays of `C°`, the equations of `C` span the lineality space of `C°`, and `C°° = C`.
 //! [`span_to_face`] whitens the generators (so that the answer does not depend on units or on
-//! the reference point), reduces to the full-dimensional case in `span(V)`, and computes the
+//! the reference point, up to the rank decision: see [`DdOptions::wrench`] for wrench cones),
+//! reduces to the full-dimensional case in `span(V)`, and computes the
 //! extreme rays of the pointed polar by double description (the [`dd`] module docs);
 //! [`face_to_span`] is [`span_to_face`] applied to the polar `span([U; E; -E])`.
 //!
@@ -98,11 +99,22 @@
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
 //!   relative to the input as given: the whitening that makes the conversion independent of
 //!   the reference point and the units comes after the rank decision. A wrench cone written
-//!   about a point 30 km from its contacts has its sixth direction at about 1e-10 of its
-//!   largest, so the stairs stance there comes back certified as a 5-D cone with 105 facets
-//!   (176 at the contacts; exact mode: 310, the slivers of the rounded input) - within the
-//!   contract, not what a user wants. Write wrenches about a point near the generators
-//!   (`stance-contact` does) or use [`Arithmetic::Exact`].
+//!   about a point far from its contacts has its sixth direction near 1e-10 of its largest:
+//!   the stairs stance (176 facets at its contacts) written about a point 30 km away
+//!   horizontally (`(21213.2, 21213.2, 0)` m) comes back certified as a 5-D cone with 116
+//!   facets, at 100 km along `x` as a 4-D cone with 37, and at 50 km along `x` the float
+//!   answer fails its certificate and the exact fallback returns the 276 facets of the
+//!   rounded input (0.66 s in a release build) - within the contract, not what a user wants. For 6-D wrench
+//!   cones, [`DdOptions::wrench`] (the [`wrench`] module) fixes this: the generators are
+//!   re-centred on their least-squares centre and scaled by their lever arm before the rank
+//!   decision, and all three cases give the 176 facets in floating point (pulled back to the
+//!   contacts within `4e-9` rad; `tests/wrench.rs`). What stays: the input itself is rounded
+//!   in the far frame (`|s| u` of lever arm, `u` the unit roundoff), so from about 1000 km the
+//!   rounding breaks the stance's degeneracies at the scale of
+//!   [`tol::Tolerances::incidence`] even with the option (the stairs at `(1e6, 1e6, 1e6)` m:
+//!   353 facets from the exact fallback); other dimensions, [`Arithmetic::Exact`] and
+//!   [`Continuation`] do not take the option. Without it, write wrenches about a point near
+//!   the generators (`stance-contact` does) or use [`Arithmetic::Exact`].
 //! - [`Continuation`] saves only the double description of the generators already converted
 //!   (and the SVD of the preconditioning while its coordinates stay well-conditioned): each
 //!   step runs the full certificate (64-68 % of a conversion of a 6-D wrench cone) on the
@@ -131,6 +143,7 @@ mod linalg;
 pub mod polytope;
 pub mod precondition;
 pub mod tol;
+pub mod wrench;
 
 pub use certificate::Certificate;
 pub use continuation::{Continuation, Restart, Step};
@@ -170,6 +183,15 @@ pub struct DdOptions {
     /// [`ConeError::Uncertified`]; the exact fallback is then not attempted. For diagnosis
     /// only: such an answer may be a wrong cone. Default `false`.
     pub allow_uncertified: bool,
+    /// The wrench preconditioning ([`wrench`] module): for 6-D cones of wrenches
+    /// `(f_x, f_y, f_z, tau_x, tau_y, tau_z)` only, re-centre the torques on the least-squares
+    /// centre of the generators and divide them by their median lever arm before the conversion,
+    /// then map the answer back, so that the rank decision, hence the answer, does not depend
+    /// on the reference point or the unit of length. The certificate is that of the
+    /// re-centred problem. Refused ([`ConeError::NotAWrench`]) for other dimensions, and
+    /// ([`ConeError::IncompatibleOptions`]) with [`Arithmetic::Exact`] and by
+    /// [`Continuation`]. Default `false`.
+    pub wrench: bool,
 }
 
 impl Default for DdOptions {
@@ -180,6 +202,7 @@ impl Default for DdOptions {
             exact_fallback: true,
             check_completeness: true,
             allow_uncertified: false,
+            wrench: false,
         }
     }
 }

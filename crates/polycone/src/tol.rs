@@ -60,6 +60,28 @@ pub struct Tolerances {
     /// chains of combinations, and on near-degenerate stances (5 mm patches) reached `3e-11`,
     /// which turned facet normals by `1.3e-8` rad against the conversion from scratch.
     pub polish: f64,
+    /// The wrench preconditioning ([`crate::DdOptions::wrench`]) solves `A o = b` for the centre
+    /// of the generators (`A = sum_i |f_i|^2 I - f_i f_i^T`, see [`crate::wrench`]) on the
+    /// eigenvectors of `A` whose eigenvalue is above `wrench_center` times the largest; along the
+    /// others (forces all parallel, or nearly) the centre takes the minimum-norm solution. Unit:
+    /// relative eigenvalue (the square of a relative spread of force directions). Default
+    /// `1e-12`: force directions spread by less than `1e-6` rad do not locate the centre along
+    /// them better than rounding would let a 1 km offset show.
+    pub wrench_center: f64,
+    /// The length scale `L` of the wrench preconditioning (see [`crate::wrench`]) is at least
+    /// `wrench_length` times `|o|`, the distance from the reference point to the centre of the
+    /// generators. Unit: ratio of lengths. Default `1e-5`: re-centring rounds the torques of
+    /// forces through `o` by about `1.1e-16 |o| |f|`, so that noise divided by `L` stays at most
+    /// `1.1e-11` relative to the forces, a tenth of [`Tolerances::rank`], and a point contact
+    /// (re-centred torques zero up to rounding) keeps its three equations.
+    pub wrench_length: f64,
+    /// The wrench preconditioning fits its centre twice (see [`crate::wrench`]): rows whose
+    /// lever arm about the first centre exceeds `wrench_outlier` times the median lever arm are
+    /// left out of the second fit. Unit: ratio of lengths. Default `10`: the generators of a
+    /// stance have lever arms within a few times each other (the size of the contact set);
+    /// facet normals with almost no torque part (lever arms at "infinity", e.g. `1e4` times
+    /// the median about a point 30 km away) must not pull the centre.
+    pub wrench_outlier: f64,
 }
 
 impl Default for Tolerances {
@@ -73,6 +95,9 @@ impl Default for Tolerances {
             support_rank: 1e-7,
             continuation_condition: 10.0,
             polish: 1e-12,
+            wrench_center: 1e-12,
+            wrench_length: 1e-5,
+            wrench_outlier: 10.0,
         }
     }
 }
@@ -89,6 +114,9 @@ impl Tolerances {
             ("support_rank", self.support_rank),
             ("continuation_condition", self.continuation_condition),
             ("polish", self.polish),
+            ("wrench_center", self.wrench_center),
+            ("wrench_length", self.wrench_length),
+            ("wrench_outlier", self.wrench_outlier),
         ];
         for (name, v) in all {
             if !(v.is_finite() && v >= 0.0) {

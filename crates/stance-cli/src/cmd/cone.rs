@@ -5,6 +5,10 @@
 //!   there is no generator: the zero cone of `R^d`);
 //! - face-to-span: `{"facets": [[...], ...], "equations": [[...], ...], "dim": d}` (`equations`
 //!   and `dim` optional).
+//!
+//! `--wrench` (6-D wrench cones): the conversion runs on generators re-centred on their
+//! contacts and scaled by their lever arm, so that a stance written about a far reference
+//! point, or in millimetres, gets the same cone (see `polycone::wrench`).
 
 use std::path::PathBuf;
 
@@ -29,6 +33,12 @@ pub struct ConvertArgs {
     /// Certified exact combinatorics for the input as given (slower).
     #[arg(long)]
     pub exact: bool,
+    /// 6-D wrench cones (rows f_x, f_y, f_z, tau_x, tau_y, tau_z) only: re-centre the torques
+    /// on the generators (or facets) and scale them by their lever arm before converting, so
+    /// that the answer does not depend on the reference point or the unit of length; the
+    /// answer is mapped back to the input's coordinates. Not with --exact.
+    #[arg(long)]
+    pub wrench: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -103,8 +113,9 @@ fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
         .collect()
 }
 
-fn options(exact: bool) -> DdOptions {
+fn options(exact: bool, wrench: bool) -> DdOptions {
     DdOptions {
+        wrench,
         arithmetic: if exact {
             Arithmetic::Exact
         } else {
@@ -119,7 +130,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
         ConeCommand::SpanToFace(a) => {
             let input: SpanInput = read_input(&a.file)?;
             let v = to_matrix("generators", &input.generators, input.dim)?;
-            let opts = options(a.exact);
+            let opts = options(a.exact, a.wrench);
             let mut ws = Workspace::new();
             let mut result = None;
             for _ in 0..a.common.repeat {
@@ -150,7 +161,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
             let u = to_matrix("facets", &input.facets, dim)?;
             let e = to_matrix("equations", &input.equations, dim)?;
             let face = FaceForm::new(u, e).map_err(polycone_error)?;
-            let opts = options(a.exact);
+            let opts = options(a.exact, a.wrench);
             let mut ws = Workspace::new();
             let mut result = None;
             for _ in 0..a.common.repeat {
