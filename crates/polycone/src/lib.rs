@@ -77,14 +77,18 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x3.7 (16 generators) to x10.0 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x16 to x23 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at. The checks are what cost: on the stairs
-//!   (32 generators, 176 facets, 0.17-0.20 ms) the double description is about a quarter, the
-//!   completeness check (per-facet double descriptions, about 0.5 us each for the 8 to 9 tight
-//!   generators of a single-support facet; [`DdOptions::check_completeness`]) about a third
-//!   (0.12 ms without it), the support ranks, slacks, preconditioning and output the rest.
-//!   `bench/peers/cones.md` has the measured table and the breakdown.
+//! - Speed: the certified tolerance mode is x4.8 (16 generators) to x10.3 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x18 to x26 at 48 and 64
+//!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
+//!   checks are what cost. Every facet but `t - 2` needs its ridges: from its claimed
+//!   neighbours in closed form (about 7,000 instructions a facet on the single support), by
+//!   closed forms of its tight generators, or by a double description of them (about 12,000).
+//!   On the single support (257,000 instructions a conversion) the neighbour checks are a
+//!   third, the preconditioning and the double description about a fifth each. On the stairs
+//!   (32 generators, 176 facets) the double description is about a quarter and the
+//!   certificate about half. The 38-facet stress stances, which set the median at 32
+//!   generators, would need 14 us for x30; they take about 53 us, a quarter of their
+//!   instructions in the double description alone.
 //! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
 //!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
 //!   tests compare them), only the speed differs.
