@@ -1008,6 +1008,39 @@ fn dependency(
     lambda: &mut [f64],
     m: &mut Vec<f64>,
 ) -> Option<f64> {
+    // Fixed-size elimination for the usual dimensions (same operations, stack arrays).
+    macro_rules! fixed {
+        ($k:literal) => {{
+            let mut y = [[0.0f64; $k]; $k + 1];
+            for (yi, r) in y.iter_mut().zip(rows.chunks_exact($k)) {
+                yi.copy_from_slice(r);
+            }
+            let (l, c) = neighbours::dependency_k::<$k>(&y, eps)?;
+            lambda[..$k + 1].copy_from_slice(&l.0[..$k + 1]);
+            Some(c)
+        }};
+    }
+    match k {
+        2 => fixed!(2),
+        3 => fixed!(3),
+        4 => fixed!(4),
+        5 => fixed!(5),
+        6 => fixed!(6),
+        7 => fixed!(7),
+        8 => fixed!(8),
+        _ => dependency_dyn(rows, k, eps, lambda, m),
+    }
+}
+
+/// [`dependency`] for any `k` (heap scratch `m`); the reference the fixed-size version is
+/// tested against.
+fn dependency_dyn(
+    rows: &[f64],
+    k: usize,
+    eps: f64,
+    lambda: &mut [f64],
+    m: &mut Vec<f64>,
+) -> Option<f64> {
     let n = k + 1;
     let mut det = 1.0;
     m.clear();

@@ -98,7 +98,7 @@ fn volume_factor(k: usize) -> f64 {
 /// `c = sqrt(sum_q det(Y \ {y_q})^2)`, as the parent module's `dependency` (Gaussian
 /// elimination with partial pivoting on the `K x (K + 1)` matrix whose columns are the vectors;
 /// `None` when a pivot is at most `eps` twice, i.e. rank below `K`).
-fn dependency_k<const K: usize>(y: &[[f64; K]], eps: f64) -> Option<(Vec1<K>, f64)> {
+pub(crate) fn dependency_k<const K: usize>(y: &[[f64; K]], eps: f64) -> Option<(Vec1<K>, f64)> {
     let n = K + 1;
     // m[r][i] = y[i][r]: rows are coordinates, columns the vectors (n <= K + 1 <= 9).
     let mut m = [[0.0f64; 9]; K];
@@ -159,16 +159,13 @@ fn dependency_k<const K: usize>(y: &[[f64; K]], eps: f64) -> Option<(Vec1<K>, f6
     for r in 0..K {
         lambda.0[piv_col[r]] = -m[r][free];
     }
-    let norm = lambda.0[..n].iter().map(|x| x * x).sum::<f64>().sqrt();
-    for x in lambda.0[..n].iter_mut() {
-        *x /= norm;
-    }
+    let norm = crate::linalg::normalize(&mut lambda.0[..n]);
     Some((lambda, norm * det))
 }
 
 /// `K + 1` numbers (at most 9), on the stack.
 #[derive(Clone, Copy)]
-struct Vec1<const K: usize>([f64; 9]);
+pub(crate) struct Vec1<const K: usize>(pub(crate) [f64; 9]);
 
 impl<const K: usize> Default for Vec1<K> {
     fn default() -> Self {
@@ -415,7 +412,7 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(500))]
-        /// The fixed-size dependency agrees with the parent module's general one.
+        /// The fixed-size dependency agrees with the parent module's general one, bit for bit.
         #[test]
         fn fixed_size_dependency_matches_the_general_one(
             raw in proptest::collection::vec(-1.0f64..1.0, 42),
@@ -432,14 +429,14 @@ mod tests {
             }
             let flat: Vec<f64> = y.iter().flatten().copied().collect();
             let (mut lambda, mut scratch) = (vec![0.0; K + 1], Vec::new());
-            let general = super::super::dependency(&flat, K, 1e-7, &mut lambda, &mut scratch);
+            let general = super::super::dependency_dyn(&flat, K, 1e-7, &mut lambda, &mut scratch);
             let fixed = dependency_k::<K>(&y, 1e-7);
             match (general, fixed) {
                 (None, None) => {}
                 (Some(c), Some((l, c2))) => {
-                    prop_assert!((c - c2).abs() <= 1e-12 * c.max(1.0));
+                    prop_assert_eq!(c.to_bits(), c2.to_bits());
                     for q in 0..=K {
-                        prop_assert!((lambda[q] - l.0[q]).abs() <= 1e-12);
+                        prop_assert_eq!(lambda[q].to_bits(), l.0[q].to_bits());
                     }
                 }
                 (a, b) => prop_assert!(false, "{:?} vs {:?}", a, b.map(|x| x.1)),
