@@ -77,13 +77,13 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x4.8 (16 generators) to x10.3 (32 and more,
+//! - Speed: the certified tolerance mode is x4.7 (16 generators) to x10.6 (32 and more,
 //!   median) faster than cddlib's float mode on 6-D wrench cones (x18 to x26 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
 //!   checks are what cost. Every facet but `t - 2` needs its ridges: from its claimed
 //!   neighbours in closed form (about 7,000 instructions a facet on the single support), by
 //!   closed forms of its tight generators, or by a double description of them (about 12,000).
-//!   On the single support (257,000 instructions a conversion) the neighbour checks are a
+//!   On the single support (254,000 instructions a conversion) the neighbour checks are a
 //!   third, the preconditioning and the double description about a fifth each. On the stairs
 //!   (32 generators, 176 facets) the double description is about a quarter and the
 //!   certificate about half. The 38-facet stress stances, which set the median at 32
