@@ -78,7 +78,7 @@
 //! # Limitations
 //!
 //! - Speed: the certified tolerance mode is x4.7 (16 generators) to x10.6 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x18 to x26 at 48 and 64
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x19 to x24 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
 //!   checks are what cost. Every facet but `t - 2` needs its ridges: from its claimed
 //!   neighbours in closed form (about 7,000 instructions a facet on the single support), by
