@@ -63,6 +63,8 @@ pub struct Workspace {
     check: CertScratch,
     rows: Vec<f64>,
     scratch: Vec<f64>,
+    /// Sort keys of the facets (their first coordinates as integers).
+    keys: Vec<i64>,
 }
 
 fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
@@ -350,7 +352,9 @@ impl Workspace {
             let b = x.to_bits() as i64;
             b ^ ((((b >> 63) as u64) >> 1) as i64)
         };
-        let first: Vec<i64> = (0..nf).map(|f| key(facets[f * d])).collect();
+        let first = &mut self.keys;
+        first.clear();
+        first.extend((0..nf).map(|f| key(facets[f * d])));
         order.sort_unstable_by(|&a, &b| {
             let o = first[a].cmp(&first[b]);
             if o.is_ne() {
