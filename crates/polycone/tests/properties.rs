@@ -190,13 +190,7 @@ proptest! {
         mu in 0.3f64..1.0,
         seed in any::<u64>(),
     ) {
-        let mut a = Contact::flat([p[0], p[1], 0.3 * p[2]], [half[0], half[1]], mu);
-        a.rot = rotation([1.0, 0.0, 0.0], ang[0]);
-        let mut b = Contact::flat([p[3], p[4], 0.3 * p[5]], [half[2], half[3]], mu);
-        let r1 = rotation([0.0, 1.0, 0.0], ang[1]);
-        let r2 = rotation([0.0, 0.0, 1.0], ang[2]);
-        b.rot = [[0.0; 3]; 3];
-        for i in 0..3 { for j in 0..3 { for k in 0..3 { b.rot[i][j] += r1[i][k] * r2[k][j]; } } }
+        let [a, b] = two_contacts(p, [ang[0], ang[1], ang[2]], half, mu);
         let v = giwc_generators(&[a, b]);
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);

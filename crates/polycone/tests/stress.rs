@@ -160,20 +160,6 @@ fn check_against_oracle(
     assert!(outside > 0, "{name}: no outside sample");
 }
 
-/// Facets of the cone shifted by `s` (wrenches `(f, t + s x f)`), pulled back to the unshifted
-/// frame: `u_local = M^T u`, normalized.
-fn pull_back_facets(facets: &DMatrix<f64>, s: [f64; 3]) -> DMatrix<f64> {
-    let mut m = DMatrix::<f64>::identity(6, 6);
-    // t' = t + [s]x f
-    let sx = [[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]];
-    for i in 0..3 {
-        for j in 0..3 {
-            m[(3 + i, j)] = sx[i][j];
-        }
-    }
-    normalized(&(facets * m))
-}
-
 #[test]
 fn stress_corpus_is_certified_and_agrees_with_the_oracle() {
     let opts = DdOptions::default();

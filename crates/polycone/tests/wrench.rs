@@ -35,19 +35,6 @@ fn stairs() -> DMatrix<f64> {
     matrix_hex(&j["generators"]["float64_hex"], 6)
 }
 
-/// `shift_wrenches(v, s)` maps a wrench `x` to `S x` with `S = [[I, 0], [[s]x, I]]`; a facet `u`
-/// of the shifted cone is the facet `S^T u = (u_f - s x u_t, u_t)` of the original.
-fn pull_back_facets(facets: &DMatrix<f64>, s: [f64; 3]) -> DMatrix<f64> {
-    let mut m = DMatrix::<f64>::identity(6, 6);
-    let sx = [[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]];
-    for i in 0..3 {
-        for j in 0..3 {
-            m[(3 + i, j)] = sx[i][j];
-        }
-    }
-    normalized(&(facets * m))
-}
-
 /// Torques multiplied by `c` (lengths in a unit `1 / c` times the original's).
 fn scale_torques(v: &DMatrix<f64>, c: f64) -> DMatrix<f64> {
     let mut out = v.clone();
@@ -322,13 +309,7 @@ proptest! {
         unit_exp in -3.0f64..3.0,
         seed in any::<u64>(),
     ) {
-        let mut a = Contact::flat([p[0], p[1], 0.3 * p[2]], [half[0], half[1]], mu);
-        a.rot = rotation([1.0, 0.0, 0.0], ang[0]);
-        let mut b = Contact::flat([p[3], p[4], 0.3 * p[5]], [half[2], half[3]], mu);
-        let r1 = rotation([0.0, 1.0, 0.0], ang[1]);
-        let r2 = rotation([0.0, 0.0, 1.0], ang[2]);
-        b.rot = [[0.0; 3]; 3];
-        for i in 0..3 { for j in 0..3 { for k in 0..3 { b.rot[i][j] += r1[i][k] * r2[k][j]; } } }
+        let [a, b] = two_contacts(p, [ang[0], ang[1], ang[2]], half, mu);
         let v0 = giwc_generators(&[a, b]);
         let c = 10f64.powf(unit_exp);
         let sc = [c * shift[0], c * shift[1], c * shift[2]];

@@ -281,3 +281,38 @@ pub fn shift_wrenches(v: &DMatrix<f64>, s: [f64; 3]) -> DMatrix<f64> {
     }
     out
 }
+
+/// Facets of the cone shifted by `s` (wrenches `(f, t + s x f)`, [`shift_wrenches`]), pulled
+/// back to the unshifted frame: `u_local = M^T u`, normalized.
+pub fn pull_back_facets(facets: &DMatrix<f64>, s: [f64; 3]) -> DMatrix<f64> {
+    let mut m = DMatrix::<f64>::identity(6, 6);
+    // t' = t + [s]x f
+    let sx = [[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]];
+    for i in 0..3 {
+        for j in 0..3 {
+            m[(3 + i, j)] = sx[i][j];
+        }
+    }
+    normalized(&(facets * m))
+}
+
+/// The random two-contact stance of the property tests: contact `a` at `p[0..3]` rolled by
+/// `ang[0]` about x, contact `b` at `p[3..6]` turned by `ang[1]` about y then `ang[2]` about z
+/// (heights scaled by 0.3), half sizes `half`, friction `mu`.
+#[allow(clippy::needless_range_loop)] // a 3x3 matrix product, indexed as written
+pub fn two_contacts(p: [f64; 6], ang: [f64; 3], half: [f64; 4], mu: f64) -> [Contact; 2] {
+    let mut a = Contact::flat([p[0], p[1], 0.3 * p[2]], [half[0], half[1]], mu);
+    a.rot = rotation([1.0, 0.0, 0.0], ang[0]);
+    let mut b = Contact::flat([p[3], p[4], 0.3 * p[5]], [half[2], half[3]], mu);
+    let r1 = rotation([0.0, 1.0, 0.0], ang[1]);
+    let r2 = rotation([0.0, 0.0, 1.0], ang[2]);
+    b.rot = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                b.rot[i][j] += r1[i][k] * r2[k][j];
+            }
+        }
+    }
+    [a, b]
+}
