@@ -17,8 +17,13 @@
 //! The certificate is decided exactly too: soundness (`G y <= 0`), support (rank of the tight
 //! generators), lineality (the generators in the lineality space positively span it: an exact
 //! double description in it returns no ray) and completeness (each ridge of each facet lies in
-//! exactly two facets; ridges from an exact double description of each facet's tight generators
-//! in the quotient by the lineality space).
+//! exactly two facets; the ridges of a simplicial facet are its drop-one subsets, those of the
+//! others come from an exact double description of the facet's tight generators in the
+//! quotient by the lineality space, in the coordinates of independent columns: a coordinate
+//! projection injective on their span keeps the integers as they are).
+//!
+//! Rays are kept primitive with a binary gcd on 64-bit limbs (one division first when the
+//! sizes differ by more than a word); the null spaces run on a row basis, not on every row.
 //!
 //! The facets are exact for the input **as given** (the rounded `f64` generators): near
 //! degenerate inputs may have many more facets than the intended geometry.
@@ -74,14 +79,145 @@ fn row_to_int(row: &[f64]) -> Vec<BigInt> {
     out
 }
 
+/// The gcd of `|a|` and `|b|`: the binary algorithm (Stein's: shifts and subtractions) in
+/// place on 64-bit limbs, and on `u128` once both numbers fit in two limbs.
 fn gcd(a: &BigInt, b: &BigInt) -> BigInt {
-    let (mut a, mut b) = (a.abs(), b.abs());
-    while !b.is_zero() {
-        let r = &a % &b;
-        a = b;
-        b = r;
+    if a.is_zero() {
+        return b.abs();
     }
-    a
+    if b.is_zero() {
+        return a.abs();
+    }
+    // One division first when the sizes differ much (the binary steps remove about one bit
+    // each: reducing the larger number modulo the smaller one is cheaper then).
+    let (mut a, mut b) = (a.magnitude().clone(), b.magnitude().clone());
+    if a.bits() < b.bits() {
+        std::mem::swap(&mut a, &mut b);
+    }
+    if a.bits() > b.bits() + 64 {
+        a %= &b;
+        if a.is_zero() {
+            return BigInt::from(b);
+        }
+    }
+    let mut x = a.to_u64_digits();
+    let mut y = b.to_u64_digits();
+    let shift = limbs::trailing_zeros(&x).min(limbs::trailing_zeros(&y));
+    limbs::shr_odd(&mut x);
+    let g = loop {
+        if x.len() <= 2 && y.len() <= 2 {
+            let g = gcd_u128(limbs::to_u128(&x), limbs::to_u128(&y));
+            break vec![g as u64, (g >> 64) as u64];
+        }
+        limbs::shr_odd(&mut y);
+        if limbs::greater(&x, &y) {
+            std::mem::swap(&mut x, &mut y);
+        }
+        limbs::sub_assign(&mut y, &x);
+        if y.is_empty() {
+            break x;
+        }
+    };
+    BigInt::from(num_bigint::BigUint::from_slice(&limbs::to_u32(&g))) << shift
+}
+
+/// Unsigned integers as little-endian `u64` limbs without leading zeros (empty: zero), for
+/// [`gcd`].
+mod limbs {
+    /// Number of trailing zero bits (of a non-zero number).
+    pub(super) fn trailing_zeros(x: &[u64]) -> u64 {
+        let w = x.iter().position(|&l| l != 0).unwrap_or(0);
+        w as u64 * 64 + x[w].trailing_zeros() as u64
+    }
+
+    /// Divides a non-zero `x` by its largest power-of-two factor (makes it odd), in place.
+    pub(super) fn shr_odd(x: &mut Vec<u64>) {
+        let tz = trailing_zeros(x);
+        let (words, bits) = ((tz / 64) as usize, (tz % 64) as u32);
+        if words > 0 {
+            x.drain(..words);
+        }
+        if bits > 0 {
+            for i in 0..x.len() {
+                let hi = if i + 1 < x.len() {
+                    x[i + 1] << (64 - bits)
+                } else {
+                    0
+                };
+                x[i] = (x[i] >> bits) | hi;
+            }
+        }
+        trim(x);
+    }
+
+    /// `x > y`.
+    pub(super) fn greater(x: &[u64], y: &[u64]) -> bool {
+        if x.len() != y.len() {
+            return x.len() > y.len();
+        }
+        for (a, b) in x.iter().rev().zip(y.iter().rev()) {
+            if a != b {
+                return a > b;
+            }
+        }
+        false
+    }
+
+    /// `y -= x`, for `y >= x`.
+    pub(super) fn sub_assign(y: &mut Vec<u64>, x: &[u64]) {
+        let mut borrow = false;
+        for i in 0..y.len() {
+            let xi = x.get(i).copied().unwrap_or(0);
+            let (d1, b1) = y[i].overflowing_sub(xi);
+            let (d2, b2) = d1.overflowing_sub(borrow as u64);
+            y[i] = d2;
+            borrow = b1 || b2;
+        }
+        debug_assert!(!borrow);
+        trim(y);
+    }
+
+    fn trim(x: &mut Vec<u64>) {
+        while x.last() == Some(&0) {
+            x.pop();
+        }
+    }
+
+    /// A number of at most two limbs.
+    pub(super) fn to_u128(x: &[u64]) -> u128 {
+        x.iter()
+            .rev()
+            .fold(0u128, |acc, &l| (acc << 64) | l as u128)
+    }
+
+    /// The same number as `u32` digits (little-endian), for `BigUint::from_slice`.
+    pub(super) fn to_u32(x: &[u64]) -> Vec<u32> {
+        x.iter()
+            .flat_map(|&l| [l as u32, (l >> 32) as u32])
+            .collect()
+    }
+}
+
+/// Binary (Stein's) gcd of two `u128`.
+fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+    if a == 0 {
+        return b;
+    }
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
 }
 
 /// Divides `v` by the gcd of its entries. Starts from the smallest entry, so that every
@@ -392,9 +528,20 @@ fn facets_of(rows: &[Vec<BigInt>], want_rank: usize) -> Result<Option<Vec<Vec<us
     if b.len() != want_rank {
         return Ok(None);
     }
+    // Coordinates of span(rows): a set of `want_rank` independent columns (the coordinate
+    // projection onto them is injective on the span, so the cone keeps its combinatorics),
+    // which keeps the entries as they are (dot products with basis rows would square them).
+    let ncols = rows.first().map_or(0, Vec::len);
+    let cols: Vec<Vec<BigInt>> = (0..ncols)
+        .map(|c| rows.iter().map(|r| r[c].clone()).collect())
+        .collect();
+    let cb = row_basis(&cols, want_rank);
+    if cb.len() != want_rank {
+        return Ok(None);
+    }
     let h: Vec<Vec<BigInt>> = rows
         .iter()
-        .map(|r| b.iter().map(|&i| dot(r, &rows[i])).collect())
+        .map(|r| cb.iter().map(|&c| r[c].clone()).collect())
         .collect();
     let rays = exact_dd(&h, want_rank)?;
     Ok(Some(
@@ -419,6 +566,60 @@ pub(crate) struct ExactResult {
 
 fn rows_to_matrix(rows: &[Vec<f64>], d: usize) -> DMatrix<f64> {
     DMatrix::from_fn(rows.len(), d, |i, j| rows[i][j])
+}
+
+/// The ridge check of completeness in exact arithmetic: for each claimed facet `f` (tight
+/// generators `tight[f]`, among `candidates`), its ridges, from the coordinates `ghat` of the
+/// generators modulo the lineality space (dimension `t`), must each lie in exactly two claimed
+/// facets. Returns the number of ridges that do not (a facet whose tight generators do not
+/// span a hyperplane counts one). Simplicial facets (`t - 1` independent tight generators) have
+/// the drop-one subsets as ridges; the others get an exact double description.
+fn open_ridges(
+    ghat: &[Vec<BigInt>],
+    tight: &[Vec<bool>],
+    candidates: &[usize],
+    t: usize,
+) -> Result<usize, ConeError> {
+    let nf = tight.len();
+    let mut open = 0usize;
+    for f in 0..nf {
+        let members: Vec<usize> = candidates
+            .iter()
+            .copied()
+            .filter(|&i| tight[f][i])
+            .collect();
+        let rows: Vec<Vec<BigInt>> = members.iter().map(|&i| ghat[i].clone()).collect();
+        let covered = |ridge: &mut dyn Iterator<Item = usize>| -> usize {
+            let ridge: Vec<usize> = ridge.map(|loc| members[loc]).collect();
+            (0..nf)
+                .filter(|&f2| ridge.iter().all(|&i| tight[f2][i]))
+                .count()
+        };
+        if rows.len() == t - 1 {
+            // Simplicial (independent tight generators): the ridges drop one each.
+            if row_basis(&rows, t - 1).len() != t - 1 {
+                open += 1;
+                continue;
+            }
+            for drop in 0..rows.len() {
+                if covered(&mut (0..rows.len()).filter(|&loc| loc != drop)) != 2 {
+                    open += 1;
+                }
+            }
+            continue;
+        }
+        match facets_of(&rows, t - 1)? {
+            None => open += 1,
+            Some(ridges) => {
+                for ridge in ridges {
+                    if covered(&mut ridge.into_iter()) != 2 {
+                        open += 1;
+                    }
+                }
+            }
+        }
+    }
+    Ok(open)
 }
 
 /// Exact span -> face of the rows of `v` (finite, `d >= 1` columns).
@@ -485,7 +686,13 @@ pub(crate) fn exact_span_to_face(
             .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
             .collect()
     } else {
-        null_space(&stacked, d)
+        // The null space of the rows is that of a row basis (at most `d` rows): the
+        // elimination then runs on those rows only, not on every facet.
+        let sel: Vec<Vec<BigInt>> = row_basis(&stacked, d)
+            .into_iter()
+            .map(|i| stacked[i].clone())
+            .collect();
+        null_space(&sel, d)
     };
     let l = lin_int.len();
     let t = r - l.min(r);
@@ -535,33 +742,21 @@ pub(crate) fn exact_span_to_face(
     if !dims_ok {
         open = usize::MAX;
     } else if t >= 3 {
-        let ys: Vec<Vec<BigInt>> = rays.iter().map(|r| r.x.clone()).collect();
-        let yb = row_basis(&ys, t);
-        let ghat: Vec<Vec<BigInt>> = g
-            .iter()
-            .map(|gi| yb.iter().map(|&f| dot(gi, &ys[f])).collect())
+        let ghat: Vec<Vec<BigInt>> = if l == 0 {
+            // Pointed: the basis coordinates already are coordinates modulo L = {0}.
+            g.clone()
+        } else {
+            let ys: Vec<Vec<BigInt>> = rays.iter().map(|r| r.x.clone()).collect();
+            let yb = row_basis(&ys, t);
+            g.iter()
+                .map(|gi| yb.iter().map(|&f| dot(gi, &ys[f])).collect())
+                .collect()
+        };
+        let tight_sets: Vec<Vec<bool>> = (0..nf)
+            .map(|f| (0..ng).map(|i| tight(f, i)).collect())
             .collect();
-        for f in 0..nf {
-            let members: Vec<usize> = distinct
-                .iter()
-                .copied()
-                .filter(|&i| !in_l[i] && tight(f, i))
-                .collect();
-            let rows: Vec<Vec<BigInt>> = members.iter().map(|&i| ghat[i].clone()).collect();
-            match facets_of(&rows, t - 1)? {
-                None => open += 1,
-                Some(ridges) => {
-                    for ridge in ridges {
-                        let cover = (0..nf)
-                            .filter(|&f2| ridge.iter().all(|&loc| tight(f2, members[loc])))
-                            .count();
-                        if cover != 2 {
-                            open += 1;
-                        }
-                    }
-                }
-            }
-        }
+        let candidates: Vec<usize> = distinct.iter().copied().filter(|&i| !in_l[i]).collect();
+        open = open_ridges(&ghat, &tight_sets, &candidates, t)?;
     }
     // Extreme generators: not in L, no generator tight on a strict superset of facets.
     let tight_set = |i: usize| -> Vec<bool> { (0..nf).map(|f| tight(f, i)).collect() };
@@ -627,4 +822,169 @@ pub(crate) fn exact_span_to_face(
         extreme,
         certificate,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ints(rows: &[Vec<i64>]) -> Vec<Vec<BigInt>> {
+        rows.iter()
+            .map(|r| r.iter().map(|&x| BigInt::from(x)).collect())
+            .collect()
+    }
+
+    /// Integer wrench generators `(f, p x f)` of a rectangular contact: friction pyramid
+    /// edges `(±1, 0, 2)`, `(0, ±1, 2)` in the frame `(e1, e2, n)` at the four corners
+    /// `c ± a e1 ± b e2`.
+    fn contact(
+        c: [i64; 3],
+        e1: [i64; 3],
+        e2: [i64; 3],
+        n: [i64; 3],
+        a: i64,
+        b: i64,
+    ) -> Vec<Vec<i64>> {
+        let cross = |p: [i64; 3], f: [i64; 3]| {
+            [
+                p[1] * f[2] - p[2] * f[1],
+                p[2] * f[0] - p[0] * f[2],
+                p[0] * f[1] - p[1] * f[0],
+            ]
+        };
+        let mut out = Vec::new();
+        for (sa, sb) in [(1, 1), (1, -1), (-1, 1), (-1, -1)] {
+            let p: [i64; 3] = std::array::from_fn(|i| c[i] + sa * a * e1[i] + sb * b * e2[i]);
+            for (t1, t2) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                let f: [i64; 3] = std::array::from_fn(|i| t1 * e1[i] + t2 * e2[i] + 2 * n[i]);
+                let tau = cross(p, f);
+                out.push(vec![f[0], f[1], f[2], tau[0], tau[1], tau[2]]);
+            }
+        }
+        out
+    }
+
+    /// Pointed full-dimensional integer cones of several kinds: one rectangle (every facet
+    /// with 8 or 9 tight generators), two rectangles (flat; one raised and tilted), and 4-D/5-D
+    /// cones with generators on common faces (sums of two or three others).
+    fn cones() -> Vec<(&'static str, Vec<Vec<BigInt>>)> {
+        let one = contact([0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], 3, 2);
+        let mut flat = one.clone();
+        flat.extend(contact([0, 10, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], 3, 2));
+        let mut tilted = one.clone();
+        tilted.extend(contact([4, 9, 3], [1, 0, 0], [0, 3, 4], [0, -4, 3], 3, 2));
+        let mut out = vec![
+            ("one rectangle", ints(&one)),
+            ("two flat rectangles", ints(&flat)),
+            ("raised, tilted rectangle", ints(&tilted)),
+        ];
+        // Deterministic pseudo-random small cones with points on faces.
+        let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = |m: i64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % (2 * m as u64 + 1)) as i64 - m
+        };
+        for (k, n) in [(4usize, 9usize), (5, 10), (5, 12)] {
+            for _ in 0..3 {
+                let mut rows: Vec<Vec<i64>> = (0..n)
+                    .map(|_| {
+                        let mut r: Vec<i64> = (0..k - 1).map(|_| next(4)).collect();
+                        r.push(6); // last coordinate positive: pointed
+                        r
+                    })
+                    .collect();
+                for q in 0..3 {
+                    let (a, b) = (q % n, (q * 3 + 1) % n);
+                    let sum: Vec<i64> = rows[a].iter().zip(&rows[b]).map(|(x, y)| x + y).collect();
+                    rows.push(sum);
+                }
+                out.push(("random with face points", ints(&rows)));
+            }
+        }
+        out
+    }
+
+    /// The exact facets (rays of the polar) and the incidence of a pointed full-dimensional
+    /// cone given by integer generators.
+    fn incidence(g: &[Vec<BigInt>]) -> (usize, Vec<Vec<bool>>) {
+        let d = g[0].len();
+        let rays = exact_dd(g, d).unwrap();
+        let tight = rays
+            .iter()
+            .map(|y| g.iter().map(|gi| dot(gi, &y.x).is_zero()).collect())
+            .collect();
+        (d, tight)
+    }
+
+    /// The complete face form passes; removing any one facet (or two) fails: the exact ridge
+    /// check of completeness has teeth, on simplicial and degenerate facets alike.
+    #[test]
+    fn open_ridges_is_zero_exactly_when_no_facet_is_missing() {
+        for (name, g) in cones() {
+            let (t, tight) = incidence(&g);
+            let cand: Vec<usize> = (0..g.len()).collect();
+            assert_eq!(open_ridges(&g, &tight, &cand, t).unwrap(), 0, "{name}");
+            let nf = tight.len();
+            for drop in 0..nf {
+                let mut partial = tight.clone();
+                partial.remove(drop);
+                assert!(
+                    open_ridges(&g, &partial, &cand, t).unwrap() > 0,
+                    "{name}: facet {drop}"
+                );
+                let mut two = partial.clone();
+                two.remove((drop * 7 + 3) % two.len());
+                assert!(
+                    open_ridges(&g, &two, &cand, t).unwrap() > 0,
+                    "{name}: facet {drop} and another"
+                );
+            }
+        }
+    }
+
+    /// The ridges of a facet from the column-coordinate projection equal those from the Gram
+    /// coordinates (the former code), facet by facet.
+    #[test]
+    fn facets_of_is_independent_of_the_coordinates() {
+        let gram = |rows: &[Vec<BigInt>], want: usize| -> Option<Vec<Vec<usize>>> {
+            let b = row_basis(rows, usize::MAX);
+            if b.len() != want {
+                return None;
+            }
+            let h: Vec<Vec<BigInt>> = rows
+                .iter()
+                .map(|r| b.iter().map(|&i| dot(r, &rows[i])).collect())
+                .collect();
+            let rays = exact_dd(&h, want).unwrap();
+            let mut out: Vec<Vec<usize>> = rays
+                .iter()
+                .map(|ray| {
+                    (0..rows.len())
+                        .filter(|&i| ray.z[i / 64] >> (i % 64) & 1 == 1)
+                        .collect()
+                })
+                .collect();
+            out.sort();
+            Some(out)
+        };
+        let mut checked = 0;
+        for (name, g) in cones() {
+            let (t, tight) = incidence(&g);
+            for row in &tight {
+                let rows: Vec<Vec<BigInt>> = (0..g.len())
+                    .filter(|&i| row[i])
+                    .map(|i| g[i].clone())
+                    .collect();
+                let mut ours = facets_of(&rows, t - 1).unwrap();
+                if let Some(r) = ours.as_mut() {
+                    r.sort();
+                }
+                assert_eq!(ours, gram(&rows, t - 1), "{name}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "{checked}");
+    }
 }
