@@ -524,10 +524,6 @@ fn neg_inverse_columns(a: &[Vec<BigInt>]) -> Vec<Vec<BigInt>> {
 /// `Z^k`... any rank `q`): the facets of the cone within its span, by reduction to its row
 /// space and an exact double description. Returns `None` when the rank is not `want_rank`.
 fn facets_of(rows: &[Vec<BigInt>], want_rank: usize) -> Result<Option<Vec<Vec<usize>>>, ConeError> {
-    let b = row_basis(rows, usize::MAX);
-    if b.len() != want_rank {
-        return Ok(None);
-    }
     // Coordinates of span(rows): a set of `want_rank` independent columns (the coordinate
     // projection onto them is injective on the span, so the cone keeps its combinatorics),
     // which keeps the entries as they are (dot products with basis rows would square them).
@@ -535,7 +531,8 @@ fn facets_of(rows: &[Vec<BigInt>], want_rank: usize) -> Result<Option<Vec<Vec<us
     let cols: Vec<Vec<BigInt>> = (0..ncols)
         .map(|c| rows.iter().map(|r| r[c].clone()).collect())
         .collect();
-    let cb = row_basis(&cols, want_rank);
+    // (The column rank is the rank of the rows: it must be `want_rank`.)
+    let cb = row_basis(&cols, usize::MAX);
     if cb.len() != want_rank {
         return Ok(None);
     }
@@ -573,7 +570,8 @@ fn rows_to_matrix(rows: &[Vec<f64>], d: usize) -> DMatrix<f64> {
 /// generators modulo the lineality space (dimension `t`), must each lie in exactly two claimed
 /// facets. Returns the number of ridges that do not (a facet whose tight generators do not
 /// span a hyperplane counts one). Simplicial facets (`t - 1` independent tight generators) have
-/// the drop-one subsets as ridges; the others get an exact double description.
+/// the drop-one subsets as ridges; the others get an exact double description. Up to `t - 2`
+/// facets are left out by Balinski's theorem: their support must be checked by the caller.
 fn open_ridges(
     ghat: &[Vec<BigInt>],
     tight: &[Vec<bool>],
@@ -582,12 +580,28 @@ fn open_ridges(
 ) -> Result<usize, ConeError> {
     let nf = tight.len();
     let mut open = 0usize;
-    for f in 0..nf {
-        let members: Vec<usize> = candidates
+    let members_of = |f: usize| -> Vec<usize> {
+        candidates
             .iter()
             .copied()
             .filter(|&i| tight[f][i])
-            .collect();
+            .collect()
+    };
+    // Balinski's theorem (as in the floating-point certificate, `crate::certificate`): the
+    // claimed facets adjacent to any set of missing ones number at least `t - 1`, so up to
+    // `t - 2` facets need no ridge check (their support is checked by the caller). Those with
+    // the most tight generators (beyond simplicial) are the expensive ones.
+    let mut by_size: Vec<(usize, usize)> = (0..nf)
+        .map(|f| (members_of(f).len(), f))
+        .filter(|&(m, _)| m > t - 1)
+        .collect();
+    by_size.sort_unstable_by(|a, b| b.cmp(a));
+    let skip: Vec<usize> = by_size.iter().take(t - 2).map(|&(_, f)| f).collect();
+    for f in 0..nf {
+        if skip.contains(&f) {
+            continue;
+        }
+        let members = members_of(f);
         let rows: Vec<Vec<BigInt>> = members.iter().map(|&i| ghat[i].clone()).collect();
         let covered = |ridge: &mut dyn Iterator<Item = usize>| -> usize {
             let ridge: Vec<usize> = ridge.map(|loc| members[loc]).collect();
