@@ -165,12 +165,16 @@ def main():
         exe = os.path.join(ROOT, "target", "release", "examples", "cone_bench")
         ours = json.loads(subprocess.run([exe, inp, str(args.repeats)], capture_output=True, check=True,
                                          text=True).stdout)["results"]
+        # Exact mode, against cddlib GMP (both exact for the input as given).
+        exact = json.loads(subprocess.run([exe, inp, str(args.gmp_repeats), "--exact"], capture_output=True,
+                                          check=True, text=True).stdout)["results"]
 
     rows = []
     print("Facet counts (ours, cdd float, cdd GMP on the same float input; cdd-f -1: cddlib float failed)")
     print(f"{'group':<12} {'case':<30} {'n':>3} {'ours':>5} {'cdd-f':>5} {'gmp':>5}  {'answer':<22} "
-          f"{'ours ms':>9} {'cdd-f ms':>9} {'core ms':>9} {'gmp ms':>9} {'x float':>8} {'x core':>7} {'x gmp':>7}")
-    for (group, name, v), r in zip(all_cases, ours):
+          f"{'ours ms':>9} {'cdd-f ms':>9} {'core ms':>9} {'gmp ms':>9} {'x float':>8} {'x core':>7} {'x gmp':>7}"
+          f"  {'exact ms':>9} {'ex/gmp':>7}")
+    for (group, name, v), r, rx in zip(all_cases, ours, exact):
         try:
             hf, tf, tcore = cdd_float(v, args.repeats)
             ff, ef = facets_of(hf)
@@ -193,11 +197,20 @@ def main():
             else:
                 status = "tolerance (certified)" if r["certified"] else "DIFFERS, uncertified"
         nff = len(ff) if ef >= 0 else -1
+        # Our exact mode must give cddlib GMP's answer; otherwise its time is not reported.
+        t_exact = float("nan")
+        if "error" not in rx:
+            ux = np.array(rx["facets"]) if rx["facets"] else np.zeros((0, v.shape[1]))
+            if rx["certified"] and same_facets(ux, fg) and rx["equations"] == eg:
+                t_exact = rx["median_ms"]
+            else:
+                status += " / EXACT DIFFERS"
         rows.append(dict(group=group, name=name, n=len(v), ours=ours_n, cdd_float=nff, cdd_gmp=len(fg),
-                         status=status, ours_ms=t_ours, float_ms=tf, core_ms=tcore, gmp_ms=tg))
+                         status=status, ours_ms=t_ours, float_ms=tf, core_ms=tcore, gmp_ms=tg,
+                         exact_ms=t_exact))
         print(f"{group:<12} {name:<30} {len(v):>3} {ours_n:>5} {nff:>5} {len(fg):>5}  {status:<22} "
               f"{t_ours:>9.4f} {tf:>9.4f} {tcore:>9.4f} {tg:>9.3f} {tf / t_ours:>8.1f} {tcore / t_ours:>7.1f} "
-              f"{tg / t_ours:>7.0f}")
+              f"{tg / t_ours:>7.0f}  {t_exact:>9.3f} {tg / t_exact:>7.1f}")
 
     print()
     print("Median speed-ups of polycone (certified, tolerance mode) over pycddlib:")
@@ -207,6 +220,11 @@ def main():
             print(f"  {label:<15} ({len(g):>2} cones): float x{statistics.median(x['float_ms'] / x['ours_ms'] for x in g):.1f}, "
                   f"float core x{statistics.median(x['core_ms'] / x['ours_ms'] for x in g):.1f}, "
                   f"GMP x{statistics.median(x['gmp_ms'] / x['ours_ms'] for x in g):.0f}")
+    print("Median speed-up of polycone's exact mode over pycddlib GMP (same exact answer, checked):")
+    for label, sel in [("16 generators", lambda x: x["n"] == 16), ("32+ generators", lambda x: x["n"] >= 32)]:
+        g = [x for x in rows if sel(x) and x["exact_ms"] == x["exact_ms"]]
+        if g:
+            print(f"  {label:<15} ({len(g):>2} cones): x{statistics.median(x['gmp_ms'] / x['exact_ms'] for x in g):.2f}")
     if args.json:
         json.dump(rows, open(args.json, "w"), indent=1)
 
