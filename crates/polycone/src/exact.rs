@@ -11,7 +11,7 @@
 //! - the double description iteration is the one of [`crate::dd`] with exact signs: the slack of
 //!   a ray on a row is an integer dot product, new rays `(a . p) n - (a . n) p` are divided by the
 //!   gcd of their entries to keep them small;
-//! - equations and lineality are exact null spaces (rational Gauss-Jordan), rounded to `f64` and
+//! - equations and lineality are exact null spaces (fraction-free elimination), rounded to `f64` and
 //!   orthonormalized only for output.
 //!
 //! The certificate is decided exactly too: soundness (`G y <= 0`), support (rank of the tight
@@ -30,7 +30,6 @@
 
 use nalgebra::DMatrix;
 use num_bigint::BigInt;
-use num_rational::BigRational;
 use num_traits::{Float, One, Signed, ToPrimitive, Zero};
 
 use crate::dd::bitset;
@@ -287,64 +286,54 @@ fn row_basis(rows: &[Vec<BigInt>], cap: usize) -> Vec<usize> {
     basis
 }
 
-/// Integer basis of the null space `{x : rows x = 0}` in `Z^d`.
+/// A basis of the integer null space `{x : rows x = 0}` (`d` columns), one primitive vector
+/// per free column, by fraction-free elimination: forward elimination to an echelon form
+/// (each row step `r <- p r - q e`, entries stay integers), then back-substitution with the
+/// free entry set to the product of the pivots, which makes every division exact (each pivot
+/// variable is a multiple of the pivots not yet divided out).
 fn null_space(rows: &[Vec<BigInt>], d: usize) -> Vec<Vec<BigInt>> {
-    let mut m: Vec<Vec<BigRational>> = rows
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|x| BigRational::from_integer(x.clone()))
-                .collect()
-        })
-        .collect();
-    let mut pivots: Vec<(usize, usize)> = Vec::new();
-    let mut ri = 0;
-    for col in 0..d {
-        let Some(p) = (ri..m.len()).find(|&r| !m[r][col].is_zero()) else {
-            continue;
-        };
-        m.swap(ri, p);
-        let inv = m[ri][col].recip();
-        for x in m[ri].iter_mut() {
-            *x = &*x * &inv;
-        }
-        for r in 0..m.len() {
-            if r != ri && !m[r][col].is_zero() {
-                let f = m[r][col].clone();
+    // Echelon form: (pivot column, row), pivot columns increasing.
+    let mut ech: Vec<(usize, Vec<BigInt>)> = Vec::new();
+    for row in rows {
+        let mut r = row.clone();
+        for (c, e) in &ech {
+            if !r[*c].is_zero() {
+                let (a, b) = (e[*c].clone(), r[*c].clone());
                 for t in 0..d {
-                    let v = &m[ri][t] * &f;
-                    m[r][t] -= v;
+                    r[t] = &r[t] * &a - &e[t] * &b;
                 }
+                primitive(&mut r);
             }
         }
-        pivots.push((ri, col));
-        ri += 1;
-        if ri == m.len() {
-            break;
+        if let Some(c) = r.iter().position(|x| !x.is_zero()) {
+            // Eliminate the new pivot column from the earlier rows too (reduced form keeps
+            // the back-substitution short and the pivot columns distinct).
+            for (_, e) in ech.iter_mut() {
+                if !e[c].is_zero() {
+                    let (a, b) = (r[c].clone(), e[c].clone());
+                    for t in 0..d {
+                        e[t] = &e[t] * &a - &r[t] * &b;
+                    }
+                    primitive(e);
+                }
+            }
+            ech.push((c, r));
         }
     }
-    let is_pivot = |c: usize| pivots.iter().any(|&(_, pc)| pc == c);
+    let is_pivot = |c: usize| ech.iter().any(|&(pc, _)| pc == c);
     let mut out = Vec::new();
     for f in (0..d).filter(|&c| !is_pivot(c)) {
-        let mut x = vec![BigRational::zero(); d];
-        x[f] = BigRational::one();
-        for &(r, pc) in &pivots {
-            x[pc] = -m[r][f].clone();
+        // Reduced rows: e[pc] x_pc + sum_free e[j] x_j = 0 with only x_f free and non-zero.
+        let prod = ech.iter().fold(BigInt::one(), |acc, (pc, e)| acc * &e[*pc]);
+        let mut x = vec![BigInt::zero(); d];
+        x[f] = prod.clone();
+        for (pc, e) in &ech {
+            // Exact: `prod` is a multiple of `e[pc]`.
+            x[*pc] = -(&e[f] * &prod) / &e[*pc];
         }
-        out.push(rational_to_int(&x));
+        primitive(&mut x);
+        out.push(x);
     }
-    out
-}
-
-/// A positive integer multiple of a rational vector, primitive.
-fn rational_to_int(x: &[BigRational]) -> Vec<BigInt> {
-    let mut l = BigInt::one();
-    for v in x {
-        let d = v.denom();
-        l = &l / gcd(&l, d) * d;
-    }
-    let mut out: Vec<BigInt> = x.iter().map(|v| (v * &l).to_integer()).collect();
-    primitive(&mut out);
     out
 }
 
@@ -955,6 +944,46 @@ mod tests {
                     "{name}: facet {drop} and another"
                 );
             }
+        }
+    }
+
+    /// The fraction-free null space: `d - rank` independent primitive vectors, each
+    /// annihilated by every row, on random integer matrices of every rank (rows repeated and
+    /// combined to lower it).
+    #[test]
+    fn null_space_is_the_kernel() {
+        let mut s: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = |m: i64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % (2 * m as u64 + 1)) as i64 - m
+        };
+        for trial in 0..200 {
+            let d = 2 + trial % 6;
+            let r = trial % (d + 1);
+            let mut rows: Vec<Vec<i64>> = (0..r)
+                .map(|_| (0..d).map(|_| next(1 << 20)).collect())
+                .collect();
+            if r >= 2 {
+                let comb: Vec<i64> = (0..d).map(|j| 3 * rows[0][j] - 7 * rows[1][j]).collect();
+                rows.push(comb);
+            }
+            let rows = ints(&rows);
+            let rank = row_basis(&rows, usize::MAX).len();
+            let ns = null_space(&rows, d);
+            assert_eq!(ns.len(), d - rank, "trial {trial}");
+            for x in &ns {
+                assert!(x.iter().any(|v| !v.is_zero()));
+                for row in &rows {
+                    assert!(dot(row, x).is_zero(), "trial {trial}");
+                }
+            }
+            assert_eq!(
+                row_basis(&ns, usize::MAX).len(),
+                ns.len(),
+                "trial {trial}: dependent"
+            );
         }
     }
 
