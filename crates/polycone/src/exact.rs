@@ -7,7 +7,8 @@
 //!
 //! - `span(V)` is spanned by `r` independent generators `B` (fraction-free elimination), and the
 //!   generators in those coordinates are `G = V B^T` (integer, full column rank `r`); the polar
-//!   `{y : G y <= 0}` is pointed and its extreme rays `y` give the facets `u = B^T y`;
+//!   `{y : G y <= 0}` is pointed and its extreme rays `y` give the facets `u = B^T y` (when
+//!   `V` spans `R^d`, `B` is the identity: the integers keep their size);
 //! - the double description iteration is the one of [`crate::dd`] with exact signs: the slack of
 //!   a ray on a row is an integer dot product, new rays `(a . p) n - (a . n) p` are divided by the
 //!   gcd of their entries to keep them small;
@@ -650,8 +651,16 @@ pub(crate) fn exact_span_to_face(
     }
     let dist_rows: Vec<Vec<BigInt>> = distinct.iter().map(|&i| ints[i].clone()).collect();
     let bsel = row_basis(&dist_rows, d);
-    let b: Vec<Vec<BigInt>> = bsel.iter().map(|&i| dist_rows[i].clone()).collect();
-    let r = b.len();
+    let r = bsel.len();
+    let b: Vec<Vec<BigInt>> = if r == d {
+        // Full-dimensional: any basis of R^d will do, and the standard one keeps the integers
+        // as they are (basis rows would multiply their size).
+        (0..d)
+            .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
+            .collect()
+    } else {
+        bsel.iter().map(|&i| dist_rows[i].clone()).collect()
+    };
     let eq_int = if r == 0 {
         (0..d)
             .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
