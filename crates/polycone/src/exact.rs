@@ -840,6 +840,16 @@ pub(crate) fn exact_span_to_face(
 mod tests {
     use super::*;
 
+    /// Deterministic integers uniform in `[-m, m]` (xorshift).
+    fn uniform(mut s: u64) -> impl FnMut(i64) -> i64 {
+        move |m: i64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % (2 * m as u64 + 1)) as i64 - m
+        }
+    }
+
     fn ints(rows: &[Vec<i64>]) -> Vec<Vec<BigInt>> {
         rows.iter()
             .map(|r| r.iter().map(|&x| BigInt::from(x)).collect())
@@ -891,13 +901,7 @@ mod tests {
             ("raised, tilted rectangle", ints(&tilted)),
         ];
         // Deterministic pseudo-random small cones with points on faces.
-        let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = |m: i64| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % (2 * m as u64 + 1)) as i64 - m
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         for (k, n) in [(4usize, 9usize), (5, 10), (5, 12)] {
             for _ in 0..3 {
                 let mut rows: Vec<Vec<i64>> = (0..n)
@@ -961,13 +965,7 @@ mod tests {
     /// combined to lower it).
     #[test]
     fn null_space_is_the_kernel() {
-        let mut s: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = |m: i64| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % (2 * m as u64 + 1)) as i64 - m
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         for trial in 0..200 {
             let d = 2 + trial % 6;
             let r = trial % (d + 1);
