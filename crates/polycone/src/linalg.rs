@@ -28,6 +28,197 @@ pub(crate) fn sorted_svd(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
     (sv, vt)
 }
 
+/// Columns of the Householder QR whose largest entry is below this are rescaled by
+/// [`QR_RESCALE`] (an exact power of two) before their norm is squared: `2^-400`.
+const QR_RESCALE_BELOW: f64 = f64::from_bits((1023 - 400) << 52);
+
+/// The exact rescaling of [`QR_RESCALE_BELOW`]: `2^500` (a column entry at least
+/// [`crate::tol::QR_NEGLIGIBLE`] `= 2^-900` becomes at least `2^-400`, at most `2^100`).
+const QR_RESCALE: f64 = f64::from_bits((1023 + 500) << 52);
+
+/// Beyond this `|zeta|` a Jacobi rotation uses `t = 1 / (2 zeta)`: that is what
+/// `1 / (|zeta| + sqrt(1 + zeta^2))` rounds to once `zeta^2 > 2^53`, and `zeta^2` would
+/// overflow past `1.3e154`. Value `2^32`.
+const JACOBI_ZETA_LARGE: f64 = 4_294_967_296.0;
+
+/// Sorted SVD of a small `n x D` matrix by Householder QR, then a one-sided Jacobi SVD of the
+/// `D x D` triangular factor.
+///
+/// `a` holds the matrix column-major (column `k` at `a[k n..(k + 1) n]`) and is overwritten.
+/// On success, `sv` gets the `D` singular values in decreasing order (zeros past `min(n, D)`)
+/// and `vt` (`D x D`, row-major) the matching right singular vectors as rows: an orthogonal
+/// matrix, the row space first, like [`sorted_svd`]. Returns the number of sweeps, the last
+/// one without rotation (`None`, outputs unspecified, when Jacobi did not converge within
+/// `max_sweeps` sweeps).
+///
+/// Math: `A = H R` with `H` orthogonal (a product of reflectors), so `A^T A = R^T R` and `A`
+/// and `R` have the same singular values and right singular vectors. Jacobi rotates pairs of
+/// columns of `B = R` until they are orthogonal, `B J = U S` (`|b_p . b_q| <= orth |b_p| |b_q|`
+/// for every pair, up to `D orth` on the last sweep, and no rotation that would move a
+/// column by `noise |R|_F` or less), accumulating `J` (orthogonal up to rounding): the column norms are the
+/// singular values and the columns of `J` the right singular vectors.
+pub(crate) fn qr_jacobi_svd<const D: usize>(
+    a: &mut [f64],
+    n: usize,
+    [orth, noise]: [f64; 2],
+    max_sweeps: usize,
+    sv: &mut [f64],
+    vt: &mut [f64],
+) -> Option<usize> {
+    let r = householder_r::<D>(a, n);
+    // Columns of R, and the accumulated rotations (columns), as fixed-size rows.
+    let mut b = [[0.0; D]; D];
+    for (i, row) in r.iter().enumerate() {
+        for (k, &x) in row.iter().enumerate() {
+            b[k][i] = x;
+        }
+    }
+    let mut j = [[0.0; D]; D];
+    for (k, col) in j.iter_mut().enumerate() {
+        col[k] = 1.0;
+    }
+    // Rotations that would move a column by at most `noise |R|_F` are not done: on a
+    // rank-deficient input the columns left at rounding level (Householder QR leaves about
+    // `sqrt(n) D eps |A|` there) would otherwise be rotated for many sweeps against each other
+    // and against the rounding each rotation leaves; skipping them is a backward error of
+    // `noise |R|_F` per column.
+    let frob2: f64 = b.iter().map(|c| dot_n(c, c)).sum();
+    let noise2 = noise * noise * frob2;
+    // Pairs with a cosine above `orth` are rotated; a sweep counts as progress only with a
+    // cosine above `D orth` (the rounding of a computed cosine of `D`-vectors), so that the
+    // last sweeps polish to `orth` and the loop still ends.
+    let progress = D as f64 * orth;
+    let mut sweeps = None;
+    for sweep in 1..=max_sweeps {
+        let mut rotated = false;
+        for p in 0..D {
+            for q in p + 1..D {
+                let alpha = dot_n(&b[p], &b[p]);
+                let beta = dot_n(&b[q], &b[q]);
+                let gamma = dot_n(&b[p], &b[q]);
+                // A column whose squared norm underflows (below 1.5e-154 on an input whose
+                // largest entry is about 1) counts as zero. A rotation moves the shorter
+                // column by about `|gamma| / |longer|`: below the noise, it is not done.
+                if alpha == 0.0 || beta == 0.0 || gamma * gamma <= noise2 * alpha.max(beta) {
+                    continue;
+                }
+                let scale = alpha.sqrt() * beta.sqrt();
+                if gamma.abs() <= orth * scale {
+                    continue;
+                }
+                rotated |= gamma.abs() > progress * scale;
+                // The rotation that diagonalizes [[alpha, gamma], [gamma, beta]], by its
+                // smaller angle.
+                let zeta = (beta - alpha) / (2.0 * gamma);
+                let t = if zeta.abs() > JACOBI_ZETA_LARGE {
+                    0.5 / zeta
+                } else {
+                    zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt())
+                };
+                let c = 1.0 / (1.0 + t * t).sqrt();
+                let s = c * t;
+                rotate(&mut b, p, q, c, s);
+                rotate(&mut j, p, q, c, s);
+            }
+        }
+        if !rotated {
+            sweeps = Some(sweep);
+            break;
+        }
+    }
+    sweeps?;
+    let mut norms = [0.0; D];
+    for (s, col) in norms.iter_mut().zip(&b) {
+        *s = dot_n(col, col).sqrt();
+    }
+    // Decreasing order (insertion sort, stable).
+    let mut idx = [0usize; D];
+    for (k, x) in idx.iter_mut().enumerate() {
+        *x = k;
+    }
+    for k in 1..D {
+        let mut m = k;
+        while m > 0 && norms[idx[m]] > norms[idx[m - 1]] {
+            idx.swap(m, m - 1);
+            m -= 1;
+        }
+    }
+    for (row, &k) in idx.iter().enumerate() {
+        sv[row] = norms[k];
+        vt[row * D..(row + 1) * D].copy_from_slice(&j[k]);
+    }
+    sweeps
+}
+
+/// Dot product of two fixed-length arrays.
+#[inline(always)]
+fn dot_n<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    let mut s = 0.0;
+    for k in 0..D {
+        s += a[k] * b[k];
+    }
+    s
+}
+
+/// `(m_p, m_q) <- (c m_p - s m_q, s m_p + c m_q)` on rows `p < q` of `m`.
+#[inline(always)]
+fn rotate<const D: usize>(m: &mut [[f64; D]; D], p: usize, q: usize, c: f64, s: f64) {
+    let (x, y) = (m[p], m[q]);
+    for k in 0..D {
+        m[p][k] = c * x[k] - s * y[k];
+        m[q][k] = s * x[k] + c * y[k];
+    }
+}
+
+/// The triangular factor `R` (`D x D`, row-major, rows `min(n, D)..D` zero) of the Householder
+/// QR `A = H R` of the `n x D` column-major matrix `a` (overwritten by the reflectors' work).
+///
+/// Each step reflects `x` (column `j`, rows `j..n`) onto `alpha e_1`, `alpha = -sign(x_0) |x|`
+/// (no cancellation in `v = x - alpha e_1`), with `H_j = I - v v^T / beta`,
+/// `beta = v . v / 2 = |x| (|x| + |x_0|)`. A column whose largest entry is below
+/// [`crate::tol::QR_NEGLIGIBLE`] is not reflected (`H_j = I`, its entries below the diagonal
+/// dropped: a backward error below `2^-900`); one below `QR_RESCALE_BELOW` is first scaled
+/// by an exact power of two (the reflector does not change), so that `|x|^2` neither
+/// underflows nor overflows.
+fn householder_r<const D: usize>(a: &mut [f64], n: usize) -> [[f64; D]; D] {
+    let mut r = [[0.0; D]; D];
+    for jc in 0..n.min(D) {
+        let (head, tail) = a.split_at_mut((jc + 1) * n);
+        let x = &mut head[jc * n + jc..];
+        let xmax = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if xmax < crate::tol::QR_NEGLIGIBLE {
+            r[jc][jc] = x[0];
+            for k in jc + 1..D {
+                r[jc][k] = tail[(k - jc - 1) * n + jc];
+            }
+            continue;
+        }
+        let f = if xmax < QR_RESCALE_BELOW {
+            for v in x.iter_mut() {
+                *v *= QR_RESCALE;
+            }
+            QR_RESCALE
+        } else {
+            1.0
+        };
+        let norm = dot(x, x).sqrt();
+        let x0 = x[0];
+        let alpha = if x0 >= 0.0 { -norm } else { norm };
+        x[0] = x0 - alpha;
+        let beta = norm * (norm + x0.abs());
+        r[jc][jc] = alpha / f;
+        for k in jc + 1..D {
+            let col = &mut tail[(k - jc - 1) * n + jc..(k - jc) * n];
+            let c = dot(x, col) / beta;
+            for (y, v) in col.iter_mut().zip(x.iter()) {
+                *y -= c * v;
+            }
+            r[jc][k] = col[0];
+        }
+    }
+    r
+}
+
 /// Number of singular values above `rel * s_max` (0 when all are zero).
 pub(crate) fn numerical_rank(sv: &[f64], rel: f64) -> usize {
     let smax = sv.first().copied().unwrap_or(0.0);
