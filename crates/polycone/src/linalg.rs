@@ -91,10 +91,16 @@ pub(crate) fn qr_jacobi_svd<const D: usize>(
     let mut sweeps = None;
     for sweep in 1..=max_sweeps {
         let mut rotated = false;
+        // Squared column norms, fresh each sweep and updated by the rotations (Hestenes):
+        // `|b_p'|^2 = alpha - t gamma`, `|b_q'|^2 = beta + t gamma`, recomputed when the update
+        // cancels (the new value below half the old one).
+        let mut nrm2 = [0.0; D];
+        for (x, col) in nrm2.iter_mut().zip(&b) {
+            *x = dot_n(col, col);
+        }
         for p in 0..D {
             for q in p + 1..D {
-                let alpha = dot_n(&b[p], &b[p]);
-                let beta = dot_n(&b[q], &b[q]);
+                let (alpha, beta) = (nrm2[p], nrm2[q]);
                 let gamma = dot_n(&b[p], &b[q]);
                 // A column whose squared norm underflows (below 1.5e-154 on an input whose
                 // largest entry is about 1) counts as zero. A rotation moves the shorter
@@ -119,6 +125,14 @@ pub(crate) fn qr_jacobi_svd<const D: usize>(
                 let s = c * t;
                 rotate(&mut b, p, q, c, s);
                 rotate(&mut j, p, q, c, s);
+                nrm2[p] = alpha - t * gamma;
+                if nrm2[p] < 0.5 * alpha {
+                    nrm2[p] = dot_n(&b[p], &b[p]);
+                }
+                nrm2[q] = beta + t * gamma;
+                if nrm2[q] < 0.5 * beta {
+                    nrm2[q] = dot_n(&b[q], &b[q]);
+                }
             }
         }
         if !rotated {
