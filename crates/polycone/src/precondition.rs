@@ -283,8 +283,13 @@ fn whiten_core<const D: usize>(
         let gt = &w[t * r..(t + 1) * r];
         for &s in &out.distinct {
             let gs = &w[s * r..(s + 1) * r];
-            // Most pairs differ in the first coordinate already.
-            if r > 0 && (gt[0] - gs[0]).abs() > tol.duplicate {
+            // A duplicate is within `duplicate` in every coordinate: most pairs fail that in
+            // the first one or two (symmetric stances tie in the first).
+            if gt
+                .iter()
+                .zip(gs)
+                .any(|(a, b)| (a - b).abs() > tol.duplicate)
+            {
                 continue;
             }
             let d2: f64 = gt.iter().zip(gs).map(|(a, b)| (a - b) * (a - b)).sum();
