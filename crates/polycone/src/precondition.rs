@@ -136,6 +136,11 @@ pub(crate) struct WhitenScratch {
     sv: Vec<f64>,
     /// The matching right singular vectors, `d x d`, row-major.
     vt: Vec<f64>,
+    /// The whitened generators in the order of their first coordinates, the position of each
+    /// in that order, and which are distinct (for the duplicate test).
+    order: Vec<usize>,
+    position: Vec<usize>,
+    distinct_flag: Vec<bool>,
 }
 
 /// Whitens the generators `v` (rows), assumed finite with `v.ncols() >= 1`, into a new
@@ -196,6 +201,9 @@ fn whiten_core<const D: usize>(
         a,
         sv: sv_all,
         vt,
+        order,
+        position,
+        distinct_flag,
     } = scratch;
     rows.clear();
     rows.resize(n * d, 0.0);
@@ -278,26 +286,102 @@ fn whiten_core<const D: usize>(
     // (Divided once: rounded division is monotone, so this is the largest quotient.)
     let equation_residual = equation_residual / maxn;
     out.equation_residual = equation_residual;
-    let w = &out.w;
-    'outer: for t in 0..nk {
-        let gt = &w[t * r..(t + 1) * r];
-        for &s in &out.distinct {
-            let gs = &w[s * r..(s + 1) * r];
-            // A duplicate is within `duplicate` in every coordinate: most pairs fail that in
-            // the first one or two (symmetric stances tie in the first).
-            if gt
-                .iter()
-                .zip(gs)
-                .any(|(a, b)| (a - b).abs() > tol.duplicate)
-            {
-                continue;
+    if nk < SORTED_DUPLICATE_TEST_FROM {
+        let w = &out.w;
+        'outer: for t in 0..nk {
+            let gt = &w[t * r..(t + 1) * r];
+            for &s in &out.distinct {
+                if is_duplicate(gt, &w[s * r..(s + 1) * r], tol.duplicate) {
+                    continue 'outer;
+                }
             }
-            let d2: f64 = gt.iter().zip(gs).map(|(a, b)| (a - b) * (a - b)).sum();
-            if d2 <= tol.duplicate * tol.duplicate {
-                continue 'outer;
-            }
+            out.distinct.push(t);
         }
-        out.distinct.push(t);
+    } else {
+        mark_distinct(
+            &out.w,
+            nk,
+            r,
+            tol.duplicate,
+            &mut out.distinct,
+            [order, position],
+            distinct_flag,
+        );
+    }
+}
+
+/// From this many kept generators on, the duplicate test sorts them by first coordinate
+/// ([`mark_distinct`]); below, comparing each with every earlier distinct one is faster
+/// (measured: whitening 10-15 % faster compared one by one at 16 and 32 generators, 20 %
+/// faster sorted at 64). Same decisions either way.
+const SORTED_DUPLICATE_TEST_FROM: usize = 48;
+
+/// Whether the whitened generators `gt` and `gs` are within `duplicate` (Euclidean): within
+/// it in every coordinate first (most pairs fail that in one of the first coordinates;
+/// symmetric stances tie in the first), then the distance.
+#[inline]
+fn is_duplicate(gt: &[f64], gs: &[f64], duplicate: f64) -> bool {
+    !gt.iter().zip(gs).any(|(a, b)| (a - b).abs() > duplicate)
+        && gt
+            .iter()
+            .zip(gs)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            <= duplicate * duplicate
+}
+
+/// The generators (indices into the `nk` whitened rows `w`, dimension `r`) left after dropping
+/// each one within `duplicate` (Euclidean) of an earlier one left, in increasing order: the
+/// first of each group of positively parallel generators.
+///
+/// The same decisions as comparing each row with every earlier distinct one, found faster: a
+/// duplicate is within `duplicate` in the first coordinate, so only the neighbours of a row in
+/// the order of first coordinates are compared.
+fn mark_distinct(
+    w: &[f64],
+    nk: usize,
+    r: usize,
+    duplicate: f64,
+    distinct: &mut Vec<usize>,
+    [order, position]: [&mut Vec<usize>; 2],
+    is_distinct: &mut Vec<bool>,
+) {
+    distinct.clear();
+    if r == 0 {
+        // Every row is the empty vector: all duplicates of the first.
+        distinct.extend((0..nk).take(1));
+        return;
+    }
+    order.clear();
+    order.extend(0..nk);
+    order.sort_unstable_by(|&x, &y| w[x * r].total_cmp(&w[y * r]));
+    position.clear();
+    position.resize(nk, 0);
+    for (k, &t) in order.iter().enumerate() {
+        position[t] = k;
+    }
+    is_distinct.clear();
+    is_distinct.resize(nk, false);
+    let near = |gt: &[f64], s: usize| is_duplicate(gt, &w[s * r..(s + 1) * r], duplicate);
+    for t in 0..nk {
+        let gt = &w[t * r..(t + 1) * r];
+        let k = position[t];
+        // Only rows already marked distinct (so earlier than `t`) count.
+        let below = order[..k]
+            .iter()
+            .rev()
+            .take_while(|&&s| gt[0] - w[s * r] <= duplicate)
+            .any(|&s| is_distinct[s] && near(gt, s));
+        let above = || {
+            order[k + 1..]
+                .iter()
+                .take_while(|&&s| w[s * r] - gt[0] <= duplicate)
+                .any(|&s| is_distinct[s] && near(gt, s))
+        };
+        if !below && !above() {
+            is_distinct[t] = true;
+            distinct.push(t);
+        }
     }
 }
 
@@ -622,6 +706,58 @@ mod tests {
             }
             let v = v * 10f64.powi(global_exp);
             check_against_reference(&v)?;
+        }
+    }
+
+    /// The duplicate test, brute force: each row against every earlier distinct one.
+    fn distinct_brute_force(w: &[f64], nk: usize, r: usize, duplicate: f64) -> Vec<usize> {
+        let mut out: Vec<usize> = Vec::new();
+        for t in 0..nk {
+            let gt = &w[t * r..(t + 1) * r];
+            let dup = out.iter().any(|&s| {
+                let gs = &w[s * r..(s + 1) * r];
+                gt.iter()
+                    .zip(gs)
+                    .map(|(a, b)| (a - b) * (a - b))
+                    .sum::<f64>()
+                    <= duplicate * duplicate
+            });
+            if !dup {
+                out.push(t);
+            }
+        }
+        out
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// `mark_distinct` decides like the brute force, on rows with tied coordinates and
+        /// copies moved by 0.3 to 3 times the threshold (both sides of it), in any direction.
+        #[test]
+        fn mark_distinct_matches_the_brute_force(
+            r in 0usize..5,
+            grid in proptest::collection::vec(-2i32..=2, 24 * 4),
+            jitter in proptest::collection::vec(-3.0f64..3.0, 24 * 4),
+            copy_of in proptest::collection::vec(0usize..24, 24),
+            nk in 0usize..24,
+        ) {
+            let dup = 1e-12;
+            let mut w = vec![0.0; nk * r];
+            for t in 0..nk {
+                for c in 0..r {
+                    w[t * r + c] = grid[t * 4 + c] as f64 * 0.5;
+                }
+                // Some rows: a copy of an earlier one, moved by jitter * dup per coordinate.
+                if copy_of[t] < t && t % 2 == 0 {
+                    for c in 0..r {
+                        w[t * r + c] = w[copy_of[t] * r + c] + jitter[t * 4 + c] * dup / 2.0;
+                    }
+                }
+            }
+            let (mut distinct, mut order, mut position, mut flag) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            mark_distinct(&w, nk, r, dup, &mut distinct, [&mut order, &mut position], &mut flag);
+            prop_assert_eq!(distinct, distinct_brute_force(&w, nk, r, dup));
         }
     }
 
