@@ -5,7 +5,51 @@ use nalgebra::DMatrix;
 /// Full SVD of an `n x d` matrix, sorted: returns the `min(n, d)`... padded to `d` singular
 /// values in decreasing order and the `d x d` orthogonal matrix whose rows are the matching
 /// right singular vectors (a basis of `R^d`: the row space first, its complement after).
+///
+/// For `1 <= d <= 8` (finite entries) by [`qr_jacobi_svd`] on the matrix scaled by an exact
+/// power of two, falling back to [`sorted_svd_general`]: nalgebra's SVD with singular vectors
+/// can return wrong singular values (off by `1.5e-3` on a rank-2 `19 x 8` matrix in the tests
+/// of `crate::precondition`; nalgebra issue 1172 has more).
 pub(crate) fn sorted_svd(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
+    let (n, d) = m.shape();
+    let amax = m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if (1..=8).contains(&d) && amax.is_finite() {
+        // Exact power-of-two scaling so that the largest entry is about 1 (two steps: the
+        // single factor may not be representable for subnormal inputs).
+        let e = if amax > 0.0 {
+            amax.log2().floor() as i32
+        } else {
+            0
+        };
+        let (f1, f2) = (2f64.powi(-(e / 2)), 2f64.powi(-(e - e / 2)));
+        let mut a: Vec<f64> = m.as_slice().iter().map(|x| x * f1 * f2).collect();
+        let mut sv = vec![0.0; d];
+        let mut vt = vec![0.0; d * d];
+        let o = [crate::tol::JACOBI_ORTHOGONALITY, crate::tol::JACOBI_NOISE];
+        let sweeps = crate::tol::JACOBI_MAX_SWEEPS;
+        let done = match d {
+            1 => qr_jacobi_svd::<1>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            2 => qr_jacobi_svd::<2>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            3 => qr_jacobi_svd::<3>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            4 => qr_jacobi_svd::<4>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            5 => qr_jacobi_svd::<5>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            6 => qr_jacobi_svd::<6>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            7 => qr_jacobi_svd::<7>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            _ => qr_jacobi_svd::<8>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+        };
+        if done.is_some() {
+            // Undo the scaling (exact unless it overflows, for subnormal inputs).
+            for x in &mut sv {
+                *x = *x / f1 / f2;
+            }
+            return (sv, DMatrix::from_row_slice(d, d, &vt));
+        }
+    }
+    sorted_svd_general(m)
+}
+
+/// [`sorted_svd`] by nalgebra's SVD (bidiagonalization and QR iteration), for any `d`.
+pub(crate) fn sorted_svd_general(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
     let (n, d) = m.shape();
     let padded = if n >= d {
         m.clone()
@@ -473,6 +517,34 @@ fn first_rows<const K: usize>(flat: &[f64]) -> [[f64; K]; K] {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// `sorted_svd` on matrices where nalgebra's SVD with singular vectors returns wrong
+    /// singular values (nalgebra issue 1172): the squares of the singular values sum to the
+    /// squared Frobenius norm, and `|M q_c| = s_c` for each right singular vector.
+    #[test]
+    fn sorted_svd_is_an_svd_where_nalgebra_fails() {
+        let cases = [
+            DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 2.0, 2.0, -1.0, -1.0, 2.0, 1.0, -1.0]),
+            DMatrix::from_element(3, 5, 1.0),
+            DMatrix::from_element(8, 6, 1.0),
+        ];
+        for m in &cases {
+            let (sv, vt) = sorted_svd(m);
+            let frob2: f64 = m.iter().map(|x| x * x).sum();
+            let sum2: f64 = sv.iter().map(|s| s * s).sum();
+            assert!((sum2 - frob2).abs() <= 1e-13 * frob2, "{sum2} vs {frob2}");
+            for (c, &s) in sv.iter().enumerate() {
+                let q = vt.row(c).transpose();
+                assert!(((m * q).norm() - s).abs() <= 1e-13 * frob2.sqrt());
+            }
+            assert!(sv.windows(2).all(|p| p[0] >= p[1]));
+            let o = &vt * vt.transpose() - DMatrix::<f64>::identity(m.ncols(), m.ncols());
+            assert!(o.amax() <= 1e-14);
+        }
+        // The all-ones n x d matrix is rank one with singular value sqrt(n d).
+        let (sv, _) = sorted_svd(&cases[1]);
+        assert!((sv[0] - 15f64.sqrt()).abs() <= 1e-14 && sv[1] <= 1e-14);
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]

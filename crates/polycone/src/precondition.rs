@@ -49,7 +49,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::linalg::{dot, normalize, numerical_rank, qr_jacobi_svd, sorted_svd};
+use crate::linalg::{dot, normalize, numerical_rank, qr_jacobi_svd, sorted_svd_general};
 use crate::tol::{Tolerances, JACOBI_MAX_SWEEPS, JACOBI_NOISE, JACOBI_ORTHOGONALITY};
 
 /// A span-form problem in whitened coordinates.
@@ -251,7 +251,7 @@ fn whiten_core<const D: usize>(
     let (o, m) = ([JACOBI_ORTHOGONALITY, JACOBI_NOISE], JACOBI_MAX_SWEEPS);
     if D == 0 || qr_jacobi_svd::<D>(a, nk, o, m, sv_all, vt).is_none() {
         let vk = DMatrix::from_fn(nk, d, |t, j| rows[out.kept[t] * d + j]);
-        let (s, m) = sorted_svd(&vk);
+        let (s, m) = sorted_svd_general(&vk);
         sv_all.copy_from_slice(&s);
         for (row, dst) in vt.chunks_exact_mut(d).enumerate() {
             for (j, x) in dst.iter_mut().enumerate() {
@@ -539,7 +539,7 @@ mod tests {
             return (kept, Vec::new(), DMatrix::zeros(0, v.ncols()));
         }
         let vk = DMatrix::from_fn(kept.len(), v.ncols(), |t, j| vs[(kept[t], j)]);
-        let (sv, vt) = sorted_svd(&vk);
+        let (sv, vt) = sorted_svd_general(&vk);
         (kept, sv, vt)
     }
 
@@ -828,7 +828,7 @@ mod timing {
         for (r, &i) in kept.iter().enumerate() {
             vk.row_mut(r).copy_from(&v.row(i));
         }
-        let (sv_all, vt) = sorted_svd(&vk);
+        let (sv_all, vt) = sorted_svd_general(&vk);
         let r = numerical_rank(&sv_all, tol.rank);
         let mut q = Vec::with_capacity(r * d);
         for c in 0..r {
