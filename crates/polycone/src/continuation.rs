@@ -345,7 +345,9 @@ fn from_scratch(
         let p = exact_polar(v, opts)?;
         return Ok((polar_into_result(p, d), Whitened::default(), false));
     }
-    let attempt = ws.whiten_and_run(v, opts).and_then(|wh| {
+    let attempt = ws.whiten_and_run(v, opts).and_then(|()| {
+        // The continuation keeps the whitening (its frame).
+        let wh = std::mem::take(&mut ws.wh);
         let fw = rays_of(ws, wh.r);
         ws.finish_polar(&wh, fw, opts).map(|p| (p, wh))
     });

@@ -20,7 +20,7 @@ use crate::certificate::{certify_whitened, CertScratch, Certificate};
 use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
-use crate::precondition::{whiten, Whitened};
+use crate::precondition::{whiten, whiten_into, WhitenScratch, Whitened};
 use crate::wrench::{check_options as check_wrench_options, WrenchFrame};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
@@ -52,10 +52,10 @@ pub struct FaceToSpan {
 }
 
 /// Reusable buffers of the conversions. Repeated conversions through the same workspace reuse
-/// its arenas: the double description loop (the hot loop: one iteration per generator, pairs
-/// of rays inside) does not allocate once they are large enough. The steps around it
-/// (preconditioning SVD, certificate bookkeeping, the returned matrices) still allocate a few
-/// small buffers per conversion.
+/// its arenas: the preconditioning (for `d <= 8`) and the double description loop (the hot
+/// loop: one iteration per generator, pairs of rays inside) do not allocate once they are
+/// large enough. The steps around them (certificate bookkeeping, the returned matrices) still
+/// allocate a few small buffers per conversion.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     /// The double description state (a [`crate::Continuation`] resumes it).
@@ -65,6 +65,9 @@ pub struct Workspace {
     scratch: Vec<f64>,
     /// Sort keys of the facets (their first coordinates as integers).
     keys: Vec<i64>,
+    /// The whitening of the last conversion.
+    pub(crate) wh: Whitened,
+    wh_scratch: WhitenScratch,
 }
 
 fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
@@ -268,20 +271,25 @@ impl Workspace {
 
     /// The floating-point conversion with the tolerance contract.
     fn polar_tolerance(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
-        let wh = self.whiten_and_run(v, opts)?;
+        self.whiten_and_run(v, opts)?;
+        // Moved out for the call and back (no allocation: the default is empty).
+        let wh = std::mem::take(&mut self.wh);
         let fw = self.rays_whitened(wh.r);
-        self.finish_polar(&wh, fw, opts)
+        let polar = self.finish_polar(&wh, fw, opts);
+        self.wh = wh;
+        polar
     }
 
-    /// Preconditioning and the double description on the polar, in whitened coordinates: the
-    /// extreme rays are left in `self.core` (none when `r = 0`).
+    /// Preconditioning into `self.wh` and the double description on the polar, in whitened
+    /// coordinates: the extreme rays are left in `self.core` (none when `r = 0`).
     pub(crate) fn whiten_and_run(
         &mut self,
         v: &DMatrix<f64>,
         opts: &DdOptions,
-    ) -> Result<Whitened, ConeError> {
+    ) -> Result<(), ConeError> {
         let tol = &opts.tol;
-        let wh = whiten(v, tol);
+        whiten_into(v, tol, &mut self.wh, &mut self.wh_scratch);
+        let wh = &self.wh;
         let r = wh.r;
         // Double description on the polar, in whitened coordinates.
         self.rows.clear();
@@ -296,7 +304,7 @@ impl Workspace {
         } else {
             self.core.n = 0;
         }
-        Ok(wh)
+        Ok(())
     }
 
     /// The rays left in `self.core` by [`Self::whiten_and_run`] (dimension `r`), flat.

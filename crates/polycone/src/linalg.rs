@@ -5,7 +5,51 @@ use nalgebra::DMatrix;
 /// Full SVD of an `n x d` matrix, sorted: returns the `min(n, d)`... padded to `d` singular
 /// values in decreasing order and the `d x d` orthogonal matrix whose rows are the matching
 /// right singular vectors (a basis of `R^d`: the row space first, its complement after).
+///
+/// For `1 <= d <= 8` (finite entries) by [`qr_jacobi_svd`] on the matrix scaled by an exact
+/// power of two, falling back to [`sorted_svd_general`]: nalgebra's SVD with singular vectors
+/// can return wrong singular values (off by `1.5e-3` on a rank-2 `19 x 8` matrix in the tests
+/// of `crate::precondition`; nalgebra issue 1172 has more).
 pub(crate) fn sorted_svd(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
+    let (n, d) = m.shape();
+    let amax = m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if (1..=8).contains(&d) && amax.is_finite() {
+        // Exact power-of-two scaling so that the largest entry is about 1 (two steps: the
+        // single factor may not be representable for subnormal inputs).
+        let e = if amax > 0.0 {
+            amax.log2().floor() as i32
+        } else {
+            0
+        };
+        let (f1, f2) = (2f64.powi(-(e / 2)), 2f64.powi(-(e - e / 2)));
+        let mut a: Vec<f64> = m.as_slice().iter().map(|x| x * f1 * f2).collect();
+        let mut sv = vec![0.0; d];
+        let mut vt = vec![0.0; d * d];
+        let o = [crate::tol::JACOBI_ORTHOGONALITY, crate::tol::JACOBI_NOISE];
+        let sweeps = crate::tol::JACOBI_MAX_SWEEPS;
+        let done = match d {
+            1 => qr_jacobi_svd::<1>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            2 => qr_jacobi_svd::<2>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            3 => qr_jacobi_svd::<3>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            4 => qr_jacobi_svd::<4>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            5 => qr_jacobi_svd::<5>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            6 => qr_jacobi_svd::<6>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            7 => qr_jacobi_svd::<7>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+            _ => qr_jacobi_svd::<8>(&mut a, n, o, sweeps, &mut sv, &mut vt),
+        };
+        if done.is_some() {
+            // Undo the scaling (exact unless it overflows, for subnormal inputs).
+            for x in &mut sv {
+                *x = *x / f1 / f2;
+            }
+            return (sv, DMatrix::from_row_slice(d, d, &vt));
+        }
+    }
+    sorted_svd_general(m)
+}
+
+/// [`sorted_svd`] by nalgebra's SVD (bidiagonalization and QR iteration), for any `d`.
+pub(crate) fn sorted_svd_general(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
     let (n, d) = m.shape();
     let padded = if n >= d {
         m.clone()
@@ -26,6 +70,211 @@ pub(crate) fn sorted_svd(m: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
         vt.row_mut(r).copy_from(&v_t.row(i));
     }
     (sv, vt)
+}
+
+/// Columns of the Householder QR whose largest entry is below this are rescaled by
+/// [`QR_RESCALE`] (an exact power of two) before their norm is squared: `2^-400`.
+const QR_RESCALE_BELOW: f64 = f64::from_bits((1023 - 400) << 52);
+
+/// The exact rescaling of [`QR_RESCALE_BELOW`]: `2^500` (a column entry at least
+/// [`crate::tol::QR_NEGLIGIBLE`] `= 2^-900` becomes at least `2^-400`, at most `2^100`).
+const QR_RESCALE: f64 = f64::from_bits((1023 + 500) << 52);
+
+/// Beyond this `|zeta|` a Jacobi rotation uses `t = 1 / (2 zeta)`: that is what
+/// `1 / (|zeta| + sqrt(1 + zeta^2))` rounds to once `zeta^2 > 2^53`, and `zeta^2` would
+/// overflow past `1.3e154`. Value `2^32`.
+const JACOBI_ZETA_LARGE: f64 = 4_294_967_296.0;
+
+/// Sorted SVD of a small `n x D` matrix by Householder QR, then a one-sided Jacobi SVD of the
+/// `D x D` triangular factor.
+///
+/// `a` holds the matrix column-major (column `k` at `a[k n..(k + 1) n]`) and is overwritten.
+/// On success, `sv` gets the `D` singular values in decreasing order (zeros past `min(n, D)`)
+/// and `vt` (`D x D`, row-major) the matching right singular vectors as rows: an orthogonal
+/// matrix, the row space first, like [`sorted_svd`]. Returns the number of sweeps, the last
+/// one without rotation (`None`, outputs unspecified, when Jacobi did not converge within
+/// `max_sweeps` sweeps).
+///
+/// Math: `A = H R` with `H` orthogonal (a product of reflectors), so `A^T A = R^T R` and `A`
+/// and `R` have the same singular values and right singular vectors. Jacobi rotates pairs of
+/// columns of `B = R` until they are orthogonal, `B J = U S` (`|b_p . b_q| <= orth |b_p| |b_q|`
+/// for every pair, up to `D orth` on the last sweep, and no rotation that would move a
+/// column by `noise |R|_F` or less), accumulating `J` (orthogonal up to rounding): the column norms are the
+/// singular values and the columns of `J` the right singular vectors.
+pub(crate) fn qr_jacobi_svd<const D: usize>(
+    a: &mut [f64],
+    n: usize,
+    [orth, noise]: [f64; 2],
+    max_sweeps: usize,
+    sv: &mut [f64],
+    vt: &mut [f64],
+) -> Option<usize> {
+    let r = householder_r::<D>(a, n);
+    // Columns of R, and the accumulated rotations (columns), as fixed-size rows.
+    let mut b = [[0.0; D]; D];
+    for (i, row) in r.iter().enumerate() {
+        for (k, &x) in row.iter().enumerate() {
+            b[k][i] = x;
+        }
+    }
+    let mut j = [[0.0; D]; D];
+    for (k, col) in j.iter_mut().enumerate() {
+        col[k] = 1.0;
+    }
+    // Rotations that would move a column by at most `noise |R|_F` are not done: on a
+    // rank-deficient input the columns left at rounding level (Householder QR leaves about
+    // `sqrt(n) D eps |A|` there) would otherwise be rotated for many sweeps against each other
+    // and against the rounding each rotation leaves; skipping them is a backward error of
+    // `noise |R|_F` per column.
+    let frob2: f64 = b.iter().map(|c| dot_n(c, c)).sum();
+    let noise2 = noise * noise * frob2;
+    // Pairs with a cosine above `orth` are rotated; a sweep counts as progress only with a
+    // cosine above `D orth` (the rounding of a computed cosine of `D`-vectors), so that the
+    // last sweeps polish to `orth` and the loop still ends.
+    let progress = D as f64 * orth;
+    let mut sweeps = None;
+    for sweep in 1..=max_sweeps {
+        let mut rotated = false;
+        // Squared column norms, fresh each sweep and updated by the rotations (Hestenes):
+        // `|b_p'|^2 = alpha - t gamma`, `|b_q'|^2 = beta + t gamma`, recomputed when the update
+        // cancels (the new value below half the old one).
+        let mut nrm2 = [0.0; D];
+        for (x, col) in nrm2.iter_mut().zip(&b) {
+            *x = dot_n(col, col);
+        }
+        for p in 0..D {
+            for q in p + 1..D {
+                let (alpha, beta) = (nrm2[p], nrm2[q]);
+                let gamma = dot_n(&b[p], &b[q]);
+                // A column whose squared norm underflows (below 1.5e-154 on an input whose
+                // largest entry is about 1) counts as zero. A rotation moves the shorter
+                // column by about `|gamma| / |longer|`: below the noise, it is not done.
+                if alpha == 0.0 || beta == 0.0 || gamma * gamma <= noise2 * alpha.max(beta) {
+                    continue;
+                }
+                let scale = alpha.sqrt() * beta.sqrt();
+                if gamma.abs() <= orth * scale {
+                    continue;
+                }
+                rotated |= gamma.abs() > progress * scale;
+                // The rotation that diagonalizes [[alpha, gamma], [gamma, beta]], by its
+                // smaller angle.
+                let zeta = (beta - alpha) / (2.0 * gamma);
+                let t = if zeta.abs() > JACOBI_ZETA_LARGE {
+                    0.5 / zeta
+                } else {
+                    zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt())
+                };
+                let c = 1.0 / (1.0 + t * t).sqrt();
+                let s = c * t;
+                rotate(&mut b, p, q, c, s);
+                rotate(&mut j, p, q, c, s);
+                nrm2[p] = alpha - t * gamma;
+                if nrm2[p] < 0.5 * alpha {
+                    nrm2[p] = dot_n(&b[p], &b[p]);
+                }
+                nrm2[q] = beta + t * gamma;
+                if nrm2[q] < 0.5 * beta {
+                    nrm2[q] = dot_n(&b[q], &b[q]);
+                }
+            }
+        }
+        if !rotated {
+            sweeps = Some(sweep);
+            break;
+        }
+    }
+    sweeps?;
+    let mut norms = [0.0; D];
+    for (s, col) in norms.iter_mut().zip(&b) {
+        *s = dot_n(col, col).sqrt();
+    }
+    // Decreasing order (insertion sort, stable).
+    let mut idx = [0usize; D];
+    for (k, x) in idx.iter_mut().enumerate() {
+        *x = k;
+    }
+    for k in 1..D {
+        let mut m = k;
+        while m > 0 && norms[idx[m]] > norms[idx[m - 1]] {
+            idx.swap(m, m - 1);
+            m -= 1;
+        }
+    }
+    for (row, &k) in idx.iter().enumerate() {
+        sv[row] = norms[k];
+        vt[row * D..(row + 1) * D].copy_from_slice(&j[k]);
+    }
+    sweeps
+}
+
+/// Dot product of two fixed-length arrays.
+#[inline(always)]
+fn dot_n<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    let mut s = 0.0;
+    for k in 0..D {
+        s += a[k] * b[k];
+    }
+    s
+}
+
+/// `(m_p, m_q) <- (c m_p - s m_q, s m_p + c m_q)` on rows `p < q` of `m`.
+#[inline(always)]
+fn rotate<const D: usize>(m: &mut [[f64; D]; D], p: usize, q: usize, c: f64, s: f64) {
+    let (x, y) = (m[p], m[q]);
+    for k in 0..D {
+        m[p][k] = c * x[k] - s * y[k];
+        m[q][k] = s * x[k] + c * y[k];
+    }
+}
+
+/// The triangular factor `R` (`D x D`, row-major, rows `min(n, D)..D` zero) of the Householder
+/// QR `A = H R` of the `n x D` column-major matrix `a` (overwritten by the reflectors' work).
+///
+/// Each step reflects `x` (column `j`, rows `j..n`) onto `alpha e_1`, `alpha = -sign(x_0) |x|`
+/// (no cancellation in `v = x - alpha e_1`), with `H_j = I - v v^T / beta`,
+/// `beta = v . v / 2 = |x| (|x| + |x_0|)`. A column whose largest entry is below
+/// [`crate::tol::QR_NEGLIGIBLE`] is not reflected (`H_j = I`, its entries below the diagonal
+/// dropped: a backward error below `2^-900`); one below `QR_RESCALE_BELOW` is first scaled
+/// by an exact power of two (the reflector does not change), so that `|x|^2` neither
+/// underflows nor overflows.
+fn householder_r<const D: usize>(a: &mut [f64], n: usize) -> [[f64; D]; D] {
+    let mut r = [[0.0; D]; D];
+    for jc in 0..n.min(D) {
+        let (head, tail) = a.split_at_mut((jc + 1) * n);
+        let x = &mut head[jc * n + jc..];
+        let xmax = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if xmax < crate::tol::QR_NEGLIGIBLE {
+            r[jc][jc] = x[0];
+            for k in jc + 1..D {
+                r[jc][k] = tail[(k - jc - 1) * n + jc];
+            }
+            continue;
+        }
+        let f = if xmax < QR_RESCALE_BELOW {
+            for v in x.iter_mut() {
+                *v *= QR_RESCALE;
+            }
+            QR_RESCALE
+        } else {
+            1.0
+        };
+        let norm = dot(x, x).sqrt();
+        let x0 = x[0];
+        let alpha = if x0 >= 0.0 { -norm } else { norm };
+        x[0] = x0 - alpha;
+        let beta = norm * (norm + x0.abs());
+        r[jc][jc] = alpha / f;
+        for k in jc + 1..D {
+            let col = &mut tail[(k - jc - 1) * n + jc..(k - jc) * n];
+            let c = dot(x, col) / beta;
+            for (y, v) in col.iter_mut().zip(x.iter()) {
+                *y -= c * v;
+            }
+            r[jc][k] = col[0];
+        }
+    }
+    r
 }
 
 /// Number of singular values above `rel * s_max` (0 when all are zero).
@@ -268,6 +517,34 @@ fn first_rows<const K: usize>(flat: &[f64]) -> [[f64; K]; K] {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// `sorted_svd` on matrices where nalgebra's SVD with singular vectors returns wrong
+    /// singular values (nalgebra issue 1172): the squares of the singular values sum to the
+    /// squared Frobenius norm, and `|M q_c| = s_c` for each right singular vector.
+    #[test]
+    fn sorted_svd_is_an_svd_where_nalgebra_fails() {
+        let cases = [
+            DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 2.0, 2.0, -1.0, -1.0, 2.0, 1.0, -1.0]),
+            DMatrix::from_element(3, 5, 1.0),
+            DMatrix::from_element(8, 6, 1.0),
+        ];
+        for m in &cases {
+            let (sv, vt) = sorted_svd(m);
+            let frob2: f64 = m.iter().map(|x| x * x).sum();
+            let sum2: f64 = sv.iter().map(|s| s * s).sum();
+            assert!((sum2 - frob2).abs() <= 1e-13 * frob2, "{sum2} vs {frob2}");
+            for (c, &s) in sv.iter().enumerate() {
+                let q = vt.row(c).transpose();
+                assert!(((m * q).norm() - s).abs() <= 1e-13 * frob2.sqrt());
+            }
+            assert!(sv.windows(2).all(|p| p[0] >= p[1]));
+            let o = &vt * vt.transpose() - DMatrix::<f64>::identity(m.ncols(), m.ncols());
+            assert!(o.amax() <= 1e-14);
+        }
+        // The all-ones n x d matrix is rank one with singular value sqrt(n d).
+        let (sv, _) = sorted_svd(&cases[1]);
+        assert!((sv[0] - 15f64.sqrt()).abs() <= 1e-14 && sv[1] <= 1e-14);
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]

@@ -126,3 +126,35 @@ impl Tolerances {
         Ok(())
     }
 }
+
+/// The one-sided Jacobi SVD of the whitening ([`crate::precondition`]) stops when every pair of
+/// columns `b_p, b_q` has `|b_p . b_q| <= JACOBI_ORTHOGONALITY |b_p| |b_q|`. Unit: cosine.
+/// Value `eps = 2.2e-16`: the stopping cosine `c` leaves the right singular vectors of two
+/// singular values `s_p > s_q` turned by about `c s_p s_q / (s_p^2 - s_q^2)`, so it must be
+/// at rounding level: with `16 eps` a pair of singular values `3e-7` apart (relative; the
+/// re-centred facets of a stance 30 km away) came out turned by `6e-9`, with `eps` by `1e-10`,
+/// the accuracy of the general SVD. A computed cosine of `D`-vectors carries up to `D eps` of
+/// rounding, so sweeps continue only while some cosine exceeds `D JACOBI_ORTHOGONALITY`
+/// (the last sweep still rotates every pair above `JACOBI_ORTHOGONALITY`).
+pub(crate) const JACOBI_ORTHOGONALITY: f64 = f64::EPSILON;
+
+/// The whitening's Jacobi SVD skips a rotation that would move a column by at most
+/// `JACOBI_NOISE` times the Frobenius norm of the triangular factor. Unit: relative norm.
+/// Value `16 eps` (`3.6e-15`): Householder QR of a rank-deficient `n x d` input leaves about
+/// `sqrt(n) d eps` of rounding in the columns that should be zero (`4e-15` for 20 x 8), and
+/// each rotation adds a few `eps` of the longer column to the shorter one; rotating at that
+/// level would go on for many sweeps and change nothing that matters. The skipped part is a
+/// backward error of at most `16 eps |V|_F` per column, far below [`Tolerances::rank`].
+pub(crate) const JACOBI_NOISE: f64 = 16.0 * f64::EPSILON;
+
+/// Sweeps of the one-sided Jacobi SVD before it gives up and the whitening falls back to the
+/// general SVD. Unit: count. Value `30`: Jacobi converges quadratically, 4 to 7 sweeps on the
+/// cones of the tests; 30 is only reached on inputs it cannot handle (never seen).
+pub(crate) const JACOBI_MAX_SWEEPS: usize = 30;
+
+/// Largest entry (absolute) below which a column of the whitening's Householder QR is treated
+/// as zero. Unit: absolute, on an input scaled so that its largest entry is in `[0.5, 1]`.
+/// Value `2^-900` (`1.2e-271`): dropping it is a backward error 255 orders of magnitude below
+/// `f64::EPSILON`, while every larger column can be rescaled by an exact power of two so that
+/// its squares neither underflow nor overflow.
+pub(crate) const QR_NEGLIGIBLE: f64 = f64::from_bits((1023 - 900) << 52);
