@@ -158,3 +158,12 @@ pub(crate) const JACOBI_MAX_SWEEPS: usize = 30;
 /// `f64::EPSILON`, while every larger column can be rescaled by an exact power of two so that
 /// its squares neither underflow nor overflow.
 pub(crate) const QR_NEGLIGIBLE: f64 = f64::from_bits((1023 - 900) << 52);
+
+/// Relative margin by which a squared residual must beat the best one so far for the double
+/// description to pick its row for the initial basis (earlier rows win ties). Unit: relative.
+/// Value `1e-9`: not a tolerance of the answer (any pivot within this factor of the largest is
+/// as good numerically); it makes the choice independent of rounding in the last bits. The
+/// whitened rows all have norm 1 to the last bit, and which one starts the basis sets the
+/// size of the intermediate cones: on the 64-generator whole-space cone
+/// (`opposing_walls_friction`) the last bit of the whitening moved the work by a factor of 2.3.
+pub(crate) const BASIS_TIE: f64 = 1e-9;

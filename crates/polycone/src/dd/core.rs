@@ -172,7 +172,8 @@ impl DdCore {
         result
     }
 
-    /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm.
+    /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm (the first of
+    /// those equal to within [`crate::tol::BASIS_TIE`]).
     fn choose_basis<const K: usize>(
         &mut self,
         a: &[f64],
@@ -201,7 +202,11 @@ impl DdCore {
                     continue;
                 }
                 let nn: f64 = r.iter().map(|v| v * v).sum();
-                if nn > best_norm {
+                // Ties within rounding go to the first row: the unit rows of a whitened input
+                // all have norm 1 to the last bit, and which one wins sets the size of the
+                // intermediate cones (up to 2x the work on a 64-row input), so the choice must
+                // not depend on the last bit of the whitening.
+                if nn > best_norm * (1.0 + crate::tol::BASIS_TIE) {
                     best_norm = nn;
                     best = i;
                 }

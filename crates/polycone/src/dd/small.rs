@@ -88,7 +88,7 @@ impl SmallDd {
                     continue;
                 }
                 let nn: f64 = r.iter().map(|v| v * v).sum();
-                if nn > best_norm {
+                if nn > best_norm * (1.0 + crate::tol::BASIS_TIE) {
                     best_norm = nn;
                     best = i;
                 }
