@@ -95,6 +95,16 @@
 //!   floating point up to 100 km away, but written about `(1e6, 1e6, 1e6)` m its rounded input
 //!   fails the float certificate and the exact fallback returns 353 facets (the slivers of the
 //!   rounding; 339 without the option).
+//! - face -> span is far more sensitive to the frame than span -> face: facets written in a
+//!   far frame carry that frame's rounding in their torque-free part, and the re-centred,
+//!   whitened facets of the stairs stance about a point 10 km away differ from the exact ones
+//!   by `1e-10` to `1e-9`, at [`crate::tol::Tolerances::incidence`]. Measured on the stairs
+//!   (176 facets from span -> face with the option, then face -> span with it, facets as
+//!   returned and with every entry moved by one unit in the last place, 6 runs per point, 3
+//!   directions): the 32 extreme rays every time up to 3 km; from 10 km (and at 30 km) the
+//!   float certificate fails every time and the exact fallback returns 3300 to 4000 rays, the
+//!   exact answer for the rounded facets (about 1.2 s). `tests/wrench.rs` checks 1 km, with
+//!   the one-ulp perturbations.
 //! - Only for `d = 6` with rows `(f_x, f_y, f_z, tau_x, tau_y, tau_z)`; with
 //!   [`crate::Arithmetic::Exact`] the option is refused (the map rounds the input, and exact
 //!   mode already decides ranks exactly). The exact fallback of tolerance mode runs on the
