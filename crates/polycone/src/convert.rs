@@ -65,6 +65,8 @@ pub struct Workspace {
     scratch: Vec<f64>,
     /// Sort keys of the facets (their first coordinates as integers).
     keys: Vec<i64>,
+    /// The map of whitened facets back to the input's coordinates (`d x r`).
+    to_world: Vec<f64>,
     /// The whitening of the last conversion.
     pub(crate) wh: Whitened,
     wh_scratch: WhitenScratch,
@@ -350,9 +352,7 @@ impl Workspace {
         let facets = &mut self.scratch;
         facets.clear();
         facets.resize(nf * d, 0.0);
-        for (u_w, u) in fw.chunks_exact(r.max(1)).zip(facets.chunks_exact_mut(d)) {
-            wh.facet_to_world(u_w, u);
-        }
+        wh.facets_to_world(&fw, facets, &mut self.to_world);
         let mut order: Vec<usize> = (0..nf).collect();
         // The first coordinate as an integer of the same total order (`f64::total_cmp`)
         // decides most comparisons.

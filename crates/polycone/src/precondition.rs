@@ -97,6 +97,41 @@ impl Whitened {
         normalize(out);
     }
 
+    /// [`Self::facet_to_world`] on every row of `fw` (`r` columns) into `out` (`d` columns):
+    /// `Q^T S^{-1}` is formed once in `map` (`d x r`), then each facet is one matrix-vector
+    /// product (no division per entry).
+    pub fn facets_to_world(&self, fw: &[f64], out: &mut [f64], map: &mut Vec<f64>) {
+        let (r, d) = (self.r, self.d);
+        if r == 0 {
+            out.fill(0.0);
+            return;
+        }
+        map.clear();
+        map.resize(d * r, 0.0);
+        for (c, (q, &s)) in self.q.chunks_exact(d).zip(&self.sv).enumerate() {
+            let inv = 1.0 / s;
+            for (j, &qv) in q.iter().enumerate() {
+                map[j * r + c] = qv * inv;
+            }
+        }
+        match (r == d).then_some(d) {
+            Some(3) => map_rows::<3>(map, fw, out),
+            Some(4) => map_rows::<4>(map, fw, out),
+            Some(5) => map_rows::<5>(map, fw, out),
+            Some(6) => map_rows::<6>(map, fw, out),
+            Some(7) => map_rows::<7>(map, fw, out),
+            Some(8) => map_rows::<8>(map, fw, out),
+            _ => {
+                for (u_w, u) in fw.chunks_exact(r).zip(out.chunks_exact_mut(d)) {
+                    for (o, row) in u.iter_mut().zip(map.chunks_exact(r)) {
+                        *o = dot(row, u_w);
+                    }
+                    normalize(u);
+                }
+            }
+        }
+    }
+
     /// Maps a facet normal `u` to whitened coordinates: `u_w = S Q u`, normalized.
     pub fn facet_from_world(&self, u: &[f64], out: &mut [f64]) {
         for ((o, &s), q) in out
@@ -141,6 +176,26 @@ pub(crate) struct WhitenScratch {
     order: Vec<usize>,
     position: Vec<usize>,
     distinct_flag: Vec<bool>,
+}
+
+/// `out_i = normalize(map x_i)` for the rows `x_i` of `x`, with `map` square of the fixed size
+/// `D` (row-major): loops of fixed length, unrolled.
+fn map_rows<const D: usize>(map: &[f64], x: &[f64], out: &mut [f64]) {
+    let mut m = [[0.0f64; D]; D];
+    for (row, src) in m.iter_mut().zip(map.chunks_exact(D)) {
+        row.copy_from_slice(src);
+    }
+    for (xi, oi) in x.chunks_exact(D).zip(out.chunks_exact_mut(D)) {
+        let xi: &[f64; D] = xi.try_into().expect("rows of length D");
+        let mut y = [0.0f64; D];
+        for (yj, row) in y.iter_mut().zip(&m) {
+            *yj = row.iter().zip(xi).map(|(a, b)| a * b).sum();
+        }
+        let inv = 1.0 / y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for (o, v) in oi.iter_mut().zip(y) {
+            *o = if inv.is_finite() { v * inv } else { v };
+        }
+    }
 }
 
 /// Whitens the generators `v` (rows), assumed finite with `v.ncols() >= 1`, into a new
