@@ -73,6 +73,19 @@ pub(crate) struct Hyperplane<'a> {
 }
 
 impl Hyperplane<'_> {
+    /// [`Self::project`] with the dimension `K` of the hyperplane fixed at compile time.
+    #[inline(always)]
+    fn project_k<const K: usize>(&self, x: &[f64]) -> [f64; K] {
+        let (x, v) = (&x[..K + 1], &self.v[..K + 1]);
+        let c = 2.0 * x.iter().zip(v).map(|(a, b)| a * b).sum::<f64>() / self.vv;
+        let mut out = [0.0f64; K];
+        for (q, o) in out.iter_mut().enumerate() {
+            let src = q + (q >= self.j) as usize;
+            *o = x[src] - c * v[src];
+        }
+        out
+    }
+
     /// The `t - 1` coordinates of the projection of `x` (length `t`) into `out`.
     #[inline]
     pub(crate) fn project(&self, x: &[f64], out: &mut [f64]) {
@@ -272,7 +285,7 @@ fn prove_k<const K: usize>(
     let mut ny = [0.0f64; 9];
     for (q, &(_, g)) in s.meet.iter().enumerate() {
         let g = g as usize;
-        hp.project(&incd.fp[g * t..(g + 1) * t], &mut y[q]);
+        y[q] = hp.project_k::<K>(&incd.fp[g * t..(g + 1) * t]);
         let norm = y[q].iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm <= tol.support_rank {
             return false;
@@ -342,7 +355,7 @@ fn prove_k<const K: usize>(
                 if ng == gi.len() {
                     return false;
                 }
-                hp.project(&incd.gp[i * t..(i + 1) * t], &mut gh[ng]);
+                gh[ng] = hp.project_k::<K>(&incd.gp[i * t..(i + 1) * t]);
                 gi[ng] = i;
                 ng += 1;
                 ng - 1
