@@ -199,6 +199,41 @@ pub(crate) fn neighbours_prove_facet(
     tol: &Tolerances,
     s: &mut NeighbourScratch,
 ) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("popcnt") {
+            // SAFETY: the CPU supports `popcnt`, checked just above.
+            return unsafe { prove_facet_popcnt(incd, f, cand, hp, tol, s) };
+        }
+    }
+    prove_facet(incd, f, cand, hp, tol, s)
+}
+
+/// [`prove_facet`] compiled with the `popcnt` instruction (the intersections are counted in
+/// its first loop).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "popcnt")]
+unsafe fn prove_facet_popcnt(
+    incd: &Incidence,
+    f: usize,
+    cand: &[u32],
+    hp: &Hyperplane,
+    tol: &Tolerances,
+    s: &mut NeighbourScratch,
+) -> bool {
+    prove_facet(incd, f, cand, hp, tol, s)
+}
+
+/// The body of [`neighbours_prove_facet`].
+#[inline(always)]
+fn prove_facet(
+    incd: &Incidence,
+    f: usize,
+    cand: &[u32],
+    hp: &Hyperplane,
+    tol: &Tolerances,
+    s: &mut NeighbourScratch,
+) -> bool {
     debug_assert_eq!(incd.gw, 1);
     let t = incd.t;
     let inc = incd.inc;
