@@ -92,9 +92,10 @@
 //! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
 //!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
 //!   tests compare them), only the speed differs.
-//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: one to two orders
-//!   of magnitude slower than cddlib's GMP mode on large cones (seconds for 32 generators and
-//!   ~280 facets).
+//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: milliseconds to
+//!   a few tens of milliseconds for 16 to 32 generators (20 ms for the stairs' 282 exact
+//!   facets), from as fast as cddlib's GMP mode (the flat rectangle) to 35 times faster
+//!   (`bench/peers/cones.md`), but far slower than the floating-point path.
 //! - [`face_to_span`] runs the double description on the polar, whose constraints are the
 //!   facets: with hundreds of facets it is much slower than [`span_to_face`] of the same cone.
 //! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
@@ -108,7 +109,7 @@
 //!   horizontally (`(21213.2, 21213.2, 0)` m) comes back certified as a 5-D cone with 116
 //!   facets, at 100 km along `x` as a 4-D cone with 37, and at 50 km along `x` the float
 //!   answer fails its certificate and the exact fallback returns the 276 facets of the
-//!   rounded input (0.66 s in a release build) - within the contract, not what a user wants. For 6-D wrench
+//!   rounded input (50 ms in a release build) - within the contract, not what a user wants. For 6-D wrench
 //!   cones, [`DdOptions::wrench`] (the [`wrench`] module) fixes this: the generators are
 //!   re-centred on their least-squares centre and scaled by their lever arm before the rank
 //!   decision, and all three cases give the 176 facets in floating point (pulled back to the
