@@ -77,18 +77,16 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x4.7 (16 generators) to x10.6 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x19 to x24 at 48 and 64
+//! - Speed: the certified tolerance mode is x5.4 (16 generators) to x11.1 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x17 to x27 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
-//!   checks are what cost. Every facet but `t - 2` needs its ridges: from its claimed
-//!   neighbours in closed form (about 7,000 instructions a facet on the single support), by
-//!   closed forms of its tight generators, or by a double description of them (about 12,000).
-//!   On the single support (254,000 instructions a conversion) the neighbour checks are a
-//!   third, the preconditioning and the double description about a fifth each. On the stairs
-//!   (32 generators, 176 facets) the double description is about a quarter and the
-//!   certificate about half. The 38-facet stress stances, which set the median at 32
-//!   generators, would need 14 us for x30; they take about 53 us, a quarter of their
-//!   instructions in the double description alone.
+//!   checks are what cost: the certificate is two thirds of a conversion (single support
+//!   14 us: whitening 1.2, double description 2.8, certificate 9.3; the 38-facet stress
+//!   stances 47 us: 2.5, 9.9, 32). Every facet but `t - 2` needs its ridges: from its claimed
+//!   neighbours in closed form (about 6,000 instructions a facet on the single support), by
+//!   closed forms of its tight generators, or by a double description of them (about 12,000),
+//!   and every facet its support. x10 at 16 generators would need about 8.5 us, x30 on the
+//!   stress stances about 14 us.
 //! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
 //!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
 //!   tests compare them), only the speed differs.
