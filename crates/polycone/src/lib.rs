@@ -83,7 +83,7 @@
 //!   checks are what cost: the certificate is two thirds of a conversion (single support
 //!   14 us: whitening 1.2, double description 2.8, certificate 9.3; the 38-facet stress
 //!   stances 47 us: 2.5, 9.9, 32). Every facet but `t - 2` needs its ridges: from its claimed
-//!   neighbours in closed form (about 6,000 instructions a facet on the single support), by
+//!   neighbours in closed form (about 6,800 instructions a facet on the single support), by
 //!   closed forms of its tight generators, or by a double description of them (about 12,000),
 //!   and every facet its support. x10 at 16 generators would need about 8.5 us, x30 on the
 //!   stress stances about 14 us.
