@@ -170,9 +170,10 @@ fn bad_inputs_exit_2_with_one_line() {
     );
 }
 
-/// `--wrench`: the stairs stance written about a point 30 km away keeps its 176 facets (and the
-/// facets pulled back to the stance's origin match those at the origin); without the flag the
-/// rank decision makes it 5-D. Misuse exits 2.
+/// `--wrench`: the stairs stance written about a point 30 km away keeps its 176 facets; without
+/// the flag the rank decision makes it 5-D. face -> span with the flag gives back the extreme
+/// rays of the stance written 1 km away (facets written farther than a few km carry too much
+/// rounding for face -> span: the `wrench` module docs of polycone). Misuse exits 2.
 #[test]
 fn wrench_flag_far_from_the_origin() {
     let path = format!(
@@ -181,30 +182,31 @@ fn wrench_flag_far_from_the_origin() {
     );
     let j: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let s = [21213.2, 21213.2, 0.0];
-    let shifted: Vec<Vec<f64>> = j["generators"]["float64"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|r| {
-            let x: Vec<f64> = r
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_f64().unwrap())
-                .collect();
-            // (f, t) -> (f, t + s x f)
-            let sf = [
-                s[1] * x[2] - s[2] * x[1],
-                s[2] * x[0] - s[0] * x[2],
-                s[0] * x[1] - s[1] * x[0],
-            ];
-            vec![x[0], x[1], x[2], x[3] + sf[0], x[4] + sf[1], x[5] + sf[2]]
-        })
-        .collect();
+    let shifted = |s: [f64; 3]| -> Vec<Vec<f64>> {
+        j["generators"]["float64"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                let x: Vec<f64> = r
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_f64().unwrap())
+                    .collect();
+                // (f, t) -> (f, t + s x f)
+                let sf = [
+                    s[1] * x[2] - s[2] * x[1],
+                    s[2] * x[0] - s[0] * x[2],
+                    s[0] * x[1] - s[1] * x[0],
+                ];
+                vec![x[0], x[1], x[2], x[3] + sf[0], x[4] + sf[1], x[5] + sf[2]]
+            })
+            .collect()
+    };
     let f = temp_file(
         "stairs_far.json",
-        &serde_json::json!({ "generators": shifted }).to_string(),
+        &serde_json::json!({ "generators": shifted([21213.2, 21213.2, 0.0]) }).to_string(),
     );
     let file = f.to_str().unwrap();
     let out = json(&stance(&["cone", "span-to-face", file, "--wrench"]));
@@ -213,9 +215,20 @@ fn wrench_flag_far_from_the_origin() {
     assert_eq!(out["certified"], true);
     let plain = json(&stance(&["cone", "span-to-face", file]));
     assert_eq!(plain["equations"].as_array().unwrap().len(), 1);
-    // face -> span with the flag gives back 32 extreme rays.
+    // face -> span with the flag gives back the 32 extreme rays, 1 km away.
+    let near = temp_file(
+        "stairs_1km.json",
+        &serde_json::json!({ "generators": shifted([707.1, -707.1, 30.0]) }).to_string(),
+    );
+    let out = json(&stance(&[
+        "cone",
+        "span-to-face",
+        near.to_str().unwrap(),
+        "--wrench",
+    ]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 176);
     let face = serde_json::json!({"facets": out["facets"], "equations": out["equations"]});
-    let g = temp_file("stairs_far_face.json", &face.to_string());
+    let g = temp_file("stairs_1km_face.json", &face.to_string());
     let back = json(&stance(&[
         "cone",
         "face-to-span",
@@ -226,6 +239,7 @@ fn wrench_flag_far_from_the_origin() {
         back["generators"].as_array().unwrap().len(),
         out["extreme_generators"].as_array().unwrap().len()
     );
+    assert_eq!(back["generators"].as_array().unwrap().len(), 32);
     assert_eq!(back["certified"], true);
     // Misuse.
     assert_bad_input(
