@@ -960,6 +960,39 @@ mod tests {
         }
     }
 
+    /// The binary gcd on limbs equals Euclid's (the former code) on numbers of 1 to 40 limbs
+    /// with common factors, powers of two and very different sizes.
+    #[test]
+    fn binary_gcd_equals_euclid() {
+        let euclid = |a: &BigInt, b: &BigInt| {
+            let (mut a, mut b) = (a.abs(), b.abs());
+            while !b.is_zero() {
+                let r = &a % &b;
+                a = b;
+                b = r;
+            }
+            a
+        };
+        let mut next = uniform(0x1234_5678_9abc_def1);
+        let mut big = |limbs: usize| -> BigInt {
+            (0..limbs).fold(BigInt::from(next(1 << 30) + (1 << 30) + 1), |acc, _| {
+                (acc << 62) + BigInt::from(next(1 << 40) + (1 << 40))
+            })
+        };
+        for trial in 0..400 {
+            let (la, lb, lc) = (trial % 7, (trial * 5) % 40, (trial * 3) % 5);
+            let c = big(lc) << (trial % 130);
+            let a = big(la) * &c;
+            let b = -(big(lb) * &c) << (trial % 3);
+            assert_eq!(gcd(&a, &b), euclid(&a, &b), "trial {trial}");
+            assert_eq!(gcd(&b, &a), euclid(&a, &b), "trial {trial}");
+        }
+        let zero = BigInt::zero();
+        let seven = BigInt::from(-7);
+        assert_eq!(gcd(&zero, &seven), BigInt::from(7));
+        assert_eq!(gcd(&seven, &zero), BigInt::from(7));
+    }
+
     /// The fraction-free null space: `d - rank` independent primitive vectors, each
     /// annihilated by every row, on random integer matrices of every rank (rows repeated and
     /// combined to lower it).
