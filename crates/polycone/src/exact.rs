@@ -293,7 +293,7 @@ fn row_basis(rows: &[Vec<BigInt>], cap: usize) -> Vec<usize> {
 /// free entry set to the product of the pivots, which makes every division exact (each pivot
 /// variable is a multiple of the pivots not yet divided out).
 fn null_space(rows: &[Vec<BigInt>], d: usize) -> Vec<Vec<BigInt>> {
-    // Echelon form: (pivot column, row), pivot columns increasing.
+    // Reduced echelon form: (pivot column, row), each pivot column zero in the other rows.
     let mut ech: Vec<(usize, Vec<BigInt>)> = Vec::new();
     for row in rows {
         let mut r = row.clone();
@@ -561,7 +561,9 @@ fn rows_to_matrix(rows: &[Vec<f64>], d: usize) -> DMatrix<f64> {
 /// facets. Returns the number of ridges that do not (a facet whose tight generators do not
 /// span a hyperplane counts one). Simplicial facets (`t - 1` independent tight generators) have
 /// the drop-one subsets as ridges; the others get an exact double description. Up to `t - 2`
-/// facets are left out by Balinski's theorem: their support must be checked by the caller.
+/// facets are left out by Balinski's theorem: their support must be checked by the caller, and
+/// the theorem needs at least `t` claimed facets (a pointed `t`-cone has that many; fewer
+/// count as open: `usize::MAX`).
 fn open_ridges(
     ghat: &[Vec<BigInt>],
     tight: &[Vec<bool>],
@@ -569,6 +571,10 @@ fn open_ridges(
     t: usize,
 ) -> Result<usize, ConeError> {
     let nf = tight.len();
+    if nf < t {
+        // Not a pointed t-cone's face form; and Balinski's argument below needs `t` facets.
+        return Ok(usize::MAX);
+    }
     let mut open = 0usize;
     let members_of = |f: usize| -> Vec<usize> {
         candidates
@@ -942,6 +948,14 @@ mod tests {
             let (t, tight) = incidence(&g);
             let cand: Vec<usize> = (0..g.len()).collect();
             assert_eq!(open_ridges(&g, &tight, &cand, t).unwrap(), 0, "{name}");
+            // Only the first few facets: never complete (a pointed t-cone has t at least).
+            for keep in 1..=t {
+                let few = tight[..keep].to_vec();
+                assert!(
+                    open_ridges(&g, &few, &cand, t).unwrap() > 0,
+                    "{name}: {keep} facets"
+                );
+            }
             let nf = tight.len();
             for drop in 0..nf {
                 let mut partial = tight.clone();

@@ -153,15 +153,17 @@ pub(crate) const JACOBI_NOISE: f64 = 16.0 * f64::EPSILON;
 pub(crate) const JACOBI_MAX_SWEEPS: usize = 30;
 
 /// Largest entry (absolute) below which a column of the whitening's Householder QR is treated
-/// as zero. Unit: absolute, on an input scaled so that its largest entry is in `[0.5, 1]`.
+/// as zero. Unit: absolute, on an input scaled by a power of two so that its largest entry is
+/// in `[0.5, 2)`.
 /// Value `2^-900` (`1.2e-271`): dropping it is a backward error 255 orders of magnitude below
 /// `f64::EPSILON`, while every larger column can be rescaled by an exact power of two so that
 /// its squares neither underflow nor overflow.
 pub(crate) const QR_NEGLIGIBLE: f64 = f64::from_bits((1023 - 900) << 52);
 
-/// Relative margin by which a squared residual must beat the best one so far for the double
-/// description to pick its row for the initial basis (earlier rows win ties). Unit: relative.
-/// Value `1e-9`: not a tolerance of the answer (any pivot within this factor of the largest is
+/// Relative margin by which a squared residual must beat the best one so far (a running
+/// comparison) for the double description to pick its row for the initial basis: the row
+/// picked is within this factor of the largest, and earlier rows win exact and near ties.
+/// Unit: relative. Value `1e-9`: not a tolerance of the answer (any pivot within this factor of the largest is
 /// as good numerically); it makes the choice independent of rounding in the last bits. The
 /// whitened rows all have norm 1 to the last bit, and which one starts the basis sets the
 /// size of the intermediate cones: on the 64-generator whole-space cone

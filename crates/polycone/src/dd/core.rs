@@ -172,8 +172,8 @@ impl DdCore {
         result
     }
 
-    /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm (the first of
-    /// those equal to within [`crate::tol::BASIS_TIE`]).
+    /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm (a later row
+    /// replaces the best so far only if it beats it by [`crate::tol::BASIS_TIE`]).
     fn choose_basis<const K: usize>(
         &mut self,
         a: &[f64],
