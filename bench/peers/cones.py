@@ -153,6 +153,9 @@ def main():
     ap.add_argument("--repeats", type=int, default=50)
     ap.add_argument("--gmp-repeats", type=int, default=3)
     ap.add_argument("--json", help="also write the raw results to this file")
+    ap.add_argument("--no-completeness", action="store_true",
+                    help="also time polycone without the completeness check of its certificate "
+                         "(soundness and support only), to show what the completeness proof costs")
     args = ap.parse_args()
 
     all_cases = cases()
@@ -165,6 +168,11 @@ def main():
         exe = os.path.join(ROOT, "target", "release", "examples", "cone_bench")
         ours = json.loads(subprocess.run([exe, inp, str(args.repeats)], capture_output=True, check=True,
                                          text=True).stdout)["results"]
+        # Without the completeness check: the same double description, a cheaper certificate.
+        nc = [None] * len(all_cases)
+        if args.no_completeness:
+            nc = json.loads(subprocess.run([exe, inp, str(args.repeats), "--no-completeness"],
+                                           capture_output=True, check=True, text=True).stdout)["results"]
         # Exact mode, against cddlib GMP (both exact for the input as given).
         exact = json.loads(subprocess.run([exe, inp, str(args.gmp_repeats), "--exact"], capture_output=True,
                                           check=True, text=True).stdout)["results"]
@@ -174,7 +182,7 @@ def main():
     print(f"{'group':<12} {'case':<30} {'n':>3} {'ours':>5} {'cdd-f':>5} {'gmp':>5}  {'answer':<22} "
           f"{'ours ms':>9} {'cdd-f ms':>9} {'core ms':>9} {'gmp ms':>9} {'x float':>8} {'x core':>7} {'x gmp':>7}"
           f"  {'exact ms':>9} {'ex/gmp':>7}")
-    for (group, name, v), r, rx in zip(all_cases, ours, exact):
+    for (group, name, v), r, rx, rn in zip(all_cases, ours, exact, nc):
         try:
             hf, tf, tcore = cdd_float(v, args.repeats)
             ff, ef = facets_of(hf)
@@ -205,9 +213,15 @@ def main():
                 t_exact = rx["median_ms"]
             else:
                 status += " / EXACT DIFFERS"
+        # Without completeness: timed only when it returns the same facets as the certified run.
+        t_nc = float("nan")
+        if rn is not None and "error" not in rn and "error" not in r:
+            un = np.array(rn["facets"]) if rn["facets"] else np.zeros((0, v.shape[1]))
+            if same_facets(un, uf) and rn["equations"] == r["equations"]:
+                t_nc = rn["median_ms"]
         rows.append(dict(group=group, name=name, n=len(v), ours=ours_n, cdd_float=nff, cdd_gmp=len(fg),
                          status=status, ours_ms=t_ours, float_ms=tf, core_ms=tcore, gmp_ms=tg,
-                         exact_ms=t_exact))
+                         exact_ms=t_exact, no_completeness_ms=t_nc))
         print(f"{group:<12} {name:<30} {len(v):>3} {ours_n:>5} {nff:>5} {len(fg):>5}  {status:<22} "
               f"{t_ours:>9.4f} {tf:>9.4f} {tcore:>9.4f} {tg:>9.3f} {tf / t_ours:>8.1f} {tcore / t_ours:>7.1f} "
               f"{tg / t_ours:>7.0f}  {t_exact:>9.3f} {tg / t_exact:>7.1f}")
@@ -225,6 +239,27 @@ def main():
         g = [x for x in rows if sel(x) and x["exact_ms"] == x["exact_ms"]]
         if g:
             print(f"  {label:<15} ({len(g):>2} cones): x{statistics.median(x['gmp_ms'] / x['exact_ms'] for x in g):.2f}")
+    if args.no_completeness:
+        print()
+        print("The certificate's completeness proof (same run; 'no-compl': soundness and support only, "
+              "the checks cddlib's wrong float outputs also pass; '-': a different answer, not timed):")
+        print(f"{'case':<30} {'n':>3} {'ours ms':>9} {'no-compl ms':>12} {'share':>6} {'x float':>8} "
+              f"{'x float no-compl':>17}")
+        for x in rows:
+            if x["no_completeness_ms"] == x["no_completeness_ms"]:
+                share = 1.0 - x["no_completeness_ms"] / x["ours_ms"]
+                print(f"{x['name']:<30} {x['n']:>3} {x['ours_ms']:>9.4f} {x['no_completeness_ms']:>12.4f} "
+                      f"{share:>6.0%} {x['float_ms'] / x['ours_ms']:>8.1f} "
+                      f"{x['float_ms'] / x['no_completeness_ms']:>17.1f}")
+            else:
+                print(f"{x['name']:<30} {x['n']:>3} {x['ours_ms']:>9.4f} {'-':>12}")
+        print("Median speed-ups over pycddlib float without the completeness check:")
+        for label, sel in [("16 generators", lambda x: x["n"] == 16), ("32+ generators", lambda x: x["n"] >= 32)]:
+            g = [x for x in rows if sel(x) and x["no_completeness_ms"] == x["no_completeness_ms"]
+                 and x["float_ms"] == x["float_ms"]]
+            if g:
+                print(f"  {label:<15} ({len(g):>2} cones): x{statistics.median(x['float_ms'] / x['no_completeness_ms'] for x in g):.1f}"
+                      f" (certified on the same cones: x{statistics.median(x['float_ms'] / x['ours_ms'] for x in g):.1f})")
     if args.json:
         json.dump(rows, open(args.json, "w"), indent=1)
 
