@@ -27,8 +27,9 @@
 //!
 //! Adding generators to a converted cone adds constraint rows to its polar: a [`Continuation`]
 //! keeps the double description state of a conversion and continues it with the new rows
-//! instead of starting over (same answer and certificate as from scratch; the cases that start
-//! over are listed in the [`continuation`] module docs).
+//! instead of starting over (the same answer as from scratch up to how structure degenerate
+//! within the tolerances is merged, with a full certificate; the [`continuation`] module docs
+//! say when answers differ and list the cases that start over).
 //!
 //! Edge cases: the zero cone (no or only zero generators) has `E = I`; the whole space has no
 //! facet and `L = I`; a half-space has one facet and `d - 1` lineality directions.
