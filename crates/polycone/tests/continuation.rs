@@ -16,15 +16,6 @@ fn rows(v: &DMatrix<f64>, from: usize, to: usize) -> DMatrix<f64> {
     v.rows(from, to - from).into_owned()
 }
 
-/// Membership band and oracle threshold, as in `tests/properties.rs`: a point outside a face
-/// form by more than `BAND` (relative to its norm) must be more than `1e-9` from the cone.
-const BAND: f64 = 1e-6;
-/// Unit cosine within which a generator lies on a facet's hyperplane, for the points probed
-/// where two answers differ.
-const ON_FACET: f64 = 1e-7;
-/// Oracle distance (relative) below which a point is in the cone, as in `tests/properties.rs`.
-const IN_CONE: f64 = 1e-7;
-
 /// The continued result equals the conversion from scratch: same facets (as sets, up to
 /// `MAX_ANGLE`; the lexicographic order of both is the same rule on values that differ by
 /// rounding, so rows whose leading coordinates tie up to rounding may swap), same equations
@@ -37,9 +28,9 @@ fn assert_same(cont: &SpanToFace, scratch: &SpanToFace, what: &str) {
 /// the tolerances: there the two answers may merge that structure differently, or one of them
 /// may come from the exact fallback (module docs of `polycone::continuation`). Where their
 /// facets differ, both must still be the cone for the membership oracle at the points where
-/// they differ most ([`probe_unmatched_facets`]): an answer missing a genuine facet (what
+/// they differ most (`probe_unmatched_facets` of `tests/common`): an answer missing a genuine facet (what
 /// cddlib's float mode loses) contains points beyond it by the margin of its other facets; one
-/// that merged it into a facet through the same generators (within `ON_FACET`) does not.
+/// that merged it into a facet through the same generators does not.
 fn assert_same_up_to_merging(
     cont: &SpanToFace,
     scratch: &SpanToFace,
@@ -69,8 +60,9 @@ fn assert_same_cone(cont: &SpanToFace, scratch: &SpanToFace, v: Option<&DMatrix<
         (false, Some(v)) => {
             // Merged differently (extreme generators near-degenerate too): probe the
             // differences with the oracle.
-            let a = probe_unmatched_facets(cont, scratch, v);
-            let b = probe_unmatched_facets(scratch, cont, v);
+            let (fc, fs) = (&cont.face.facets, &scratch.face.facets);
+            let a = probe_unmatched_facets(fc, fs, v, MAX_ANGLE);
+            let b = probe_unmatched_facets(fs, fc, v, MAX_ANGLE);
             assert!(
                 a.is_ok() && b.is_ok(),
                 "{what}: {} facets continued ({:?}), {} from scratch ({:?}): {a:?} {b:?}",
@@ -109,78 +101,6 @@ fn assert_same_cone(cont: &SpanToFace, scratch: &SpanToFace, v: Option<&DMatrix<
         same_span(&cont.lineality, &scratch.lineality, 1e-9),
         "{what}: lineality span"
     );
-}
-
-/// For each facet `f` of `a` that matches no facet of `b` (angle above `MAX_ANGLE`): from the
-/// centre `c` of the generators on `f`, the point `x = c + t f` half way to the boundary of `b`
-/// (or at `t = 1`) is outside `a` by `t`. If `b` contains `x` by more than `BAND`, the oracle
-/// must find `x` in the cone (so `a` is wrong), otherwise `b` is; if `a` excludes it by more
-/// than `BAND`, the oracle must find it outside. Returns how many facets were probed, or the
-/// first disagreement.
-fn probe_unmatched_facets(
-    a: &SpanToFace,
-    b: &SpanToFace,
-    v: &DMatrix<f64>,
-) -> Result<usize, String> {
-    let unit = |m: &DMatrix<f64>, i: usize| {
-        let r: Vec<f64> = m.row(i).iter().copied().collect();
-        let n = r.iter().map(|x| x * x).sum::<f64>().sqrt();
-        r.into_iter().map(|x| x / n).collect::<Vec<f64>>()
-    };
-    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
-    let d = v.ncols();
-    let gens: Vec<Vec<f64>> = (0..v.nrows()).map(|i| unit(v, i)).collect();
-    let fb: Vec<Vec<f64>> = (0..b.face.facets.nrows())
-        .map(|j| unit(&b.face.facets, j))
-        .collect();
-    let mut probed = 0;
-    for i in 0..a.face.facets.nrows() {
-        let f = unit(&a.face.facets, i);
-        if fb.iter().any(|g| angle(&f, g) <= MAX_ANGLE) {
-            continue;
-        }
-        probed += 1;
-        let mut c = vec![0.0; d];
-        let mut on = 0;
-        for g in gens.iter().filter(|g| dot(&f, g).abs() <= ON_FACET) {
-            for (ck, gk) in c.iter_mut().zip(g) {
-                *ck += gk;
-            }
-            on += 1;
-        }
-        let cn = dot(&c, &c).sqrt();
-        if on + 1 < d || cn == 0.0 {
-            return Err(format!("facet {i}: {on} generators on it"));
-        }
-        c.iter_mut().for_each(|ck| *ck /= cn);
-        // Half way from c to the boundary of b along f.
-        let t = fb
-            .iter()
-            .filter(|g| dot(g, &f) > 0.0)
-            .map(|g| (-dot(g, &c)).max(0.0) / dot(g, &f))
-            .fold(2.0, f64::min)
-            / 2.0;
-        let x: Vec<f64> = c.iter().zip(&f).map(|(ck, fk)| ck + t * fk).collect();
-        let xn = dot(&x, &x).sqrt();
-        let dist = cone_distance(v, &x) / xn;
-        let inside_b = -fb
-            .iter()
-            .map(|g| dot(g, &x) / xn)
-            .fold(f64::NEG_INFINITY, f64::max);
-        if inside_b > BAND && dist >= IN_CONE {
-            return Err(format!(
-                "facet {i}: the other answer contains the point outside it by {inside_b:.1e}, \
-                 {dist:.1e} from the cone"
-            ));
-        }
-        if t / xn > BAND && dist <= 1e-9 {
-            return Err(format!(
-                "facet {i}: the point {:.1e} outside it is in the cone",
-                t / xn
-            ));
-        }
-    }
-    Ok(probed)
 }
 
 /// Golden stances built one contact (16 generators) at a time: every step continues (the
@@ -677,13 +597,13 @@ fn probing_finds_every_dropped_facet() {
     ];
     let v = giwc_generators(&contacts);
     let r = span_to_face(&v, &DdOptions::default()).unwrap();
-    assert_eq!(probe_unmatched_facets(&r, &r, &v), Ok(0));
+    let f = &r.face.facets;
+    assert_eq!(probe_unmatched_facets(f, f, &v, MAX_ANGLE), Ok(0));
     let nf = r.face.facets.nrows();
     assert!(nf > 50, "{nf}");
     for k in 0..nf {
-        let mut dropped = r.clone();
-        dropped.face.facets = r.face.facets.clone().remove_row(k);
-        let probe = probe_unmatched_facets(&r, &dropped, &v);
+        let dropped = f.clone().remove_row(k);
+        let probe = probe_unmatched_facets(f, &dropped, &v, MAX_ANGLE);
         assert!(
             probe
                 .as_ref()

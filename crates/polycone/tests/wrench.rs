@@ -312,9 +312,13 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
 
     /// Random two-contact stances (positions within 1 m, rotations up to 40 degrees, patches
-    /// 1 cm to 20 cm, friction 0.3 to 1) written about a point up to 1 km away, with lengths
-    /// in a unit from 1/1000 to 1000 times the metre: certified, with the facets of the stance
-    /// at its own origin in metres, and agreeing with the oracle. Membership is tested on the
+    /// 1 cm to 20 cm, friction 0.3 to 1) written about a point up to 1 km away along each axis,
+    /// with lengths in a unit from 1/1000 to 1000 times the metre: certified, with the facets
+    /// of the stance at its own origin in metres, and agreeing with the oracle. On the rare
+    /// stances degenerate at the scale of the tolerances, whose structure the far frame merges
+    /// differently or its rounding breaks (the exact fallback answers), the facets may differ:
+    /// then both answers are checked with the oracle where they differ (`wrench` module docs,
+    /// Limitations). Membership is tested on the
     /// returned facets mapped exactly to the stance's own frame (metres, own origin): in the
     /// caller's frame torques are up to `1e6` times the forces or `1e-3` times them, and a
     /// band relative to `|x|` would not measure distance to the cone in any useful sense.
@@ -338,8 +342,38 @@ proptest! {
         let back = normalized(&scale_torques(&pull_back_facets(&r.face.facets, sc), c));
         let r0 = span_to_face(&v0, &DdOptions::default()).unwrap();
         check_membership(&v0, &back, &r0.face.facets, seed);
-        prop_assert_eq!(r.face.facets.nrows(), r0.face.facets.nrows());
-        prop_assert!(same_rows_up_to_scaling(&r0.face.facets, &back, MAX_ANGLE).is_some());
+        let same = r.face.facets.nrows() == r0.face.facets.nrows()
+            && same_rows_up_to_scaling(&r0.face.facets, &back, MAX_ANGLE).is_some();
+        if !same {
+            // Structure of the stance degenerate at the scale of the tolerances, merged
+            // differently in the re-centred frame (or broken by the far frame's rounding, the
+            // exact fallback answering with its slivers): `wrench` module docs, Limitations.
+            // Both answers must still be the cone where they differ (`tests/common`).
+            let a = probe_unmatched_facets(&back, &r0.face.facets, &v0, MAX_ANGLE);
+            let b = probe_unmatched_facets(&r0.face.facets, &back, &v0, MAX_ANGLE);
+            prop_assert!(
+                a.is_ok() && b.is_ok(),
+                "{} facets ({:?}) against {} at the origin ({:?}): {:?} {:?}",
+                r.face.facets.nrows(),
+                r.certificate.arithmetic,
+                r0.face.facets.nrows(),
+                r0.certificate.arithmetic,
+                a,
+                b
+            );
+            eprintln!(
+                "merged differently (|shift| {:.0} m, smallest half side {:.4} m): {} facets \
+                 ({:?}) against {} at the origin ({:?}), {:?} and {:?} unmatched, probed",
+                shift.iter().map(|x| x * x).sum::<f64>().sqrt(),
+                half.iter().copied().fold(f64::INFINITY, f64::min),
+                r.face.facets.nrows(),
+                r.certificate.arithmetic,
+                r0.face.facets.nrows(),
+                r0.certificate.arithmetic,
+                a,
+                b
+            );
+        }
     }
 }
 

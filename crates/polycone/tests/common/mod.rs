@@ -201,6 +201,89 @@ pub fn cone_distance(v: &DMatrix<f64>, b: &[f64]) -> f64 {
     (&bv - &a * &x).norm()
 }
 
+/// Unit cosine within which a generator lies on a facet's hyperplane, for the points that
+/// [`probe_unmatched_facets`] tests.
+pub const ON_FACET: f64 = 1e-7;
+
+/// Two face forms of the cone spanned by the rows of `v` that may differ by how structure
+/// degenerate at the scale of the tolerances was merged: tests the facets of `fa` that match no
+/// facet of `fb` (angle above `max_angle`) with the membership oracle, where the two differ most.
+/// From the centre `c` of the unit generators on such a facet `f` (cosine within `ON_FACET`),
+/// the point `x = c + t f` half way to the boundary of `fb` (or at `t = 1`) is outside `fa` by
+/// `t`. If `fb` contains `x` by more than `1e-6` (relative), the oracle must find `x` in the cone
+/// (relative distance below `1e-7`), otherwise `fb` is wrong; if `fa` excludes it by more than
+/// `1e-6`, the oracle must find it outside (beyond `1e-9`), otherwise `fa` is wrong: the band and
+/// thresholds of `tests/properties.rs`. A face form missing a genuine facet (what cddlib's float
+/// mode loses) contains points beyond it by the margin of its other facets; one that merged it
+/// into a facet through the same generators does not. Returns how many facets were probed, or the
+/// first disagreement.
+pub fn probe_unmatched_facets(
+    fa: &DMatrix<f64>,
+    fb: &DMatrix<f64>,
+    v: &DMatrix<f64>,
+    max_angle: f64,
+) -> Result<usize, String> {
+    const BAND: f64 = 1e-6;
+    const IN_CONE: f64 = 1e-7;
+    let unit = |m: &DMatrix<f64>, i: usize| {
+        let r: Vec<f64> = m.row(i).iter().copied().collect();
+        let n = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        r.into_iter().map(|x| x / n).collect::<Vec<f64>>()
+    };
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let d = v.ncols();
+    let gens: Vec<Vec<f64>> = (0..v.nrows()).map(|i| unit(v, i)).collect();
+    let ub: Vec<Vec<f64>> = (0..fb.nrows()).map(|j| unit(fb, j)).collect();
+    let mut probed = 0;
+    for i in 0..fa.nrows() {
+        let f = unit(fa, i);
+        if ub.iter().any(|g| angle(&f, g) <= max_angle) {
+            continue;
+        }
+        probed += 1;
+        let mut c = vec![0.0; d];
+        let mut on = 0;
+        for g in gens.iter().filter(|g| dot(&f, g).abs() <= ON_FACET) {
+            for (ck, gk) in c.iter_mut().zip(g) {
+                *ck += gk;
+            }
+            on += 1;
+        }
+        let cn = dot(&c, &c).sqrt();
+        if on + 1 < d || cn == 0.0 {
+            return Err(format!("facet {i}: {on} generators on it"));
+        }
+        c.iter_mut().for_each(|ck| *ck /= cn);
+        // Half way from c to the boundary of fb along f.
+        let t = ub
+            .iter()
+            .filter(|g| dot(g, &f) > 0.0)
+            .map(|g| (-dot(g, &c)).max(0.0) / dot(g, &f))
+            .fold(2.0, f64::min)
+            / 2.0;
+        let x: Vec<f64> = c.iter().zip(&f).map(|(ck, fk)| ck + t * fk).collect();
+        let xn = dot(&x, &x).sqrt();
+        let dist = cone_distance(v, &x) / xn;
+        let inside_b = -ub
+            .iter()
+            .map(|g| dot(g, &x) / xn)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if inside_b > BAND && dist >= IN_CONE {
+            return Err(format!(
+                "facet {i}: the other answer contains the point outside it by {inside_b:.1e}, \
+                 {dist:.1e} from the cone"
+            ));
+        }
+        if t / xn > BAND && dist <= 1e-9 {
+            return Err(format!(
+                "facet {i}: the point {:.1e} outside it is in the cone",
+                t / xn
+            ));
+        }
+    }
+    Ok(probed)
+}
+
 /// Rotation about a unit axis by `angle` radians (contact frame -> world).
 pub fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
     let [x, y, z] = axis;
