@@ -181,7 +181,12 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 16, .. ProptestConfig::default() })]
 
     /// Random two-contact stances (positions within 1 m, rotations up to 40 degrees, patches
-    /// 1 cm to 20 cm, friction 0.3 to 1): certified and agreeing with the oracle.
+    /// 1 cm to 20 cm, friction 0.3 to 1): certified and agreeing with the oracle. Almost all
+    /// are certified in floating point; a rare one has its floating-point answer rejected by
+    /// the certificate and comes from the exact fallback (before the `BASIS_CLEAR` rule, 1 of
+    /// 20,000 such stances: a 1.0 x 2.2 cm patch, 133 float facets with 48 open ridges, 301
+    /// exact ones; with it, 0 of the same 20,000, and this test found one at 1000 cases, kept
+    /// in its regressions): the membership check holds for both.
     #[test]
     fn random_stances_agree_with_the_oracle(
         p in prop::array::uniform6(-1.0f64..1.0),
@@ -194,7 +199,6 @@ proptest! {
         let v = giwc_generators(&[a, b]);
         let r = span_to_face(&v, &DdOptions::default()).unwrap();
         prop_assert!(r.certificate.certified);
-        prop_assert_eq!(r.certificate.arithmetic, polycone::Arithmetic::Tolerance);
         check_membership(&v, &r, seed);
     }
 }

@@ -172,8 +172,10 @@ impl DdCore {
         result
     }
 
-    /// Greedy pivoted Gram-Schmidt: picks `k` rows of largest residual norm (a later row
-    /// replaces the best so far only if it beats it by [`crate::tol::BASIS_TIE`]).
+    /// Greedy pivoted Gram-Schmidt: picks `k` rows, each the first in input order whose
+    /// residual off those taken is at least [`crate::tol::BASIS_CLEAR`] (unit rows), or, when
+    /// none is, the one of largest residual (a later row replaces the best so far only if it
+    /// beats it by [`crate::tol::BASIS_TIE`]).
     fn choose_basis<const K: usize>(
         &mut self,
         a: &[f64],
@@ -194,6 +196,7 @@ impl DdCore {
             q_heap.resize(k, 0.0);
             &mut q_heap
         };
+        let clear = crate::tol::BASIS_CLEAR * crate::tol::BASIS_CLEAR;
         for _ in 0..k {
             let mut best = usize::MAX;
             let mut best_norm = -1.0;
@@ -202,10 +205,15 @@ impl DdCore {
                     continue;
                 }
                 let nn: f64 = r.iter().map(|v| v * v).sum();
-                // Ties within rounding go to the first row: the unit rows of a whitened input
-                // all have norm 1 to the last bit, and which one wins sets the size of the
-                // intermediate cones (up to 2x the work on a 64-row input), so the choice must
-                // not depend on the last bit of the whitening.
+                // The first row in input order clear of the span of those taken (unit rows:
+                // residual at least `BASIS_CLEAR`) starts the basis; otherwise the largest
+                // residual, ties within rounding to the first row (the unit rows of a whitened
+                // input all have norm 1 to the last bit, so the choice must not depend on it).
+                if nn >= clear {
+                    best_norm = nn;
+                    best = i;
+                    break;
+                }
                 if nn > best_norm * (1.0 + crate::tol::BASIS_TIE) {
                     best_norm = nn;
                     best = i;

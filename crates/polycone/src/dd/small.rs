@@ -74,7 +74,9 @@ impl SmallDd {
         debug_assert_eq!(a.len(), m * K);
         self.x.clear();
         self.z.clear();
-        // Basis: greedy pivoted Gram-Schmidt (largest residual first), as `DdCore`.
+        // Basis: greedy pivoted Gram-Schmidt (the first row clear of the span, else the
+        // largest residual), as `DdCore`.
+        let clear = crate::tol::BASIS_CLEAR * crate::tol::BASIS_CLEAR;
         self.resid.clear();
         self.resid.extend_from_slice(a);
         let mut used = 0u64;
@@ -88,6 +90,11 @@ impl SmallDd {
                     continue;
                 }
                 let nn: f64 = r.iter().map(|v| v * v).sum();
+                if nn >= clear {
+                    best_norm = nn;
+                    best = i;
+                    break;
+                }
                 if nn > best_norm * (1.0 + crate::tol::BASIS_TIE) {
                     best_norm = nn;
                     best = i;
