@@ -78,8 +78,8 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x5.5 (16 generators) to x11.4 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x18 to x27 at 48 and 64
+//! - Speed: the certified tolerance mode is x5.6 (16 generators) to x11.3 (32 and more,
+//!   median) faster than cddlib's float mode on 6-D wrench cones (x17 to x27 at 48 and 64
 //!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
 //!   checks are what cost: the certificate is two thirds of a conversion (single support
 //!   14 us: whitening 1.1, double description 2.8, certificate 9.2; the 38-facet stress
@@ -88,8 +88,8 @@
 //!   but `t - 2` needs its ridges: from its claimed neighbours in closed form (about 6,800
 //!   instructions a facet on the single support), by closed forms of its tight generators, or
 //!   by a double description of them (about 12,000), and every facet its support. Without the
-//!   completeness part (`DdOptions::check_completeness`, uncertified) the medians are x7.0 and
-//!   x14.7.
+//!   completeness part (`DdOptions::check_completeness`, uncertified) the medians were x7.0
+//!   and x14.7 (the 09:25 run of `cones.md`).
 //! - Above `d = 8` the preconditioning and the lineality split use nalgebra's SVD, which can
 //!   return wrong singular values on rank-deficient inputs (its issue 1172; a review found
 //!   227 defective decompositions among 3000 random rank-1 to rank-4 matrices with 9 to 12
