@@ -225,18 +225,17 @@ pub fn probe_unmatched_facets(
 ) -> Result<usize, String> {
     const BAND: f64 = 1e-6;
     const IN_CONE: f64 = 1e-7;
-    let unit = |m: &DMatrix<f64>, i: usize| {
-        let r: Vec<f64> = m.row(i).iter().copied().collect();
-        let n = r.iter().map(|x| x * x).sum::<f64>().sqrt();
-        r.into_iter().map(|x| x / n).collect::<Vec<f64>>()
+    let rows = |m: &DMatrix<f64>| -> Vec<Vec<f64>> {
+        let m = normalized(m);
+        (0..m.nrows())
+            .map(|i| m.row(i).iter().copied().collect())
+            .collect()
     };
     let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
     let d = v.ncols();
-    let gens: Vec<Vec<f64>> = (0..v.nrows()).map(|i| unit(v, i)).collect();
-    let ub: Vec<Vec<f64>> = (0..fb.nrows()).map(|j| unit(fb, j)).collect();
+    let (gens, ub) = (rows(v), rows(fb));
     let mut probed = 0;
-    for i in 0..fa.nrows() {
-        let f = unit(fa, i);
+    for (i, f) in rows(fa).into_iter().enumerate() {
         if ub.iter().any(|g| angle(&f, g) <= max_angle) {
             continue;
         }
