@@ -98,3 +98,33 @@ pub const IK_REGULARIZATION: f64 = 1e-6;
 /// the integration error of one path step adds to the contact drift, while tighter values make
 /// the interior-point solver stall ("insufficient progress") on badly scaled steps.
 pub const IK_QP_TOL: f64 = 1e-8;
+
+/// Largest number of KKT solves of the IK's dense active-set QP solver before it gives way to
+/// Clarabel ([`crate::ik::dense_qp`]).
+///
+/// Default `50`: a step changes its working set by a few joint bounds at most (warm-started from
+/// the previous step's), so a problem that needs more is cycling or infeasible, which the
+/// interior-point fallback then settles.
+pub const IK_DENSE_MAX_ITERATIONS: usize = 50;
+
+/// Primal tolerance of the dense IK solver (dimensionless, relative to `max(1, |bound|)` for a
+/// joint bound and to `max(1, |b|_inf, |A|_max |x|_inf)` for the contact equations).
+///
+/// Default `1e-9`: the range-space solve meets the equations to round-off (about `1e-13`
+/// relative on JVRC-1); `1e-9` accepts that and rejects an answer that is wrong.
+pub const IK_DENSE_PRIMAL_TOL: f64 = 1e-9;
+
+/// Multiplier-sign tolerance of the dense IK solver (dimensionless, relative to
+/// `max(1, |P|_max |x|_inf, |c|_inf)`, the scale of the gradient).
+///
+/// Default `1e-9`, for the same reason as [`IK_DENSE_PRIMAL_TOL`]: a multiplier of a held bound
+/// that is wrong by less than this is round-off of a bound that is just active.
+pub const IK_DENSE_DUAL_TOL: f64 = 1e-9;
+
+/// Smallest accepted squared pivot of the Cholesky factorization of `Y^T Y` in the dense IK
+/// solver, relative to its largest diagonal entry (dimensionless).
+///
+/// Default `1e-12`: below it the contact rows are numerically dependent (two contact frames on
+/// one rigid body, or more held joints than the equations allow), the multipliers are not
+/// determined to better than `1e-6` relative, and the step goes to the interior-point solver.
+pub const IK_DENSE_PIVOT: f64 = 1e-12;

@@ -1,0 +1,548 @@
+//! The IK step's QP assembled in a reusable workspace, and its solve (see the parent module for
+//! the math).
+
+use nalgebra::{DMatrix, DVector, Matrix6xX, Vector3};
+
+use super::clarabel_qp::solve_ik_qp;
+use super::dense_qp::{DenseQpOptions, DenseQpStatus, DenseQpWorkspace};
+use super::{
+    check_options, IkAnswerFrom, IkOptions, IkQp, IkSolver, IkStatus, IkStep, JointBounds,
+    LinkTarget, PointReference,
+};
+use crate::centroidal::centroidal_map_dot_v;
+use crate::data::Data;
+use crate::error::RobotError;
+use crate::kinematics::{
+    frame_classical_acceleration, frame_jacobian, frame_placement, ReferenceFrame,
+};
+use crate::model::{JointKind, Model};
+use crate::spatial::Pose;
+
+/// A contact frame held by the IK: its velocity kept at zero and, with a target placement and
+/// [`IkOptions::contact_k_p`] `> 0`, its placement pulled back onto the target.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactHold {
+    /// Frame index (see [`Model::frame_id`]).
+    pub frame: usize,
+    /// `world_from_frame*`, the placement the contact must keep (optional).
+    pub target: Option<Pose>,
+}
+
+impl ContactHold {
+    /// Holds `frame` by its velocity only.
+    ///
+    /// ```
+    /// assert!(stance_robot::ContactHold::velocity(3).target.is_none());
+    /// ```
+    pub fn velocity(frame: usize) -> Self {
+        Self {
+            frame,
+            target: None,
+        }
+    }
+}
+
+/// What an IK step tracks and holds.
+#[derive(Debug, Clone, Copy)]
+pub struct IkTasks<'a> {
+    /// Contact frames held fixed (equality constraints).
+    pub contacts: &'a [ContactHold],
+    /// The CoM reference.
+    pub com: PointReference,
+    /// Free link tasks.
+    pub links: &'a [LinkTarget],
+    /// A reference configuration for the posture task (`nq` entries; only the revolute and
+    /// prismatic joints are tracked, with weight [`IkOptions::w_posture`]).
+    pub posture: Option<&'a [f64]>,
+}
+
+/// Reusable buffers of the IK step: the QP's matrices, the frame Jacobian and the dense solver's
+/// working set (the warm start of the next step). Sized for one model.
+#[derive(Debug, Clone)]
+pub struct IkWorkspace {
+    nv: usize,
+    jac: Matrix6xX<f64>,
+    p: DMatrix<f64>,
+    c: DVector<f64>,
+    a_eq: DMatrix<f64>,
+    b_eq: DVector<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    dense: DenseQpWorkspace,
+}
+
+impl IkWorkspace {
+    /// Buffers for `model`.
+    ///
+    /// ```
+    /// use stance_robot::{IkWorkspace, Model};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// let ws = IkWorkspace::new(&m);
+    /// # let _ = ws;
+    /// ```
+    pub fn new(model: &Model) -> Self {
+        let nv = model.nv;
+        Self {
+            nv,
+            jac: Matrix6xX::zeros(nv),
+            p: DMatrix::zeros(nv, nv),
+            c: DVector::zeros(nv),
+            a_eq: DMatrix::zeros(0, nv),
+            b_eq: DVector::zeros(0),
+            lo: vec![f64::NEG_INFINITY; nv],
+            hi: vec![f64::INFINITY; nv],
+            dense: DenseQpWorkspace::new(),
+        }
+    }
+
+    /// Assembles the QP of one step at `(q, q_s)` for a path step `ds > 0`; afterwards `data`
+    /// holds the kinematics, CoM and centroidal map of `q` (velocities `q_s`).
+    ///
+    /// ```
+    /// use stance_robot::{ContactHold, Data, IkOptions, IkTasks, IkWorkspace, Model, PointReference};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// let (mut ws, mut d) = (IkWorkspace::new(&m), Data::new(&m));
+    /// let feet = [ContactHold::velocity(m.frame_id("r_sole").unwrap()),
+    ///             ContactHold::velocity(m.frame_id("l_sole").unwrap())];
+    /// let tasks = IkTasks { contacts: &feet, com: PointReference::hold(nalgebra::Vector3::zeros()),
+    ///                       links: &[], posture: None };
+    /// ws.build(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01, &IkOptions::default()).unwrap();
+    /// assert_eq!(ws.qp().a_eq.nrows(), 12);
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn build(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        q: &[f64],
+        q_s: &[f64],
+        tasks: &IkTasks,
+        ds: f64,
+        options: &IkOptions,
+    ) -> Result<(), RobotError> {
+        check_options(options)?;
+        if self.nv != model.nv {
+            return Err(RobotError::Dimension {
+                what: "IK workspace (made for another model: use IkWorkspace::new(&model))",
+                expected: model.nv,
+                got: self.nv,
+            });
+        }
+        if !(ds.is_finite() && ds > 0.0) {
+            return Err(RobotError::InvalidOption {
+                name: "ds",
+                reason: format!("the path step {ds} must be finite and > 0"),
+            });
+        }
+        let refs_finite = std::iter::once(&tasks.com)
+            .chain(tasks.links.iter().map(|l| &l.reference))
+            .all(|r| {
+                r.p.iter()
+                    .chain(r.p_s.iter())
+                    .chain(r.p_ss.iter())
+                    .all(|x| x.is_finite())
+            });
+        if !refs_finite {
+            return Err(RobotError::InvalidOption {
+                name: "reference",
+                reason: "a task reference is not finite".into(),
+            });
+        }
+        for f in tasks
+            .contacts
+            .iter()
+            .map(|c| c.frame)
+            .chain(tasks.links.iter().map(|l| l.frame))
+        {
+            if f >= model.frames.len() {
+                return Err(RobotError::UnknownFrame(format!("#{f}")));
+            }
+        }
+        if let Some(post) = tasks.posture {
+            crate::kinematics::check_configuration(model, post)?;
+        }
+        let nv = model.nv;
+        let dh = centroidal_map_dot_v(model, data, q, q_s)?;
+        self.p.fill(0.0);
+        self.p.fill_diagonal(2.0 * options.regularization);
+        self.c.fill(0.0);
+        // CoM task
+        let j_com = &data.com_jacobian;
+        let com_s = row_dot(j_com, q_s);
+        let drift_com = Vector3::new(dh[0], dh[1], dh[2]) / data.mass;
+        let com = &tasks.com;
+        let desired = com.p_ss + (com.p_s - com_s) * options.k_d + (com.p - data.com) * options.k_p;
+        add_task(
+            &mut self.p,
+            &mut self.c,
+            j_com,
+            &(desired - drift_com),
+            options.w_com,
+        );
+        // link tasks
+        for l in tasks.links {
+            frame_jacobian(
+                model,
+                data,
+                l.frame,
+                ReferenceFrame::LocalWorldAligned,
+                &mut self.jac,
+            )?;
+            let (lin_drift, ang_drift) = frame_classical_acceleration(
+                model,
+                data,
+                l.frame,
+                ReferenceFrame::LocalWorldAligned,
+            )?;
+            let placement = frame_placement(model, data, l.frame)?;
+            let j_lin = self.jac.fixed_rows::<3>(0);
+            let vel = row_dot(&j_lin, q_s);
+            let r = &l.reference;
+            let desired =
+                r.p_ss + (r.p_s - vel) * options.k_d + (r.p - placement.translation) * options.k_p;
+            add_task(
+                &mut self.p,
+                &mut self.c,
+                &j_lin,
+                &(desired - lin_drift),
+                options.w_link,
+            );
+            if let Some(o) = &l.orientation {
+                let j_ang = self.jac.fixed_rows::<3>(3);
+                let w = row_dot(&j_ang, q_s);
+                let error = rotation_error(&o.rotation, &placement.rotation);
+                let desired = o.w_ss + (o.w_s - w) * options.k_d + error * options.k_p;
+                add_task(
+                    &mut self.p,
+                    &mut self.c,
+                    &j_ang,
+                    &(desired - ang_drift),
+                    options.w_link,
+                );
+            }
+        }
+        // posture task on the revolute and prismatic joints
+        if let (Some(post), true) = (tasks.posture, options.w_posture > 0.0) {
+            let w2 = 2.0 * options.w_posture;
+            for j in &model.joints[1..] {
+                if matches!(
+                    j.kind,
+                    JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+                ) {
+                    let desired =
+                        -options.k_d * q_s[j.idx_v] + options.k_p * (post[j.idx_q] - q[j.idx_q]);
+                    self.p[(j.idx_v, j.idx_v)] += w2;
+                    self.c[j.idx_v] -= w2 * desired;
+                }
+            }
+        }
+        // contacts
+        let rows = 6 * tasks.contacts.len();
+        if self.a_eq.nrows() != rows {
+            self.a_eq = DMatrix::zeros(rows, nv);
+            self.b_eq = DVector::zeros(rows);
+        }
+        for (i, hold) in tasks.contacts.iter().enumerate() {
+            frame_jacobian(
+                model,
+                data,
+                hold.frame,
+                ReferenceFrame::LocalWorldAligned,
+                &mut self.jac,
+            )?;
+            let (lin, ang) = frame_classical_acceleration(
+                model,
+                data,
+                hold.frame,
+                ReferenceFrame::LocalWorldAligned,
+            )?;
+            let mut error = [0.0; 6];
+            if let (Some(target), true) = (hold.target, options.contact_k_p > 0.0) {
+                let x = frame_placement(model, data, hold.frame)?;
+                let dp = target.translation - x.translation;
+                let dr = rotation_error(&target.rotation, &x.rotation);
+                error = [dp.x, dp.y, dp.z, dr.x, dr.y, dr.z];
+            }
+            for r in 0..6 {
+                let mut vel = 0.0;
+                for (k, v) in q_s.iter().enumerate() {
+                    let jk = self.jac[(r, k)];
+                    self.a_eq[(6 * i + r, k)] = jk;
+                    vel += jk * v;
+                }
+                let drift = if r < 3 { lin[r] } else { ang[r - 3] };
+                self.b_eq[6 * i + r] =
+                    -drift - options.gamma * vel + options.contact_k_p * error[r];
+            }
+        }
+        // joint bounds (boxes on single coordinates)
+        self.lo.fill(f64::NEG_INFINITY);
+        self.hi.fill(f64::INFINITY);
+        for j in &model.joints[1..] {
+            if !matches!(
+                j.kind,
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+            ) {
+                continue;
+            }
+            let (k, qj, vj) = (j.idx_v, q[j.idx_q], q_s[j.idx_v]);
+            let (lo, hi) = match options.joint_bounds {
+                JointBounds::NextStep => {
+                    let scale = 2.0 / (ds * ds);
+                    (
+                        scale * (j.lower - qj - vj * ds),
+                        scale * (j.upper - qj - vj * ds),
+                    )
+                }
+                JointBounds::Damper { k_s, k_ss, range } => {
+                    let (mid, half) = (0.5 * (j.upper + j.lower), 0.5 * (j.upper - j.lower));
+                    let (lower, upper) = (mid - range * half, mid + range * half);
+                    (
+                        k_ss * (k_s * (lower - qj) - vj),
+                        k_ss * (k_s * (upper - qj) - vj),
+                    )
+                }
+            };
+            // an infinite limit gives an infinite (or NaN, for inf - inf) bound: no bound
+            self.lo[k] = if lo.is_finite() {
+                lo
+            } else {
+                f64::NEG_INFINITY
+            };
+            self.hi[k] = if hi.is_finite() { hi } else { f64::INFINITY };
+            if options.max_path_rate.is_finite() {
+                self.lo[k] = self.lo[k].max(-(options.max_path_rate + vj) / ds);
+                self.hi[k] = self.hi[k].min((options.max_path_rate - vj) / ds);
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves the assembled QP (dense solver with Clarabel as fallback, or as asked by
+    /// [`IkOptions::solver`]).
+    ///
+    /// ```
+    /// use stance_robot::{ContactHold, Data, IkAnswerFrom, IkOptions, IkStatus, IkTasks,
+    ///     IkWorkspace, Model, PointReference};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// let (mut ws, mut d) = (IkWorkspace::new(&m), Data::new(&m));
+    /// let feet = [ContactHold::velocity(m.frame_id("r_sole").unwrap()),
+    ///             ContactHold::velocity(m.frame_id("l_sole").unwrap())];
+    /// let q = m.neutral();
+    /// let c0 = stance_robot::center_of_mass(&m, &mut d, &q).unwrap();
+    /// let tasks = IkTasks { contacts: &feet, links: &[], posture: None,
+    ///     com: PointReference::hold(c0 + nalgebra::Vector3::new(0.0, 0.0, -0.01)) };
+    /// let o = IkOptions::default();
+    /// ws.build(&m, &mut d, &q, &vec![0.0; m.nv], &tasks, 0.01, &o).unwrap();
+    /// let step = ws.solve(&o).unwrap();
+    /// assert_eq!((step.status, step.answer_from), (IkStatus::Solved, IkAnswerFrom::Dense));
+    /// assert!(step.contact_residual < 1e-9);
+    /// ```
+    pub fn solve(&mut self, options: &IkOptions) -> Result<IkStep, RobotError> {
+        let nv = self.nv;
+        if self.lo.iter().zip(&self.hi).any(|(l, h)| l > h) {
+            // A joint's bounds cross (it is past a limit faster than the bounds allow).
+            return Ok(IkStep {
+                status: IkStatus::Infeasible,
+                q_ss: vec![0.0; nv],
+                contact_residual: 0.0,
+                bound_violation: 0.0,
+                answer_from: IkAnswerFrom::Dense,
+            });
+        }
+        if options.solver == IkSolver::Dense {
+            let rep = self.dense.solve(
+                &self.p,
+                &self.c,
+                &self.a_eq,
+                &self.b_eq,
+                &self.lo,
+                &self.hi,
+                &DenseQpOptions::default(),
+            );
+            if rep.status == DenseQpStatus::Optimal {
+                return Ok(IkStep {
+                    status: IkStatus::Solved,
+                    q_ss: self.dense.solution().to_vec(),
+                    contact_residual: rep.equality_residual,
+                    bound_violation: rep.bound_violation.max(0.0),
+                    answer_from: IkAnswerFrom::Dense,
+                });
+            }
+            self.dense.reset();
+        }
+        solve_ik_qp(&self.qp(), options.qp_tol)
+    }
+
+    /// [`Self::build`] then [`Self::solve`].
+    ///
+    /// ```
+    /// use stance_robot::{ContactHold, Data, IkOptions, IkStatus, IkTasks, IkWorkspace, Model,
+    ///     PointReference};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// let (mut ws, mut d) = (IkWorkspace::new(&m), Data::new(&m));
+    /// let tasks = IkTasks { contacts: &[], links: &[], posture: None,
+    ///     com: PointReference::hold(nalgebra::Vector3::zeros()) };
+    /// let step = ws.step(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01,
+    ///     &IkOptions::default()).unwrap();
+    /// assert_eq!(step.status, IkStatus::Solved);
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        q: &[f64],
+        q_s: &[f64],
+        tasks: &IkTasks,
+        ds: f64,
+        options: &IkOptions,
+    ) -> Result<IkStep, RobotError> {
+        self.build(model, data, q, q_s, tasks, ds, options)?;
+        self.solve(options)
+    }
+
+    /// The assembled QP in the dense form of [`IkQp`] (allocates; for inspection and the
+    /// Clarabel route).
+    ///
+    /// ```
+    /// use stance_robot::{IkWorkspace, Model};
+    /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// assert_eq!(IkWorkspace::new(&m).qp().p.nrows(), m.nv);
+    /// ```
+    pub fn qp(&self) -> IkQp {
+        let nv = self.nv;
+        let mut rows: Vec<(usize, f64, f64)> = Vec::new();
+        for k in 0..nv {
+            if self.hi[k].is_finite() {
+                rows.push((k, 1.0, self.hi[k]));
+            }
+            if self.lo[k].is_finite() {
+                rows.push((k, -1.0, -self.lo[k]));
+            }
+        }
+        let mut g = DMatrix::zeros(rows.len(), nv);
+        let mut h = DVector::zeros(rows.len());
+        for (r, (k, sign, bound)) in rows.into_iter().enumerate() {
+            g[(r, k)] = sign;
+            h[r] = bound;
+        }
+        IkQp {
+            p: self.p.clone(),
+            c: self.c.clone(),
+            a_eq: self.a_eq.clone(),
+            b_eq: self.b_eq.clone(),
+            g,
+            h,
+        }
+    }
+}
+
+/// `J v` for a 3-row view.
+fn row_dot<S>(j: &nalgebra::Matrix<f64, nalgebra::U3, nalgebra::Dyn, S>, v: &[f64]) -> Vector3<f64>
+where
+    S: nalgebra::storage::Storage<f64, nalgebra::U3, nalgebra::Dyn>,
+{
+    let mut out = Vector3::zeros();
+    for (k, vk) in v.iter().enumerate() {
+        out += j.column(k) * *vk;
+    }
+    out
+}
+
+/// The rotation vector of `target R^T` (world axes): the angular error to `target`.
+fn rotation_error(target: &nalgebra::Matrix3<f64>, r: &nalgebra::Matrix3<f64>) -> Vector3<f64> {
+    nalgebra::Rotation3::from_matrix_unchecked(target * r.transpose()).scaled_axis()
+}
+
+/// Adds `w |J x - r|^2` to `x^T P x / 2 + c^T x`, in place.
+fn add_task<S>(
+    p: &mut DMatrix<f64>,
+    c: &mut DVector<f64>,
+    j: &nalgebra::Matrix<f64, nalgebra::U3, nalgebra::Dyn, S>,
+    r: &Vector3<f64>,
+    w: f64,
+) where
+    S: nalgebra::storage::Storage<f64, nalgebra::U3, nalgebra::Dyn>,
+{
+    if w == 0.0 {
+        return;
+    }
+    p.gemm_tr(2.0 * w, j, j, 1.0);
+    c.gemv_tr(-2.0 * w, j, r, 1.0);
+}
+
+/// Builds the IK QP at `(q, q_s)` (see the module doc) for a step `ds > 0`, with the contacts
+/// held by their velocities.
+///
+/// ```
+/// use stance_robot::{ik_qp, Data, IkOptions, Model, PointReference};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let mut d = Data::new(&m);
+/// let q = m.neutral();
+/// let feet = [m.frame_id("r_sole").unwrap(), m.frame_id("l_sole").unwrap()];
+/// let com = PointReference { p: nalgebra::Vector3::zeros(), p_s: nalgebra::Vector3::zeros(),
+///                            p_ss: nalgebra::Vector3::zeros() };
+/// let qp = ik_qp(&m, &mut d, &q, &vec![0.0; m.nv], &feet, &com, &[], 0.01, &IkOptions::default()).unwrap();
+/// assert_eq!(qp.a_eq.nrows(), 12);
+/// assert_eq!(qp.p.nrows(), m.nv);
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn ik_qp(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    q_s: &[f64],
+    contacts: &[usize],
+    com: &PointReference,
+    links: &[LinkTarget],
+    ds: f64,
+    options: &IkOptions,
+) -> Result<IkQp, RobotError> {
+    let holds: Vec<ContactHold> = contacts.iter().map(|&f| ContactHold::velocity(f)).collect();
+    let tasks = IkTasks {
+        contacts: &holds,
+        com: *com,
+        links,
+        posture: None,
+    };
+    let mut ws = IkWorkspace::new(model);
+    ws.build(model, data, q, q_s, &tasks, ds, options)?;
+    Ok(ws.qp())
+}
+
+/// One IK step: [`ik_qp`] then its solve ([`IkWorkspace::solve`]).
+///
+/// ```
+/// use stance_robot::{ik_step, Data, IkOptions, IkStatus, Model, PointReference};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let mut d = Data::new(&m);
+/// let q = m.neutral();
+/// let feet = [m.frame_id("r_sole").unwrap(), m.frame_id("l_sole").unwrap()];
+/// let c0 = stance_robot::center_of_mass(&m, &mut d, &q).unwrap();
+/// let com = PointReference::segment(c0, c0 + nalgebra::Vector3::new(0.0, 0.03, 0.0), 0.0);
+/// let step = ik_step(&m, &mut d, &q, &vec![0.0; m.nv], &feet, &com, &[], 0.01, &IkOptions::default()).unwrap();
+/// assert_eq!(step.status, IkStatus::Solved);
+/// assert!(step.contact_residual < 1e-6);
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn ik_step(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    q_s: &[f64],
+    contacts: &[usize],
+    com: &PointReference,
+    links: &[LinkTarget],
+    ds: f64,
+    options: &IkOptions,
+) -> Result<IkStep, RobotError> {
+    let holds: Vec<ContactHold> = contacts.iter().map(|&f| ContactHold::velocity(f)).collect();
+    let tasks = IkTasks {
+        contacts: &holds,
+        com: *com,
+        links,
+        posture: None,
+    };
+    IkWorkspace::new(model).step(model, data, q, q_s, &tasks, ds, options)
+}
