@@ -105,7 +105,7 @@ pub use kinematics::{
 };
 pub use model::{Frame, FrameKind, Joint, JointKind, Model, RootJoint, UrdfOptions};
 pub use nalgebra;
-pub use path::{path_terms, path_terms_along, PathTerms};
+pub use path::{path_terms, path_terms_along, path_terms_from_data, PathTerms};
 pub use spatial::{Inertia, Pose};
 pub use tol::Tolerances;
 

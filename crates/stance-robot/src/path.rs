@@ -56,23 +56,40 @@ pub fn path_terms(
     q_ss: &[f64],
 ) -> Result<PathTerms, RobotError> {
     check_velocity(model, q_ss)?;
-    let drift = centroidal_map_dot_v(model, data, q, q_s)?;
+    centroidal_map_dot_v(model, data, q, q_s)?;
+    Ok(path_terms_from_data(data, q_s, q_ss))
+}
+
+/// [`path_terms`] from a workspace that already holds `A_g` and `(dA_g/dt) q_s` at `(q, q_s)`
+/// (after [`crate::centroidal_map_dot_v`], or an IK step's [`crate::IkWorkspace::build`]):
+/// no kinematics recomputed. `q_s` and `q_ss` must have `nv` entries.
+///
+/// ```
+/// use stance_robot::{centroidal_map_dot_v, path_terms, path_terms_from_data, Data, Model};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let mut d = Data::new(&m);
+/// let (q, q_s, q_ss) = (m.neutral(), vec![0.1; m.nv], vec![-0.2; m.nv]);
+/// centroidal_map_dot_v(&m, &mut d, &q, &q_s).unwrap();
+/// let t = path_terms_from_data(&d, &q_s, &q_ss);
+/// assert_eq!(t, path_terms(&m, &mut d, &q, &q_s, &q_ss).unwrap());
+/// ```
+pub fn path_terms_from_data(data: &Data, q_s: &[f64], q_ss: &[f64]) -> PathTerms {
     let a = &data.centroidal_map;
     let mut h_s = nalgebra::Vector6::zeros();
-    let mut h_ss = drift;
-    for k in 0..model.nv {
+    let mut h_ss = data.centroidal_map_dot_v;
+    for k in 0..q_s.len() {
         let col = a.column(k);
         h_s += col * q_s[k];
         h_ss += col * q_ss[k];
     }
     let m = data.mass;
-    Ok(PathTerms {
+    PathTerms {
         p: data.com,
         p_s: h_s.fixed_rows::<3>(0) / m,
         p_ss: h_ss.fixed_rows::<3>(0) / m,
         l1: h_s.fixed_rows::<3>(3).into(),
         l2: h_ss.fixed_rows::<3>(3).into(),
-    })
+    }
 }
 
 /// [`path_terms`] at every sample of a tracked path (see [`crate::track_path`]), with one

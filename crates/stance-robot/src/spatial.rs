@@ -114,6 +114,51 @@ pub(crate) fn rpy_to_matrix(rpy: [f64; 3]) -> Matrix3<f64> {
     *Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]).matrix()
 }
 
+/// The rotation vector `theta * axis` of a rotation matrix (the logarithm of SO(3)), robust to
+/// round-off: the angle is `atan2(|vee(R - R^T)| / 2, (tr R - 1) / 2)`, which stays defined for a
+/// matrix a few ulps from orthonormal (where `acos((tr R - 1) / 2)` of a trace above 3 is NaN),
+/// and near `pi` the axis comes from the symmetric part `(R + I) / 2 = a a^T`.
+///
+/// ```
+/// use nalgebra::{Matrix3, Rotation3, Vector3};
+/// use stance_robot::spatial::rotation_log;
+/// let w = Vector3::new(0.1, -0.2, 0.3);
+/// assert!((rotation_log(Rotation3::new(w).matrix()) - w).norm() < 1e-15);
+/// let nearly_identity = Matrix3::identity() * (1.0 + 1e-15);
+/// assert!(rotation_log(&nearly_identity).norm() < 1e-14);
+/// let half_turn = Vector3::new(0.0, std::f64::consts::PI, 0.0);
+/// assert!((rotation_log(Rotation3::new(half_turn).matrix()).abs() - half_turn).norm() < 1e-7);
+/// ```
+pub fn rotation_log(r: &Matrix3<f64>) -> Vector3<f64> {
+    let v = Vector3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    ) * 0.5;
+    let s = v.norm();
+    let c = 0.5 * (r.trace() - 1.0);
+    let theta = s.atan2(c);
+    if theta < 1e-8 {
+        // first order: R = I + [w]x
+        return v;
+    }
+    if theta < std::f64::consts::PI - 1e-6 {
+        return v * (theta / s);
+    }
+    // near pi: (R + I) / 2 = a a^T (+ O(pi - theta)); the largest diagonal entry's column
+    let b = (r + Matrix3::identity()) * 0.5;
+    let k = (0..3)
+        .max_by(|&i, &j| b[(i, i)].total_cmp(&b[(j, j)]))
+        .unwrap_or(0);
+    let mut a = b.column(k).into_owned() / b[(k, k)].max(f64::MIN_POSITIVE).sqrt();
+    a /= a.norm().max(f64::MIN_POSITIVE);
+    // the sign of the axis from the (small) skew part
+    if a.dot(&v) < 0.0 {
+        a = -a;
+    }
+    a * theta
+}
+
 /// Rotation of angle `angle` about the unit axis `axis` (Rodrigues).
 #[inline]
 pub(crate) fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {

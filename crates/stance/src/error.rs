@@ -14,8 +14,11 @@ pub enum StanceError {
     /// A motion file field is invalid.
     #[error("invalid motion: {0}")]
     BadMotion(String),
+    /// The robot model is invalid (the inner error is in the message, not a `source`).
+    #[error("robot model: {0}")]
+    Robot(stance_robot::RobotError),
     /// A named example does not exist.
-    #[error("unknown example scene {name:?}: use one of {known}")]
+    #[error("unknown example {name:?}: use one of {known}")]
     UnknownExample {
         /// The name asked for.
         name: String,

@@ -50,6 +50,7 @@ pub use stance_robot;
 pub use stance_topp;
 
 pub mod error;
+pub mod motion;
 pub mod retime;
 pub mod tol;
 

@@ -11,3 +11,75 @@ pub const MAX_REFINED_GRID_POINTS: usize = 20_000;
 /// check to a few hundred million row evaluations (about a second), where a larger count from a
 /// file would hang the command.
 pub const MAX_SAMPLES_PER_INTERVAL: usize = 100;
+
+/// Largest distance (m) of a robot surface's vertices from the plane of the environment surface
+/// it is in contact with, at the start of a segment. Default 5 mm: the IK lands a link within a
+/// fraction of a millimetre of its target (measured on the built-in motions); 5 mm accepts
+/// that and rejects a link that did not land (a missing `onto`, a target out of reach).
+pub const CONTACT_DISTANCE: f64 = 5e-3;
+
+/// Largest angle (rad) between a contact's robot and environment normals. Default 0.05 rad
+/// (about 3 degrees), for the same reason as [`CONTACT_DISTANCE`].
+pub const CONTACT_ANGLE: f64 = 0.05;
+
+/// Largest distance (m) of a robot surface's vertex outside its environment surface's polygon.
+/// Default 5 mm, for the same reason as [`CONTACT_DISTANCE`].
+pub const CONTACT_OUTSIDE: f64 = 5e-3;
+
+/// Largest speed (m/s) of a landing link's frame when its contact is made: "arrives at zero
+/// velocity" in practice. Default 1 mm/s: a tracking residual of the IK (the references
+/// themselves land at rest), far below any impact that matters for a humanoid.
+pub const LANDING_SPEED: f64 = 1e-3;
+
+/// Largest angular speed (rad/s) of a landing link's frame when its contact is made. Default
+/// 0.01 rad/s, for the same reason as [`LANDING_SPEED`].
+pub const LANDING_ANGULAR_SPEED: f64 = 1e-2;
+
+/// Weight of the base coordinates against the joints' in the standing-posture search
+/// (dimensionless). Default 1e-3: the base moves freely to satisfy the contacts while the joints
+/// stay close to the nominal posture.
+pub const STAND_BASE_WEIGHT: f64 = 1e-3;
+
+/// Damping of the standing-posture steps (dimensionless). Default 1e-10: keeps the step defined
+/// at a singular configuration without biasing a regular one.
+pub const STAND_DAMPING: f64 = 1e-10;
+
+/// Convergence of the standing-posture search (m or rad). Default 1e-10: contacts exactly on their
+/// surfaces to far below the contact tolerances.
+pub const STAND_RESIDUAL: f64 = 1e-10;
+
+/// Largest step of the standing-posture search (rad or m per coordinate). Default 0.2.
+pub const STAND_MAX_STEP: f64 = 0.2;
+
+/// Iterations of the standing-posture search. Default 200 (it converges in 10 to 30 from the
+/// nominal posture on the built-in robots).
+pub const STAND_MAX_ITERATIONS: usize = 200;
+
+/// Largest number of retiming grid intervals per segment of a motion. Default 10 000 (the paper
+/// uses 100); beyond it the IK's cost, not the answer, grows.
+pub const MAX_MOTION_GRID: usize = 10_000;
+
+/// Largest number of IK steps per retiming grid interval. Default 100.
+pub const MAX_IK_SUBSTEPS: usize = 100;
+
+/// Smallest output time step of a motion (s). Default 1e-4 (10 kHz; a 20 s motion then has
+/// 200 000 samples).
+pub const MIN_MOTION_DT: f64 = 1e-4;
+
+/// Shortest move (path units). Default 1e-3: the IK gains are per unit of path (10 by default),
+/// so a shorter move asks for accelerations the IK cannot follow.
+pub const MIN_MOVE_DURATION: f64 = 1e-3;
+
+/// Longest move (path units). Default 1e4.
+pub const MAX_MOVE_DURATION: f64 = 1e4;
+
+/// Rounds of the refinement between grid points of a motion's retiming (IK samples where the
+/// rows do not hold become grid points, and the motion is solved again). Default 8: each round
+/// adds only the violating samples; the built-in motions converge in 2 to 4.
+pub const MAX_REFINE_ROUNDS: usize = 8;
+
+/// A contact force below this fraction of the gravito-inertial force `|f_GI|` is zero in the
+/// force check's friction usage (dimensionless). Default 1e-6: the supporting-forces QP meets its
+/// equations to about 1e-9 relative; an unloaded contact's residual tangential force is
+/// round-off, not friction.
+pub const ZERO_FORCE: f64 = 1e-6;

@@ -452,7 +452,7 @@ where
 
 /// The rotation vector of `target R^T` (world axes): the angular error to `target`.
 fn rotation_error(target: &nalgebra::Matrix3<f64>, r: &nalgebra::Matrix3<f64>) -> Vector3<f64> {
-    nalgebra::Rotation3::from_matrix_unchecked(target * r.transpose()).scaled_axis()
+    crate::spatial::rotation_log(&(target * r.transpose()))
 }
 
 /// Adds `w |J x - r|^2` to `x^T P x / 2 + c^T x`, in place.

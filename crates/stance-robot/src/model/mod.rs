@@ -115,6 +115,9 @@ pub enum FrameKind {
     FixedJoint,
     /// A URDF link's frame.
     Body,
+    /// A frame added by the user ([`Model::add_frame`]), e.g. a contact surface on a link
+    /// (Pinocchio's operational frame).
+    Operational,
 }
 
 /// A named frame rigidly attached to a joint.
@@ -180,6 +183,48 @@ pub struct Model {
 }
 
 impl Model {
+    /// Adds an operational frame `name` rigidly attached to the frame `parent` at
+    /// `parent_from_frame`, and returns its index.
+    ///
+    /// # Errors
+    ///
+    /// [`crate::RobotError::InvalidOption`] when a frame of that name exists or `parent` is not a
+    /// frame index.
+    ///
+    /// ```
+    /// use stance_robot::{Model, Pose};
+    /// let mut m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+    /// let sole = m.frame_id("r_sole").unwrap();
+    /// let toe = m.add_frame("r_toe", sole, Pose::from_xyz_rpy([0.11, 0.0, 0.0], [0.0; 3])).unwrap();
+    /// assert_eq!(m.frame_id("r_toe").unwrap(), toe);
+    /// assert!(m.add_frame("r_toe", sole, Pose::identity()).is_err());
+    /// ```
+    pub fn add_frame(
+        &mut self,
+        name: &str,
+        parent: usize,
+        parent_from_frame: Pose,
+    ) -> Result<usize, crate::RobotError> {
+        if self.frames.iter().any(|f| f.name == name) {
+            return Err(crate::RobotError::InvalidOption {
+                name: "frame name",
+                reason: format!("a frame named '{name}' exists already; choose another name"),
+            });
+        }
+        let p = self
+            .frames
+            .get(parent)
+            .ok_or_else(|| crate::RobotError::UnknownFrame(format!("#{parent}")))?;
+        let frame = Frame {
+            name: name.to_string(),
+            kind: FrameKind::Operational,
+            parent_joint: p.parent_joint,
+            joint_from_frame: p.joint_from_frame.compose(&parent_from_frame),
+        };
+        self.frames.push(frame);
+        Ok(self.frames.len() - 1)
+    }
+
     /// Index of the frame called `name` (the first one if a link and a joint share the name).
     ///
     /// ```

@@ -1,0 +1,501 @@
+//! Stage 4, retiming: the segments' rows on one grid, solved as one problem (chained) or segment
+//! by segment from rest to rest (the paper's way).
+//!
+//! # Math
+//!
+//! The segments' path parameters are laid end to end: segment `k` covers `[S_k, S_k+1]` of the
+//! global parameter `s`, and the IK made `q_s` continuous across boundaries (each segment starts
+//! from the state where the previous one ended), so `q_s^A s'_A = q_s^B s'_B` holds with one
+//! `s'` on both sides: the physical joint velocity is continuous. At a boundary grid point the
+//! rows of both segments apply (the stance before and the stance after must both hold the
+//! motion at the switching instant; the path accelerations `p_ss`, `l2` may differ on the two
+//! sides). Each row may be tightened by a margin, `a u + b x + c + margin m |g| <= 0`.
+//!
+//! **No impacts.** Where a contact is made, the landing surface's velocity is `J q_s s'`; the
+//! references bring it to rest ([`super::references`]), but tracking leaves a residual `J q_s`,
+//! so the retiming bounds the speed there: `x <= (v_max / |J_lin q_s|)^2` and
+//! `x <= (w_max / |J_ang q_s|)^2` with [`crate::tol::LANDING_SPEED`] and
+//! [`crate::tol::LANDING_ANGULAR_SPEED`]. A path that does not bring the link to rest thus
+//! makes the retiming stop there.
+//!
+//! **Chained**: one reachability problem over the whole grid from rest to rest, so the
+//! controllable sets propagate back through every segment: a segment that needs a minimum speed
+//! gets it from its neighbours, and a slow later segment constrains earlier ones.
+//! **Rest to rest**: each segment separately, `s' = 0` at both of its ends.
+//!
+//! Per-segment `T_TOPP` of a chained solve is measured by solving each segment again with the
+//! boundary speeds of the chained profile; by the principle of optimality its duration matches
+//! the chained profile's on that segment (the difference is recorded as a consistency check).
+
+use std::time::{Duration, Instant};
+
+use stance_topp::{
+    solve_with, CanonicalConstraints, Discretization, Profile, Row, Solution, SolveOptions, Status,
+    Workspace,
+};
+
+use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
+use super::plan::MotionPlan;
+use super::rows::{eq14_of, SegmentRows};
+use super::spec::DiscretizationName;
+use crate::StanceError;
+
+/// How the segments are retimed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RetimingMode {
+    /// The whole motion as one problem.
+    Chained,
+    /// Each segment from rest to rest.
+    RestToRest,
+}
+
+/// A speed bound at a landing.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LandingBound {
+    /// Index of the segment that starts with the new contact.
+    pub segment: usize,
+    /// The landing robot surface.
+    pub surface: String,
+    /// `|J_lin q_s|` of its frame at the boundary (m per unit path).
+    pub path_speed: f64,
+    /// `|J_ang q_s|` (rad per unit path).
+    pub path_angular_speed: f64,
+    /// The bound on the path speed `s'` there (`null` for none).
+    pub max_sd: Option<f64>,
+}
+
+/// Per segment: its profile's duration and its own solve time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentSolve {
+    /// Duration of the segment in the motion's profile (s).
+    pub duration: f64,
+    /// `s'` at its start and end.
+    pub sd: [f64; 2],
+    /// Time of its solve (rest to rest), or of its re-solve with the chained boundary speeds.
+    pub t_topp: Duration,
+    /// Relative difference of the re-solve's duration from the chained profile's (0 rest to
+    /// rest).
+    pub resolve_mismatch: f64,
+}
+
+/// Why the motion cannot be retimed, located.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RetimeFailure {
+    /// The solver's status name.
+    pub status: &'static str,
+    /// Segment index (0-based).
+    pub segment: usize,
+    /// Grid point within the segment.
+    pub grid_point: usize,
+    /// Global path parameter there.
+    pub s: f64,
+    /// What it means.
+    pub reason: String,
+}
+
+/// The retimed motion.
+#[derive(Debug, Clone)]
+pub struct Retimed {
+    /// Mode.
+    pub mode: RetimingMode,
+    /// The whole motion's constraints (global grid).
+    pub constraints: CanonicalConstraints,
+    /// Global grid index of each segment's first point, and the last point's index at the end.
+    pub seg_start: Vec<usize>,
+    /// Global path parameter of each segment's start, and the end.
+    pub s_offset: Vec<f64>,
+    /// The profile, when the motion could be retimed.
+    pub profile: Option<Profile>,
+    /// The failure, when it could not.
+    pub failure: Option<RetimeFailure>,
+    /// Per segment.
+    pub segments: Vec<SegmentSolve>,
+    /// Speed bounds at landings.
+    pub landings: Vec<LandingBound>,
+    /// Time of the whole-motion solve (chained), or the sum of the segments' (rest to rest).
+    pub t_topp: Duration,
+    /// Time to lay out the global rows (part of `T_abc`).
+    pub t_assemble: Duration,
+    /// What the refinement between grid points did.
+    pub refinement: Refinement,
+}
+
+fn discretization(d: DiscretizationName) -> Discretization {
+    match d {
+        DiscretizationName::Collocation => Discretization::Collocation,
+        DiscretizationName::Interpolation => Discretization::Interpolation,
+    }
+}
+
+fn with_margin(rows: &[Row], margin: f64) -> impl Iterator<Item = Row> + '_ {
+    rows.iter().map(move |r| Row {
+        a: r.a,
+        b: r.b,
+        c: r.c + margin,
+    })
+}
+
+fn reason(status: &Status) -> String {
+    match status {
+        Status::FeasibleSetEmpty { .. } => "no path speed and acceleration keep the contacts \
+            stable there: the gravito-inertial wrench leaves the GIWC whatever the timing (move \
+            the CoM or the contacts)"
+            .into(),
+        Status::ControllableSetEmpty { .. } => "from there no admissible speed profile reaches \
+            the end of the motion: a later part needs a speed that cannot be reached or kept \
+            (or, rest to rest, a segment that is not quasi-statically stable)"
+            .into(),
+        Status::StartOutsideControllable { .. } => {
+            "the motion cannot start from rest: the initial posture is not statically stable".into()
+        }
+        Status::ForwardPassFailed { .. } => {
+            "the forward pass found no admissible acceleration (round-off)".into()
+        }
+        Status::Stalled { .. } => "the only admissible speed there is zero on a whole interval \
+            (a landing whose link does not come to rest, next to a part that is not statically \
+            stable)"
+            .into(),
+        Status::Optimal => String::new(),
+    }
+}
+
+/// The global layout: constraints, segment starts on the grid, landing bounds.
+struct Layout {
+    constraints: CanonicalConstraints,
+    seg_start: Vec<usize>,
+    s_offset: Vec<f64>,
+}
+
+/// Lays out the segments' rows on the global grid (module doc), with `x` bounded above by
+/// `x_max[k]` at the boundary before segment `k` (chained) or zero there (rest to rest).
+fn layout(
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    margin: f64,
+    boundary_x_max: &[f64],
+) -> Result<Layout, StanceError> {
+    let nseg = paths.len();
+    let mut s = Vec::new();
+    let mut offsets = vec![0];
+    let mut all = Vec::new();
+    let mut x_bounds = Vec::new();
+    let mut seg_start = Vec::with_capacity(nseg + 1);
+    let mut s_offset = vec![0.0];
+    for k in 0..nseg {
+        let (path, r) = (&paths[k], &rows[k]);
+        let off = s_offset[k];
+        let first = usize::from(k > 0);
+        seg_start.push(s.len() - first);
+        let last = r.grid.len() - 1;
+        for i in first..=last {
+            s.push(off + path.samples[r.grid[i]].s);
+            all.extend(with_margin(r.rows_at(i), margin));
+            let mut bound = [0.0, f64::INFINITY];
+            if i == last && k + 1 < nseg {
+                all.extend(with_margin(rows[k + 1].rows_at(0), margin));
+                bound[1] = boundary_x_max[k + 1];
+            }
+            x_bounds.push(bound);
+            offsets.push(all.len());
+        }
+        s_offset.push(off + path.samples[r.grid[last]].s);
+    }
+    seg_start.push(s.len() - 1);
+    let constraints = CanonicalConstraints::new(s, offsets, all)?.with_x_bounds(x_bounds)?;
+    Ok(Layout {
+        constraints,
+        seg_start,
+        s_offset,
+    })
+}
+
+/// The constraints of segment `k` alone (its boundary points free; the caller sets the speeds).
+fn segment_constraints(l: &Layout, k: usize) -> Result<CanonicalConstraints, StanceError> {
+    let (a, b) = (l.seg_start[k], l.seg_start[k + 1]);
+    let c = &l.constraints;
+    let grid = c.grid()[a..=b].to_vec();
+    let mut offsets = vec![0];
+    let mut rows = Vec::new();
+    let mut xb = Vec::new();
+    for i in a..=b {
+        rows.extend_from_slice(c.rows_at(i));
+        offsets.push(rows.len());
+        xb.push(if i == a || i == b {
+            [0.0, f64::INFINITY]
+        } else {
+            c.x_bounds_at(i)
+        });
+    }
+    Ok(CanonicalConstraints::new(grid, offsets, rows)?.with_x_bounds(xb)?)
+}
+
+/// One solve of the layout: the profile or the located failure, and the per-segment solves
+/// (rest to rest).
+fn solve_layout(
+    l: &Layout,
+    mode: RetimingMode,
+    opts: &SolveOptions,
+    ws: &mut Workspace,
+    segments: &mut Vec<SegmentSolve>,
+) -> Result<(Option<Profile>, Option<RetimeFailure>, Duration), StanceError> {
+    let nseg = l.seg_start.len() - 1;
+    let locate = |status: &Status, global: usize| {
+        let seg = (0..nseg)
+            .rev()
+            .find(|&k| l.seg_start[k] <= global)
+            .unwrap_or(0);
+        RetimeFailure {
+            status: status.name(),
+            segment: seg,
+            grid_point: global - l.seg_start[seg],
+            s: l.constraints.grid()[global.min(l.constraints.num_points() - 1)],
+            reason: reason(status),
+        }
+    };
+    segments.clear();
+    match mode {
+        RetimingMode::Chained => {
+            let t1 = Instant::now();
+            let sol: Solution = solve_with(&l.constraints, opts, ws)?;
+            let t = t1.elapsed();
+            match (&sol.status, sol.profile) {
+                (Status::Optimal, Some(p)) => Ok((Some(p), None, t)),
+                (status, _) => Ok((
+                    None,
+                    Some(locate(status, status.grid_index().unwrap_or(0))),
+                    t,
+                )),
+            }
+        }
+        RetimingMode::RestToRest => {
+            let (mut s_all, mut x_all, mut u_all) = (Vec::new(), Vec::new(), Vec::new());
+            let mut total = Duration::ZERO;
+            for k in 0..nseg {
+                let kk = segment_constraints(l, k)?;
+                let t2 = Instant::now();
+                let sol = solve_with(&kk, opts, ws)?;
+                let t = t2.elapsed();
+                total += t;
+                match (&sol.status, &sol.profile) {
+                    (Status::Optimal, Some(p)) => {
+                        let skip = usize::from(k > 0);
+                        s_all.extend_from_slice(&p.grid()[skip..]);
+                        x_all.extend_from_slice(&p.x()[skip..]);
+                        u_all.extend_from_slice(p.u());
+                        segments.push(SegmentSolve {
+                            duration: p.duration(),
+                            sd: [0.0, 0.0],
+                            t_topp: t,
+                            resolve_mismatch: 0.0,
+                        });
+                    }
+                    (status, _) => {
+                        let local = status.grid_index().unwrap_or(0);
+                        return Ok((None, Some(locate(status, l.seg_start[k] + local)), total));
+                    }
+                }
+            }
+            Ok((
+                Some(Profile::from_states(s_all, x_all, u_all)?),
+                None,
+                total,
+            ))
+        }
+    }
+}
+
+/// Lays out the segments' rows on the global grid, solves, refines the grid where the rows are
+/// violated at IK samples between grid points, and measures per-segment solves.
+pub fn retime(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &mut [SegmentRows],
+    mode: RetimingMode,
+    ik_ws: &mut IkStageWorkspace,
+) -> Result<Retimed, StanceError> {
+    let t0 = Instant::now();
+    let nseg = paths.len();
+    let mass = plan.robot.model.total_mass();
+    let weight = mass * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    let margin = plan.spec.planning.margin * weight;
+    // speed bounds at the boundaries: landings (chained) or rest (rest to rest)
+    let mut boundary_x_max = vec![f64::INFINITY; nseg];
+    let mut landings = Vec::new();
+    for k in 1..nseg {
+        if mode == RetimingMode::RestToRest {
+            boundary_x_max[k] = 0.0;
+            continue;
+        }
+        let end = &paths[k - 1].samples[paths[k - 1].samples.len() - 1];
+        for c in &paths[k].contacts {
+            if plan.segments[k - 1]
+                .stance
+                .iter()
+                .any(|&(x, _)| x == c.surface)
+            {
+                continue;
+            }
+            let frame = plan.robot.surfaces[c.surface].frame;
+            let (v, w) = frame_path_velocity(plan, ik_ws, &end.q, &end.q_s, frame)?;
+            let mut x_max = f64::INFINITY;
+            if v.norm() > 0.0 {
+                x_max = x_max.min((crate::tol::LANDING_SPEED / v.norm()).powi(2));
+            }
+            if w.norm() > 0.0 {
+                x_max = x_max.min((crate::tol::LANDING_ANGULAR_SPEED / w.norm()).powi(2));
+            }
+            boundary_x_max[k] = boundary_x_max[k].min(x_max);
+            landings.push(LandingBound {
+                segment: k,
+                surface: plan.robot.surfaces[c.surface].name.clone(),
+                path_speed: v.norm(),
+                path_angular_speed: w.norm(),
+                max_sd: x_max.is_finite().then(|| x_max.sqrt()),
+            });
+        }
+    }
+    let opts = SolveOptions::new(discretization(plan.spec.retiming.discretization));
+    let mut ws = Workspace::new();
+    let mut segments = Vec::with_capacity(nseg);
+    let mut refine = Refinement::default();
+    let t_layout = Instant::now();
+    let mut l = layout(paths, rows, margin, &boundary_x_max)?;
+    let mut t_assemble = t_layout.elapsed();
+    let (mut profile, mut failure, mut t_topp) =
+        solve_layout(&l, mode, &opts, &mut ws, &mut segments)?;
+    // refinement: IK samples where the rows do not hold (with half the margin) become grid points
+    while let (Some(p), true) = (&profile, refine.rounds < crate::tol::MAX_REFINE_ROUNDS) {
+        let t_r = Instant::now();
+        let values = sample_row_values(plan, paths, rows, &l.s_offset, p);
+        let mut added = 0;
+        for k in 0..nseg {
+            let bad: Vec<usize> = values[k]
+                .iter()
+                .enumerate()
+                .filter(|&(j, &v)| v > -0.5 * margin && rows[k].grid.binary_search(&j).is_err())
+                .map(|(j, _)| j)
+                .collect();
+            if bad.is_empty() {
+                continue;
+            }
+            added += bad.len();
+            let mut grid = rows[k].grid.clone();
+            grid.extend(bad);
+            grid.sort_unstable();
+            rows[k].set_grid(plan, &paths[k], grid)?;
+        }
+        if added == 0 {
+            break;
+        }
+        refine.rounds += 1;
+        refine.points_added += added;
+        let t_lay = Instant::now();
+        l = layout(paths, rows, margin, &boundary_x_max)?;
+        t_assemble = t_lay.elapsed();
+        (profile, failure, t_topp) = solve_layout(&l, mode, &opts, &mut ws, &mut segments)?;
+        refine.elapsed += t_r.elapsed();
+    }
+    // per-segment re-solves of a chained profile, for their T_TOPP
+    if let (RetimingMode::Chained, Some(p)) = (mode, &profile) {
+        let sd = p.sd();
+        for k in 0..nseg {
+            let (a, b) = (l.seg_start[k], l.seg_start[k + 1]);
+            let duration = p.times()[b] - p.times()[a];
+            let kk = segment_constraints(&l, k)?;
+            let o = opts.with_start(sd[a]).with_end(sd[b]);
+            let t2 = Instant::now();
+            let again = solve_with(&kk, &o, &mut ws)?;
+            let t = t2.elapsed();
+            let d = again.duration().unwrap_or(f64::INFINITY);
+            segments.push(SegmentSolve {
+                duration,
+                sd: [sd[a], sd[b]],
+                t_topp: t,
+                resolve_mismatch: (d - duration).abs() / duration.max(f64::MIN_POSITIVE),
+            });
+        }
+    }
+    let _ = t0;
+    Ok(Retimed {
+        mode,
+        constraints: l.constraints,
+        seg_start: l.seg_start,
+        s_offset: l.s_offset,
+        profile,
+        failure,
+        segments,
+        landings,
+        t_topp,
+        t_assemble,
+        refinement: refine,
+    })
+}
+
+/// What the refinement between grid points did.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct Refinement {
+    /// Rounds of refine-and-solve.
+    pub rounds: usize,
+    /// IK samples added to the grid.
+    pub points_added: usize,
+    /// Wall time of the rounds.
+    #[serde(skip)]
+    pub elapsed: Duration,
+}
+
+/// The largest row value (N, no margin) at every IK sample of every segment under the profile,
+/// over its two limits (module doc of [`super::checks`]).
+pub fn sample_row_values(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    s_offset: &[f64],
+    profile: &Profile,
+) -> Vec<Vec<f64>> {
+    let grid = profile.grid();
+    let (x, u) = (profile.x(), profile.u());
+    let mass = plan.robot.model.total_mass();
+    let interval = |s: f64, left: bool| {
+        // the grid interval traversed just after (right limit) or just before (left limit) s
+        let p = if left {
+            grid.partition_point(|&g| g < s)
+        } else {
+            grid.partition_point(|&g| g <= s)
+        };
+        p.saturating_sub(1).min(u.len() - 1)
+    };
+    paths
+        .iter()
+        .enumerate()
+        .map(|(k, path)| {
+            let n = path.samples.len();
+            path.samples
+                .iter()
+                .enumerate()
+                .map(|(j, smp)| {
+                    let s = s_offset[k] + smp.s;
+                    let mut worst = f64::NEG_INFINITY;
+                    for left in [false, true] {
+                        if (!left && j + 1 == n) || (left && j == 0) {
+                            continue;
+                        }
+                        let i = interval(s, left);
+                        let ui = u[i];
+                        let xs = (x[i] + 2.0 * ui * (s - grid[i])).max(0.0);
+                        let [wa, wb, wc] = eq14_of(smp, left, mass, plan.gravity);
+                        let mut w = [0.0; 6];
+                        for r in 0..6 {
+                            w[r] = wc[r] + wa[r] * ui + wb[r] * xs;
+                        }
+                        for row in &rows[k].u {
+                            let v: f64 = row.iter().zip(&w).map(|(a, b)| a * b).sum();
+                            worst = worst.max(v);
+                        }
+                    }
+                    worst
+                })
+                .collect()
+        })
+        .collect()
+}

@@ -1,0 +1,31 @@
+//! Built-in motions, by name: the paper's experiments on JVRC-1 (`stair-climbing`,
+//! `box-climbing`) and a small test motion on the project's small humanoid (`small-sway`). Their
+//! motion files are in the crate's `motions/` folder (documented there, copied by users as
+//! templates).
+
+use super::spec::MotionSpec;
+use crate::StanceError;
+
+/// The names of the built-in motions.
+pub const NAMES: [&str; 1] = ["small-sway"];
+
+fn text(name: &str) -> Option<&'static str> {
+    match name {
+        "small-sway" => Some(include_str!("../../motions/small-sway.toml")),
+        _ => None,
+    }
+}
+
+/// A built-in motion by name, or an error listing the names.
+///
+/// ```
+/// assert!(stance::motion::experiments::by_name("small-sway").is_ok());
+/// assert!(stance::motion::experiments::by_name("moonwalk").is_err());
+/// ```
+pub fn by_name(name: &str) -> Result<MotionSpec, StanceError> {
+    let t = text(name).ok_or_else(|| StanceError::UnknownExample {
+        name: name.into(),
+        known: NAMES.join(", "),
+    })?;
+    toml::from_str(t).map_err(|e| StanceError::BadMotion(format!("built-in motion {name}: {e}")))
+}

@@ -1,0 +1,453 @@
+//! Stage 2, whole-body path: per segment, the contacts are read off the configuration at its
+//! start and checked against their environment surfaces, the task references are built from the
+//! moves ([`super::references`]), and the acceleration-level IK ([`stance_robot::ik`]) is
+//! integrated along the segment's grid into `q(s), q_s, q_ss` with the path terms
+//! `p, p_s, p_ss, l1, l2` of eq. 14 at every IK sample (MATH.md section 6).
+//!
+//! The IK holds the stance's contact frames at their placements at the segment's start
+//! (velocity damping and pose correction with the contact gain), tracks the CoM and the free
+//! links with the segment's gain and weights, the nominal posture with a small weight, and keeps
+//! the joints within the paper's damper bounds (`K_s = K_ss = 10`, ranges shrunk to
+//! `ik.joint_range`). A segment starts from the state `(q, q_s)` where the previous one ended, so
+//! that `q_s` (the joint velocity per unit path speed) is continuous across segments.
+
+use std::time::{Duration, Instant};
+
+use nalgebra::{Matrix6xX, Vector3};
+use stance_robot::{
+    center_of_mass, forward_kinematics, frame_jacobian, frame_placement, integrate,
+    path_terms_from_data, ContactHold, Data, IkAnswerFrom, IkOptions, IkStatus, IkTasks,
+    IkWorkspace, JointBounds, PathTerms, Pose, ReferenceFrame,
+};
+
+use super::environment::{polygon_of, OnSurface};
+use super::plan::{LinkGoal, MotionPlan};
+use super::references::{ComReference, LinkLeg, LinkPlan, SegmentReferences};
+use super::spec::ComTarget;
+use crate::StanceError;
+
+/// One IK sample of a segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkSample {
+    /// Segment-local path parameter.
+    pub s: f64,
+    /// Configuration.
+    pub q: Vec<f64>,
+    /// `dq/ds` (velocity space).
+    pub q_s: Vec<f64>,
+    /// `d^2q/ds^2` (velocity space; constant until the next sample).
+    pub q_ss: Vec<f64>,
+    /// Path terms of eq. 14 at this sample, on the step that starts here (with this sample's
+    /// `q_ss`: the right limit).
+    pub terms: PathTerms,
+    /// The same on the step that ends here (with the previous sample's `q_ss`: the left limit;
+    /// equal to `terms` at a segment's first sample). The joint path's `q_ss` is constant on
+    /// each step, so `p_ss` and `l2` jump at the samples, and the retiming enforces both
+    /// limits.
+    pub terms_left: PathTerms,
+}
+
+/// A contact of a segment as read off the robot at its start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlacedContact {
+    /// Robot surface index.
+    pub surface: usize,
+    /// Environment surface index.
+    pub environment: usize,
+    /// `world_from_surface`, the contact frame of the GIWC: the robot surface's placement at
+    /// the segment's start snapped onto the environment surface
+    /// ([`super::environment::EnvSurface::snap`]), or the target of the move that landed it
+    /// when the robot is within the contact tolerances of it; the IK holds the contact there.
+    pub pose: Pose,
+    /// How well it lies on its environment surface.
+    pub on_surface: OnSurface,
+}
+
+/// The whole-body path of one segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentPath {
+    /// The contacts.
+    pub contacts: Vec<PlacedContact>,
+    /// The references tracked.
+    pub references: SegmentReferences,
+    /// IK samples (all of them when the IK succeeded; up to the failing step otherwise).
+    pub samples: Vec<IkSample>,
+    /// `None` when every step solved, else the failing step and its status.
+    pub failure: Option<(usize, IkStatus)>,
+    /// Largest distance of the CoM from its reference at the samples (m).
+    pub max_com_error: f64,
+    /// Largest displacement of a contact frame from its placement (m).
+    pub max_contact_drift: f64,
+    /// Largest rotation of a contact frame from its placement (rad).
+    pub max_contact_rotation: f64,
+    /// Largest joint-limit violation at the samples (rad or m; 0 within the limits).
+    pub max_joint_violation: f64,
+    /// Steps answered by the Clarabel fallback rather than the dense solver.
+    pub fallbacks: usize,
+    /// Wall time of the IK (the paper's `T_IK`).
+    pub elapsed: Duration,
+}
+
+/// Reusable buffers of the IK stage.
+#[derive(Debug, Clone)]
+pub struct IkStageWorkspace {
+    ik: IkWorkspace,
+    data: Data,
+    jac: Matrix6xX<f64>,
+}
+
+impl IkStageWorkspace {
+    /// Buffers for the plan's robot.
+    ///
+    /// ```
+    /// # use stance::motion::{experiments, plan::MotionPlan, ik_stage::IkStageWorkspace};
+    /// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+    /// let ws = IkStageWorkspace::new(&plan);
+    /// # let _ = ws;
+    /// ```
+    pub fn new(plan: &MotionPlan) -> Self {
+        let m = &plan.robot.model;
+        Self {
+            ik: IkWorkspace::new(m),
+            data: Data::new(m),
+            jac: Matrix6xX::zeros(m.nv),
+        }
+    }
+}
+
+/// The linear and angular path velocity `J q_s` of a frame (world axes, at its origin).
+///
+/// ```
+/// # use stance::motion::{experiments, plan::MotionPlan, ik_stage::{frame_path_velocity, IkStageWorkspace}};
+/// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+/// let mut ws = IkStageWorkspace::new(&plan);
+/// let m = &plan.robot.model;
+/// let (v, w) = frame_path_velocity(&plan, &mut ws, &plan.q0, &vec![0.0; m.nv], 1).unwrap();
+/// assert_eq!((v.norm(), w.norm()), (0.0, 0.0));
+/// ```
+pub fn frame_path_velocity(
+    plan: &MotionPlan,
+    ws: &mut IkStageWorkspace,
+    q: &[f64],
+    q_s: &[f64],
+    frame: usize,
+) -> Result<(Vector3<f64>, Vector3<f64>), StanceError> {
+    let m = &plan.robot.model;
+    forward_kinematics(m, &mut ws.data, q).map_err(StanceError::Robot)?;
+    frame_jacobian(
+        m,
+        &ws.data,
+        frame,
+        ReferenceFrame::LocalWorldAligned,
+        &mut ws.jac,
+    )
+    .map_err(StanceError::Robot)?;
+    let mut out = [0.0; 6];
+    for (r, o) in out.iter_mut().enumerate() {
+        *o = (0..m.nv).map(|k| ws.jac[(r, k)] * q_s[k]).sum();
+    }
+    Ok((
+        Vector3::new(out[0], out[1], out[2]),
+        Vector3::new(out[3], out[4], out[5]),
+    ))
+}
+
+/// The placement of a contact of segment `k` from the robot surface's placement `actual`: the
+/// placement it had in the previous segment when it was a contact there already (a contact does
+/// not move while it is held); else the target of the previous segment's `onto` move of that
+/// surface onto that environment surface when the robot is within the contact tolerances of it
+/// (the intended geometry: two feet landed parallel stay parallel); else `actual` snapped onto
+/// the surface.
+fn contact_pose(
+    plan: &MotionPlan,
+    k: usize,
+    previous: &[PlacedContact],
+    surface: usize,
+    env: usize,
+    actual: &Pose,
+) -> Pose {
+    if let Some(c) = previous
+        .iter()
+        .find(|c| c.surface == surface && c.environment == env)
+    {
+        return c.pose;
+    }
+    let landed = k.checked_sub(1).and_then(|prev| {
+        plan.segments[prev]
+            .moves
+            .iter()
+            .flat_map(|m| &m.links)
+            .rfind(|l| l.surface == surface)
+            .and_then(|l| match l.goal {
+                LinkGoal::Onto { surface: e, pose } if e == env => Some(pose),
+                _ => None,
+            })
+    });
+    if let Some(target) = landed {
+        let dp = (target.translation - actual.translation).norm();
+        let dr =
+            stance_robot::spatial::rotation_log(&(target.rotation * actual.rotation.transpose()))
+                .norm();
+        if dp <= crate::tol::CONTACT_DISTANCE && dr <= crate::tol::CONTACT_ANGLE {
+            return target;
+        }
+    }
+    plan.environment[env].snap(actual)
+}
+
+/// The CoM reference of the whole motion: via-points from the CoM of the initial posture and
+/// the moves' targets, at the moves' boundaries ([`super::references`]).
+///
+/// ```
+/// # use stance::motion::{experiments, plan::MotionPlan, ik_stage::com_reference};
+/// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+/// let c = com_reference(&plan).unwrap();
+/// assert_eq!(c.points.len(), 1 + plan.segments.iter().map(|s| s.moves.len()).sum::<usize>());
+/// ```
+pub fn com_reference(plan: &MotionPlan) -> Result<ComReference, StanceError> {
+    let m = &plan.robot.model;
+    let c0 = center_of_mass(m, &mut Data::new(m), &plan.q0).map_err(StanceError::Robot)?;
+    let mut knots = vec![0.0];
+    let mut points = vec![c0];
+    for seg in &plan.segments {
+        for mv in &seg.moves {
+            let last = points[points.len() - 1];
+            points.push(match &mv.com {
+                None => last,
+                Some(ComTarget::By(v)) => last + Vector3::from(*v),
+                Some(ComTarget::To(v)) => Vector3::from(*v),
+            });
+            knots.push(knots[knots.len() - 1] + mv.duration);
+        }
+    }
+    Ok(ComReference {
+        knots,
+        points,
+        blend: plan.spec.ik.com_blend,
+    })
+}
+
+/// The IK of segment `k` (starting at the global path parameter `s_offset`) from `(q, q_s)`, on
+/// `n` steps. `previous` are the contacts of the segment before (a surface that stays in
+/// contact keeps its placement; one that leaves is held where it is until moved).
+///
+/// # Errors
+///
+/// [`StanceError::BadMotion`] when a contact of the stance is not on its environment surface at
+/// the segment's start (what to fix: the previous segment's moves).
+#[allow(clippy::too_many_arguments)]
+pub fn run_segment(
+    plan: &MotionPlan,
+    k: usize,
+    com: &ComReference,
+    s_offset: f64,
+    q: &[f64],
+    q_s: &[f64],
+    previous: &[PlacedContact],
+    n: usize,
+    ws: &mut IkStageWorkspace,
+) -> Result<SegmentPath, StanceError> {
+    let t0 = Instant::now();
+    let m = &plan.robot.model;
+    let seg = &plan.segments[k];
+    let what = format!("segment {} ({})", k + 1, seg.name);
+    forward_kinematics(m, &mut ws.data, q).map_err(StanceError::Robot)?;
+    let pose_of = |data: &Data, surface: usize| {
+        frame_placement(m, data, plan.robot.surfaces[surface].frame).map_err(StanceError::Robot)
+    };
+    // contacts, read off the configuration and checked against their surfaces
+    let mut contacts = Vec::new();
+    for &(r, e) in &seg.stance {
+        let pose = pose_of(&ws.data, r)?;
+        let surf = &plan.robot.surfaces[r];
+        let poly = polygon_of(&surf.shape, &surf.name, true)?;
+        let on = plan.environment[e].check(&pose, &poly);
+        if !on.holds() {
+            return Err(StanceError::BadMotion(format!(
+                "{what}: {:?} is not on {:?} at the segment's start ({:.1} mm from its plane, \
+                 normals {:.2} deg apart, {:.1} mm outside it; tolerances {} mm, {} deg, {} mm): \
+                 land it there in the previous segment (a move with onto = {:?})",
+                surf.name,
+                plan.environment[e].name,
+                on.distance * 1e3,
+                on.angle.to_degrees(),
+                on.outside * 1e3,
+                crate::tol::CONTACT_DISTANCE * 1e3,
+                crate::tol::CONTACT_ANGLE.to_degrees(),
+                crate::tol::CONTACT_OUTSIDE * 1e3,
+                plan.environment[e].name,
+            )));
+        }
+        contacts.push(PlacedContact {
+            surface: r,
+            environment: e,
+            pose: contact_pose(plan, k, previous, r, e, &pose),
+            on_surface: on,
+        });
+    }
+    // references
+    let mut knots = vec![0.0];
+    let mut links: Vec<LinkPlan> = Vec::new();
+    let in_stance = |r: usize| seg.stance.iter().any(|&(x, _)| x == r);
+    for r in previous
+        .iter()
+        .map(|c| c.surface)
+        .filter(|&r| !in_stance(r))
+    {
+        let start = pose_of(&ws.data, r)?;
+        links.push(LinkPlan {
+            surface: r,
+            frame: plan.robot.surfaces[r].frame,
+            start,
+            legs: Vec::new(),
+        });
+    }
+    for mv in &seg.moves {
+        let s0 = knots[knots.len() - 1];
+        let s1 = s0 + mv.duration;
+        knots.push(s1);
+        for lm in &mv.links {
+            let idx = match links.iter().position(|l| l.surface == lm.surface) {
+                Some(i) => i,
+                None => {
+                    let start = pose_of(&ws.data, lm.surface)?;
+                    links.push(LinkPlan {
+                        surface: lm.surface,
+                        frame: plan.robot.surfaces[lm.surface].frame,
+                        start,
+                        legs: Vec::new(),
+                    });
+                    links.len() - 1
+                }
+            };
+            let plan_l = &mut links[idx];
+            let from = plan_l.legs.last().map_or(plan_l.start, |l| l.to);
+            let to = match &lm.goal {
+                LinkGoal::By { offset, rotate } => Pose {
+                    rotation: from.rotation * rotate,
+                    translation: from.translation + offset,
+                },
+                LinkGoal::To { position, rotation } => Pose {
+                    rotation: rotation.unwrap_or(from.rotation),
+                    translation: *position,
+                },
+                LinkGoal::Onto { pose, .. } => *pose,
+            };
+            plan_l.legs.push(LinkLeg {
+                s: [s0, s1],
+                from,
+                to,
+            });
+        }
+    }
+    let references = SegmentReferences {
+        knots,
+        s_offset,
+        com: com.clone(),
+        links,
+    };
+    // the IK along the grid
+    let ik = &plan.spec.ik;
+    let options = IkOptions {
+        w_com: ik.w_com,
+        w_link: seg.w_link,
+        w_posture: ik.w_posture,
+        k_p: seg.gain,
+        k_d: seg.gain,
+        gamma: ik.contact_gain,
+        contact_k_p: ik.contact_gain,
+        joint_bounds: JointBounds::Damper {
+            k_s: 10.0,
+            k_ss: 10.0,
+            range: ik.joint_range,
+        },
+        ..Default::default()
+    };
+    let holds: Vec<ContactHold> = contacts
+        .iter()
+        .map(|c| ContactHold {
+            frame: plan.robot.surfaces[c.surface].frame,
+            target: Some(c.pose),
+        })
+        .collect();
+    let length = references.length();
+    let mut out = SegmentPath {
+        contacts,
+        references,
+        samples: Vec::with_capacity(n + 1),
+        failure: None,
+        max_com_error: 0.0,
+        max_contact_drift: 0.0,
+        max_contact_rotation: 0.0,
+        max_joint_violation: 0.0,
+        fallbacks: 0,
+        elapsed: Duration::ZERO,
+    };
+    let (mut q, mut q_s) = (q.to_vec(), q_s.to_vec());
+    let ds = length / n as f64;
+    let mut targets = Vec::new();
+    for i in 0..=n {
+        let s = if i == n { length } else { i as f64 * ds };
+        out.references.links_at(s, &mut targets);
+        let tasks = IkTasks {
+            contacts: &holds,
+            com: out.references.com_at(s),
+            links: &targets,
+            posture: Some(&plan.robot.posture),
+        };
+        let step = ws
+            .ik
+            .step(m, &mut ws.data, &q, &q_s, &tasks, ds, &options)
+            .map_err(StanceError::Robot)?;
+        // certificates at this sample (data holds the kinematics of q)
+        out.max_com_error = out.max_com_error.max((ws.data.com - tasks.com.p).norm());
+        for (h, c) in holds.iter().zip(&out.contacts) {
+            let x = frame_placement(m, &ws.data, h.frame).map_err(StanceError::Robot)?;
+            out.max_contact_drift = out
+                .max_contact_drift
+                .max((x.translation - c.pose.translation).norm());
+            let r = c.pose.rotation.transpose() * x.rotation;
+            let angle = ((r.trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos();
+            out.max_contact_rotation = out.max_contact_rotation.max(angle);
+        }
+        for j in &m.joints[2..] {
+            if j.dims() == (1, 1) {
+                let v = (j.lower - q[j.idx_q]).max(q[j.idx_q] - j.upper);
+                out.max_joint_violation = out.max_joint_violation.max(v);
+            }
+        }
+        if step.status != IkStatus::Solved {
+            out.failure = Some((i, step.status));
+            break;
+        }
+        if step.answer_from == IkAnswerFrom::Clarabel {
+            out.fallbacks += 1;
+        }
+        let terms = path_terms_from_data(&ws.data, &q_s, &step.q_ss);
+        let terms_left = match out.samples.last() {
+            Some(prev) => path_terms_from_data(&ws.data, &q_s, &prev.q_ss),
+            None => terms,
+        };
+        out.samples.push(IkSample {
+            s,
+            q: q.clone(),
+            q_s: q_s.clone(),
+            q_ss: step.q_ss.clone(),
+            terms,
+            terms_left,
+        });
+        if i < n {
+            let delta: Vec<f64> = q_s
+                .iter()
+                .zip(&step.q_ss)
+                .map(|(v, a)| v * ds + 0.5 * a * ds * ds)
+                .collect();
+            q = integrate(m, &q, &delta).map_err(StanceError::Robot)?;
+            for (v, a) in q_s.iter_mut().zip(&step.q_ss) {
+                *v += a * ds;
+            }
+        }
+    }
+    out.elapsed = t0.elapsed();
+    Ok(out)
+}

@@ -1,0 +1,353 @@
+//! Whole-body motions across stances (the paper's Section V on a humanoid): a robot moves
+//! through a sequence of stances; its whole-body trajectory is made by acceleration-level IK,
+//! retimed under contact stability with the angular momentum of the real body, chained across
+//! stance changes, and checked at every sample by an independent force check.
+//!
+//! # The pipeline, one module per stage
+//!
+//! 1. [`plan`]: the motion file ([`spec`]) is validated, names resolved, the robot loaded
+//!    ([`robot`]: its contact surfaces are operational frames of the model), the environment
+//!    built ([`environment`]) and the initial posture found ([`stand`]).
+//! 2. [`ik_stage`]: per segment, the contacts are read off the configuration at its start and
+//!    checked against their surfaces; the references ([`references`]) are tracked by the IK,
+//!    integrated into `q(s), q_s, q_ss` with the path terms `p, p_s, p_ss, l1, l2` (MATH.md
+//!    section 6: `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`).
+//! 3. [`rows`]: per segment, `U_stance` of its stance (planning friction and area scale) and
+//!    the rows of eq. 14 at its grid points.
+//! 4. [`chain`]: the rows laid end to end and retimed as one problem (or rest to rest per
+//!    segment), with landing speed bounds (no impacts).
+//! 5. [`trajectory`]: `q(t), v(t), a(t)` at the output time step.
+//! 6. [`checks`]: supporting forces from the model's centroidal dynamics at every sample,
+//!    contact drift, joint limits, the violation between grid points.
+//!
+//! Every stage is timed; the result ([`result::MotionResult`]) carries the paper's per-segment
+//! table. The paper's experiments are built in ([`experiments`]).
+//!
+//! ```
+//! use stance::motion::{experiments, run, RunOptions};
+//! let r = run(experiments::by_name("small-sway").unwrap(), &RunOptions::default()).unwrap();
+//! assert_eq!(r.status, stance::motion::result::MotionStatus::Optimal);
+//! assert_eq!(r.checks.unwrap().samples_without_forces, 0);
+//! ```
+
+pub mod chain;
+pub mod checks;
+pub mod environment;
+pub mod experiments;
+pub mod ik_stage;
+pub mod plan;
+pub mod references;
+pub mod result;
+pub mod robot;
+pub mod rows;
+pub mod spec;
+pub mod stand;
+pub mod trajectory;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use chain::{retime, RetimeFailure, RetimingMode};
+use ik_stage::{run_segment, IkStageWorkspace, SegmentPath};
+use plan::MotionPlan;
+use result::{
+    ChecksInfo, ContactInfo, MotionResult, MotionStatus, RobotInfo, SegmentInfo, Timings,
+    TrajectoryInfo,
+};
+use rows::{segment_rows, SegmentRows};
+use spec::MotionSpec;
+
+use crate::StanceError;
+
+/// Options of [`run`] beyond the motion file.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Folder of the motion file (relative URDF paths).
+    pub base_dir: Option<PathBuf>,
+    /// Skip the independent checks (they dominate the run time).
+    pub skip_checks: bool,
+    /// Time-scale the retimed trajectory before the checks (`k > 1` plays it `k` times faster;
+    /// for showing that the check has teeth). Default 1.
+    pub time_scale: Option<f64>,
+}
+
+/// Everything the pipeline computed, for callers that need more than the result (the tests,
+/// the simulator, the viewer).
+#[derive(Debug, Clone)]
+pub struct MotionRun {
+    /// The validated motion.
+    pub plan: MotionPlan,
+    /// Per segment: the whole-body path.
+    pub paths: Vec<SegmentPath>,
+    /// Per segment: `U_stance` and the rows.
+    pub rows: Vec<SegmentRows>,
+    /// The retiming.
+    pub retimed: Option<chain::Retimed>,
+    /// The trajectory samples.
+    pub samples: Vec<trajectory::TrajectorySample>,
+    /// The result.
+    pub result: MotionResult,
+}
+
+fn ms(d: std::time::Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+/// Runs a motion and returns its result (see [`run_full`]).
+pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, StanceError> {
+    run_full(spec, options).map(|r| r.result)
+}
+
+/// Runs the whole pipeline of the module doc.
+///
+/// # Errors
+///
+/// Bad input ([`StanceError`]): an invalid motion file, a contact that is not on its surface at
+/// the start of its segment. A motion whose IK fails or that cannot be retimed is a result with
+/// that status, not an error.
+pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
+    let t_start = Instant::now();
+    let plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
+    let t_plan = t_start.elapsed();
+    let m = &plan.robot.model;
+    let mode = if plan.spec.retiming.rest_to_rest {
+        RetimingMode::RestToRest
+    } else {
+        RetimingMode::Chained
+    };
+    let grid = plan.spec.retiming.grid;
+    let substeps = plan.spec.ik.substeps;
+    let mut ik_ws = IkStageWorkspace::new(&plan);
+    let mut paths: Vec<SegmentPath> = Vec::new();
+    let mut failure = None;
+    let (mut q, mut q_s) = (plan.q0.clone(), vec![0.0; m.nv]);
+    let mut previous: Vec<ik_stage::PlacedContact> = Vec::new();
+    let com = ik_stage::com_reference(&plan)?;
+    let mut s_offset = 0.0;
+    for k in 0..plan.segments.len() {
+        let path = run_segment(
+            &plan,
+            k,
+            &com,
+            s_offset,
+            &q,
+            &q_s,
+            &previous,
+            grid * substeps,
+            &mut ik_ws,
+        )?;
+        s_offset += path.references.length();
+        previous = path.contacts.clone();
+        if let Some((i, status)) = &path.failure {
+            failure = Some(RetimeFailure {
+                status: "ik_failed",
+                segment: k,
+                grid_point: i / substeps,
+                s: path.references.length() * *i as f64 / (grid * substeps) as f64,
+                reason: format!(
+                    "the IK stopped at step {i} of {}: {status:?} (a joint limit, or a via-point \
+                     out of reach)",
+                    grid * substeps
+                ),
+            });
+            paths.push(path);
+            break;
+        }
+        let last = &path.samples[path.samples.len() - 1];
+        q = last.q.clone();
+        q_s = last.q_s.clone();
+        paths.push(path);
+    }
+    let mut rows = Vec::new();
+    let mut retimed = None;
+    if failure.is_none() {
+        let mut cone_ws = polycone::Workspace::new();
+        for (k, path) in paths.iter().enumerate() {
+            rows.push(segment_rows(&plan, k, path, substeps, &mut cone_ws)?);
+        }
+        let r = retime(&plan, &paths, &mut rows, mode, &mut ik_ws)?;
+        failure = r.failure.clone();
+        retimed = Some(r);
+    }
+    let t_pipeline = t_start.elapsed();
+
+    // trajectory and checks
+    let mut samples = Vec::new();
+    let mut checks = None;
+    let profile = retimed.as_ref().and_then(|r| r.profile.clone());
+    if let (Some(r), Some(p)) = (&retimed, &profile) {
+        samples = trajectory::sample(&plan, &paths, r, p, plan.spec.retiming.dt)?;
+        if let Some(k) = options.time_scale {
+            if !(k.is_finite() && k > 0.0) {
+                return Err(StanceError::BadMotion(format!(
+                    "time scale {k}; give a finite factor > 0"
+                )));
+            }
+            for smp in &mut samples {
+                smp.t /= k;
+                smp.v.iter_mut().for_each(|x| *x *= k);
+                smp.a.iter_mut().for_each(|x| *x *= k * k);
+            }
+        }
+        if !options.skip_checks {
+            let t0 = Instant::now();
+            let c = checks::check_samples(&plan, &paths, &rows, &samples)?;
+            let (between, _at) = checks::between_violation(&plan, &paths, &rows, r);
+            let t = t0.elapsed();
+            let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+            checks = Some(ChecksInfo {
+                samples: c.len(),
+                samples_without_forces: c.iter().filter(|x| !x.forces).count(),
+                first_without_forces: c
+                    .iter()
+                    .zip(&samples)
+                    .filter(|(x, _)| !x.forces)
+                    .map(|(_, s)| s.t)
+                    .take(20)
+                    .collect(),
+                max_friction_usage: c.iter().map(|x| x.friction_usage).fold(0.0, f64::max),
+                min_normal_force: c
+                    .iter()
+                    .map(|x| x.min_normal_force)
+                    .fold(f64::INFINITY, f64::min),
+                max_contact_drift: c.iter().map(|x| x.contact_drift).fold(0.0, f64::max),
+                max_joint_violation: c.iter().map(|x| x.joint_violation).fold(0.0, f64::max),
+                max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
+                max_between_violation: between,
+                max_between_violation_fraction: between / weight,
+                t_checks_ms: ms(t),
+                t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,
+            });
+        }
+    }
+
+    // the result
+    let status = match (&failure, &profile) {
+        (None, Some(_)) => MotionStatus::Optimal,
+        (Some(f), _) if f.status == "ik_failed" => MotionStatus::IkFailed,
+        _ => MotionStatus::NotRetimable,
+    };
+    let times = profile.as_ref().map(|p| p.times().to_vec());
+    let segments = paths
+        .iter()
+        .enumerate()
+        .map(|(k, path)| {
+            let r = rows.get(k);
+            let span = retimed
+                .as_ref()
+                .zip(times.as_ref())
+                .map(|(rt, t)| (t[rt.seg_start[k]], t[rt.seg_start[k + 1]]));
+            let solve = retimed.as_ref().and_then(|rt| rt.segments.get(k));
+            SegmentInfo {
+                name: plan.segments[k].name.clone(),
+                t_start: span.map(|s| s.0),
+                t_end: span.map(|s| s.1),
+                duration: span.map(|s| s.1 - s.0),
+                sd_boundaries: solve.map(|s| s.sd),
+                contacts: contact_infos(&plan, path, r),
+                u_stance_rows: r.map_or(0, |r| r.u.len()),
+                giwc_certified: r.is_some_and(|r| r.certified),
+                grid_points: r.map_or(0, |r| r.grid.len()),
+                ik_steps: path.samples.len(),
+                ik_fallbacks: path.fallbacks,
+                t_ik_ms: ms(path.elapsed),
+                t_u_ms: r.map_or(0.0, |r| ms(r.t_u)),
+                t_abc_ms: r.map_or(0.0, |r| ms(r.t_abc)),
+                t_topp_ms: solve.map(|s| ms(s.t_topp)),
+                max_com_error: path.max_com_error,
+                max_contact_drift: path.max_contact_drift,
+            }
+        })
+        .collect();
+    let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
+    let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
+    let t_abc: f64 = rows.iter().map(|r| ms(r.t_abc)).sum::<f64>()
+        + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble));
+    let t_topp = retimed.as_ref().map_or(0.0, |r| ms(r.t_topp));
+    let result = MotionResult {
+        name: plan.name.clone(),
+        status,
+        mode,
+        duration: profile
+            .as_ref()
+            .map(|p| p.duration() / options.time_scale.unwrap_or(1.0)),
+        robot: RobotInfo {
+            name: plan.robot.name.clone(),
+            urdf: plan.robot.urdf.as_ref().map(|p| p.display().to_string()),
+            locked: plan.robot.locked.clone(),
+            mass: m.total_mass(),
+            nq: m.nq,
+            nv: m.nv,
+        },
+        segments,
+        failure,
+        landings: retimed.as_ref().map_or(Vec::new(), |r| r.landings.clone()),
+        refinement: retimed.as_ref().map(|r| r.refinement),
+        checks,
+        trajectory: (!samples.is_empty()).then(|| TrajectoryInfo {
+            t: samples.iter().map(|s| s.t).collect(),
+            segment: samples.iter().map(|s| s.segment).collect(),
+            q: samples.iter().map(|s| s.q.clone()).collect(),
+            v: samples.iter().map(|s| s.v.clone()).collect(),
+            a: samples.iter().map(|s| s.a.clone()).collect(),
+            joint_names: m.joint_names()[1..].to_vec(),
+        }),
+        timings: Timings {
+            t_plan_ms: ms(t_plan),
+            t_ik_ms: t_ik,
+            t_u_ms: t_u,
+            t_abc_ms: t_abc,
+            t_topp_ms: t_topp,
+            t_refine_ms: retimed.as_ref().map_or(0.0, |r| ms(r.refinement.elapsed)),
+            t_u_abc_topp_ms: t_u + t_abc + t_topp,
+            t_pipeline_ms: ms(t_pipeline),
+        },
+    };
+    Ok(MotionRun {
+        plan,
+        paths,
+        rows,
+        retimed,
+        samples,
+        result,
+    })
+}
+
+fn contact_infos(
+    plan: &MotionPlan,
+    path: &SegmentPath,
+    rows: Option<&SegmentRows>,
+) -> Vec<ContactInfo> {
+    path.contacts
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let surf = &plan.robot.surfaces[c.surface];
+            let r = &c.pose.rotation;
+            let planned = rows.map(|r| &r.stance.contacts()[i]);
+            let (half_length, half_width) = planned.map_or((0.0, 0.0), |p| {
+                let v = p.vertices_local();
+                (
+                    v.iter().map(|x| x[0].abs()).fold(0.0, f64::max),
+                    v.iter().map(|x| x[1].abs()).fold(0.0, f64::max),
+                )
+            });
+            ContactInfo {
+                name: surf.name.clone(),
+                link: surf.link.clone(),
+                environment: plan.environment[c.environment].name.clone(),
+                position: c.pose.translation.into(),
+                rotation: [
+                    [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
+                    [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
+                    [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
+                ],
+                half_length,
+                half_width,
+                friction: planned
+                    .map_or(plan.environment[c.environment].friction, |p| p.friction()),
+                on_surface: c.on_surface,
+            }
+        })
+        .collect()
+}

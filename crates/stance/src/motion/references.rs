@@ -1,0 +1,241 @@
+//! Task references: the CoM and free-link via-points joined by straight lines, as functions of
+//! the path parameter.
+//!
+//! # Math
+//!
+//! Moves of lengths `T_k` (path units) follow one another along the global path parameter,
+//! with boundaries `sigma_0 = 0 < sigma_1 < ...` across all segments.
+//!
+//! **CoM.** Its via-points `c_0` (the CoM of the initial posture), `c_1, ...` (one per move) are
+//! joined by the straight segments of the polyline `L(s)` that runs through `c_k` at `sigma_k` at
+//! constant rate within each move, at rest before `sigma_0` and after the last via-point. The
+//! CoM must keep moving through via-points and segment boundaries (a segment that is not
+//! quasi-statically stable is crossed with momentum), so the reference is the polyline smoothed
+//! by a causal biweight kernel of half-width `h`, `K(tau) = 15 / (16 h) (1 - u^2)^2`,
+//! `u = tau / h - 1`, on `[0, 2h]`:
+//!
+//! ```text
+//! p*(s) = int K(tau) L(s - tau) dtau = c_0 + sum_k dv_k G(s - sigma_k)
+//! p*_s  = sum_k dv_k F(s - sigma_k),        p*_ss = sum_k dv_k K(s - sigma_k)
+//! ```
+//!
+//! with `dv_k` the change of the polyline's rate at `sigma_k`, `F` the kernel's integral and `G`
+//! the integral of `F` (closed forms in the code: `F = 1/2 + 15/16 (u - 2u^3/3 + u^5/5)`,
+//! `G = h (u/2 + 15/16 (u^2/2 - u^4/6 + u^6/30) + 5/32)` on `[0, 2h]`, `G = x - h` beyond).
+//! It is exactly the straight line, delayed by `h`, except within `2h` after a via-point, where
+//! the corner is rounded; it is twice continuously differentiable, starts at rest on `c_0`
+//! (`p* = c_0`, `p*_s = p*_ss = 0` at `s = 0`), and its rate changes smoothly, so that the IK's
+//! joint accelerations change little from one step to the next.
+//!
+//! **Free links** run along the straight line between their via-points
+//! `(R_a, x_a) -> (R_b, x_b)` with the minimum-jerk progress
+//! `phi(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5`, `tau = (s - sigma_k-1) / T_k`:
+//!
+//! ```text
+//! x*(s) = x_a + (x_b - x_a) phi,            x*_s = (x_b - x_a) phi' / T,   x*_ss = (x_b - x_a) phi'' / T^2
+//! R*(s) = R_a Exp(phi omega), omega = Log(R_a^T R_b),   w*_s = R_a omega phi' / T,   w*_ss = R_a omega phi'' / T^2
+//! ```
+//!
+//! so every link arrives at each via-point with zero velocity and acceleration: a landing foot
+//! touches down at rest (no impact), whatever the CoM does meanwhile. Before its first move in a
+//! segment a link holds its placement at the segment's start, after its last move its last
+//! via-point.
+
+use nalgebra::{Matrix3, Vector3};
+use stance_robot::{LinkTarget, OrientationReference, PointReference, Pose};
+
+/// One straight move of a free link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkLeg {
+    /// Path parameters (segment-local) of its start and end.
+    pub s: [f64; 2],
+    /// Start placement.
+    pub from: Pose,
+    /// End placement.
+    pub to: Pose,
+}
+
+/// A free link's references over a segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkPlan {
+    /// Index of the robot surface.
+    pub surface: usize,
+    /// Its frame in the model.
+    pub frame: usize,
+    /// Its placement at the segment's start.
+    pub start: Pose,
+    /// Its moves, in order.
+    pub legs: Vec<LinkLeg>,
+}
+
+/// The CoM reference of the whole motion (module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComReference {
+    /// Via-point times `sigma_k` (global path parameter).
+    pub knots: Vec<f64>,
+    /// Via-points `c_k`.
+    pub points: Vec<Vector3<f64>>,
+    /// Half-width `h` of the smoothing kernel (path units).
+    pub blend: f64,
+}
+
+impl ComReference {
+    /// The reference at global `s`.
+    ///
+    /// ```
+    /// use nalgebra::Vector3;
+    /// use stance::motion::references::ComReference;
+    /// let c = ComReference { knots: vec![0.0, 2.0, 4.0], blend: 0.25,
+    ///     points: vec![Vector3::zeros(), Vector3::new(0.2, 0.0, 0.0), Vector3::new(0.2, 0.2, 0.0)] };
+    /// let start = c.at(0.0);
+    /// assert_eq!((start.p.norm(), start.p_s.norm(), start.p_ss.norm()), (0.0, 0.0, 0.0));
+    /// // on a straight part: the line, delayed by h
+    /// let mid = c.at(1.0);
+    /// assert!((mid.p.x - 0.1 * (1.0 - 0.25)).abs() < 1e-15 && (mid.p_s.x - 0.1).abs() < 1e-15);
+    /// ```
+    pub fn at(&self, s: f64) -> PointReference {
+        let h = self.blend;
+        let mut out = PointReference::hold(self.points[0]);
+        let n = self.points.len();
+        let rate = |k: usize| {
+            if k == 0 || k >= n {
+                Vector3::zeros()
+            } else {
+                (self.points[k] - self.points[k - 1]) / (self.knots[k] - self.knots[k - 1])
+            }
+        };
+        for k in 0..n {
+            let dv = rate(k + 1) - rate(k);
+            let x = s - self.knots[k];
+            if x <= 0.0 || dv == Vector3::zeros() {
+                continue;
+            }
+            let (g, f, kk) = if x >= 2.0 * h {
+                (x - h, 1.0, 0.0)
+            } else {
+                let u = x / h - 1.0;
+                let (u2, u3) = (u * u, u * u * u);
+                let w = 1.0 - u2;
+                (
+                    h * (0.5 * u
+                        + 15.0 / 16.0 * (0.5 * u2 - u2 * u2 / 6.0 + u3 * u3 / 30.0)
+                        + 5.0 / 32.0),
+                    0.5 + 15.0 / 16.0 * (u - 2.0 * u3 / 3.0 + u3 * u2 / 5.0),
+                    15.0 / (16.0 * h) * w * w,
+                )
+            };
+            out.p += dv * g;
+            out.p_s += dv * f;
+            out.p_ss += dv * kk;
+        }
+        out
+    }
+}
+
+/// The references of one segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SegmentReferences {
+    /// Move boundaries (segment-local path parameter), one more than the moves.
+    pub knots: Vec<f64>,
+    /// Global path parameter of the segment's start.
+    pub s_offset: f64,
+    /// The motion's CoM reference.
+    pub com: ComReference,
+    /// Free links with tasks.
+    pub links: Vec<LinkPlan>,
+}
+
+/// Minimum-jerk progress and its first two derivatives in `tau`.
+fn min_jerk(tau: f64) -> [f64; 3] {
+    let t = tau.clamp(0.0, 1.0);
+    let t2 = t * t;
+    [
+        t2 * t * (10.0 - 15.0 * t + 6.0 * t2),
+        30.0 * t2 * (1.0 - t) * (1.0 - t),
+        60.0 * t * (1.0 - t) * (1.0 - 2.0 * t),
+    ]
+}
+
+fn log(r: &Matrix3<f64>) -> Vector3<f64> {
+    stance_robot::spatial::rotation_log(r)
+}
+
+fn exp(w: &Vector3<f64>) -> Matrix3<f64> {
+    *nalgebra::Rotation3::new(*w).matrix()
+}
+
+impl LinkPlan {
+    /// The link's target at segment-local `s`.
+    ///
+    /// ```
+    /// use stance::motion::references::{LinkLeg, LinkPlan};
+    /// use stance_robot::Pose;
+    /// let a = Pose::identity();
+    /// let b = Pose::from_xyz_rpy([0.2, 0.0, 0.1], [0.0, 0.3, 0.0]);
+    /// let plan = LinkPlan { surface: 0, frame: 7, start: a,
+    ///     legs: vec![LinkLeg { s: [1.0, 3.0], from: a, to: b }] };
+    /// assert_eq!(plan.target_at(0.5).reference.p, a.translation); // holds before
+    /// let mid = plan.target_at(2.0);
+    /// assert!((mid.reference.p - b.translation * 0.5).norm() < 1e-15);
+    /// let end = plan.target_at(3.0);
+    /// assert!((end.reference.p - b.translation).norm() < 1e-15 && end.reference.p_s.norm() < 1e-15);
+    /// ```
+    pub fn target_at(&self, s: f64) -> LinkTarget {
+        let hold = |x: &Pose| LinkTarget {
+            frame: self.frame,
+            reference: PointReference::hold(x.translation),
+            orientation: Some(OrientationReference::hold(x.rotation)),
+        };
+        let Some(first) = self.legs.first() else {
+            return hold(&self.start);
+        };
+        if s <= first.s[0] {
+            return hold(&self.start);
+        }
+        for (k, leg) in self.legs.iter().enumerate() {
+            let next_start = self.legs.get(k + 1).map_or(f64::INFINITY, |l| l.s[0]);
+            if s <= leg.s[1] {
+                let t = leg.s[1] - leg.s[0];
+                let [phi, d1, d2] = min_jerk((s - leg.s[0]) / t);
+                let dx = leg.to.translation - leg.from.translation;
+                let omega = log(&(leg.from.rotation.transpose() * leg.to.rotation));
+                let w = leg.from.rotation * omega;
+                return LinkTarget {
+                    frame: self.frame,
+                    reference: PointReference {
+                        p: leg.from.translation + dx * phi,
+                        p_s: dx * (d1 / t),
+                        p_ss: dx * (d2 / (t * t)),
+                    },
+                    orientation: Some(OrientationReference {
+                        rotation: leg.from.rotation * exp(&(omega * phi)),
+                        w_s: w * (d1 / t),
+                        w_ss: w * (d2 / (t * t)),
+                    }),
+                };
+            }
+            if s < next_start {
+                return hold(&leg.to);
+            }
+        }
+        hold(&self.legs[self.legs.len() - 1].to)
+    }
+}
+
+impl SegmentReferences {
+    /// Length of the segment (path units).
+    pub fn length(&self) -> f64 {
+        self.knots[self.knots.len() - 1]
+    }
+
+    /// The CoM reference at segment-local `s`.
+    pub fn com_at(&self, s: f64) -> PointReference {
+        self.com.at(self.s_offset + s)
+    }
+
+    /// The free-link targets at segment-local `s`, into `out`.
+    pub fn links_at(&self, s: f64, out: &mut Vec<LinkTarget>) {
+        out.clear();
+        out.extend(self.links.iter().map(|l| l.target_at(s)));
+    }
+}

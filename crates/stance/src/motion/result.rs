@@ -1,0 +1,194 @@
+//! What `stance motion` returns (serialized as its JSON output).
+
+use serde::Serialize;
+
+use super::chain::{LandingBound, Refinement, RetimeFailure, RetimingMode};
+use super::environment::OnSurface;
+
+/// The outcome of a motion: a value, never an error.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MotionStatus {
+    /// Retimed: a time-optimal profile exists.
+    Optimal,
+    /// The IK could not follow the references (a joint limit, an unreachable via-point).
+    IkFailed,
+    /// The whole-body path exists but no timing keeps the contacts stable (see `failure`).
+    NotRetimable,
+}
+
+/// The robot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RobotInfo {
+    /// Built-in name or URDF file name.
+    pub name: String,
+    /// Path of the URDF (`null` for the embedded small humanoid).
+    pub urdf: Option<String>,
+    /// Locked joints and their values.
+    pub locked: Vec<(String, f64)>,
+    /// Total mass (kg).
+    pub mass: f64,
+    /// Configuration and velocity sizes.
+    pub nq: usize,
+    /// Velocity size.
+    pub nv: usize,
+}
+
+/// A contact of a segment as planned.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContactInfo {
+    /// Robot surface name.
+    pub name: String,
+    /// Its link.
+    pub link: String,
+    /// The environment surface.
+    pub environment: String,
+    /// Contact frame origin (m, world).
+    pub position: [f64; 3],
+    /// Contact frame -> world (row-major).
+    pub rotation: [[f64; 3]; 3],
+    /// Half sizes as planned (after the area scale; 0 for a point; a polygon's bounding box).
+    pub half_length: f64,
+    /// Half width as planned.
+    pub half_width: f64,
+    /// Friction as planned.
+    pub friction: f64,
+    /// How well the robot surface lies on the environment surface.
+    pub on_surface: OnSurface,
+}
+
+/// One segment of the result, with the paper's table columns.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentInfo {
+    /// Name.
+    pub name: String,
+    /// Start and end time (s) in the retimed motion (`null` without a profile).
+    pub t_start: Option<f64>,
+    /// End time.
+    pub t_end: Option<f64>,
+    /// Duration (s).
+    pub duration: Option<f64>,
+    /// Path speed `s'` at its start and end.
+    pub sd_boundaries: Option<[f64; 2]>,
+    /// Contacts.
+    pub contacts: Vec<ContactInfo>,
+    /// Rows of `U_stance`.
+    pub u_stance_rows: usize,
+    /// Whether `U_stance` is certified.
+    pub giwc_certified: bool,
+    /// Retiming grid points of the segment.
+    pub grid_points: usize,
+    /// IK steps.
+    pub ik_steps: usize,
+    /// Steps the dense IK solver gave to Clarabel.
+    pub ik_fallbacks: usize,
+    /// `T_IK` (ms).
+    pub t_ik_ms: f64,
+    /// `T_U` (ms).
+    pub t_u_ms: f64,
+    /// `T_abc` (ms).
+    pub t_abc_ms: f64,
+    /// `T_TOPP` (ms): the segment's own solve (rest to rest) or its re-solve with the chained
+    /// boundary speeds.
+    pub t_topp_ms: Option<f64>,
+    /// Largest CoM tracking error of the IK (m).
+    pub max_com_error: f64,
+    /// Largest contact-frame drift during the IK (m).
+    pub max_contact_drift: f64,
+}
+
+/// The independent checks (module `checks`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChecksInfo {
+    /// Samples checked.
+    pub samples: usize,
+    /// Samples where the force QP finds no supporting forces.
+    pub samples_without_forces: usize,
+    /// Times of the first such samples (at most 20).
+    pub first_without_forces: Vec<f64>,
+    /// Largest `|F_t| / (mu F_n)` of a contact's resultant.
+    pub max_friction_usage: f64,
+    /// Smallest normal force of a contact (N).
+    pub min_normal_force: f64,
+    /// Largest contact-frame drift at the samples (m).
+    pub max_contact_drift: f64,
+    /// Largest joint-limit violation at the samples (rad or m).
+    pub max_joint_violation: f64,
+    /// Largest CoM tracking error of the IK (m).
+    pub max_com_error: f64,
+    /// Largest row value at the IK samples under the profile (N), i.e. between grid points.
+    pub max_between_violation: f64,
+    /// The same as a fraction of the weight.
+    pub max_between_violation_fraction: f64,
+    /// Time of the checks (ms), and per sample (us).
+    pub t_checks_ms: f64,
+    /// Time per sample (us).
+    pub t_per_sample_us: f64,
+}
+
+/// The retimed trajectory in Pinocchio's conventions.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrajectoryInfo {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Segment of each sample.
+    pub segment: Vec<usize>,
+    /// Configurations.
+    pub q: Vec<Vec<f64>>,
+    /// Velocities.
+    pub v: Vec<Vec<f64>>,
+    /// Accelerations.
+    pub a: Vec<Vec<f64>>,
+    /// Joint names (after the free flyer), in `q` order.
+    pub joint_names: Vec<String>,
+}
+
+/// Stage timings of the pipeline (ms).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Timings {
+    /// Validation and the standing posture.
+    pub t_plan_ms: f64,
+    /// IK of every segment.
+    pub t_ik_ms: f64,
+    /// `U_stance` of every segment.
+    pub t_u_ms: f64,
+    /// Rows of every segment and their layout on the global grid.
+    pub t_abc_ms: f64,
+    /// The retiming solve (the last one, after refinement).
+    pub t_topp_ms: f64,
+    /// The refinement between grid points (its row updates and solves).
+    pub t_refine_ms: f64,
+    /// `U_stance` + rows + TOPP (the paper's three columns).
+    pub t_u_abc_topp_ms: f64,
+    /// The whole pipeline without the checks.
+    pub t_pipeline_ms: f64,
+}
+
+/// The result of `stance motion`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MotionResult {
+    /// Name of the motion.
+    pub name: String,
+    /// Outcome.
+    pub status: MotionStatus,
+    /// Chained or rest to rest.
+    pub mode: RetimingMode,
+    /// Duration (s) when optimal.
+    pub duration: Option<f64>,
+    /// The robot.
+    pub robot: RobotInfo,
+    /// The segments.
+    pub segments: Vec<SegmentInfo>,
+    /// Where and why the IK or the retiming failed.
+    pub failure: Option<RetimeFailure>,
+    /// Speed bounds at landings.
+    pub landings: Vec<LandingBound>,
+    /// What the refinement between grid points did.
+    pub refinement: Option<Refinement>,
+    /// The checks (when run and a profile exists).
+    pub checks: Option<ChecksInfo>,
+    /// The trajectory (when a profile exists).
+    pub trajectory: Option<TrajectoryInfo>,
+    /// Stage timings.
+    pub timings: Timings,
+}

@@ -1,0 +1,436 @@
+//! Motion files (JSON or TOML): the robot and its contact surfaces, the environment, the initial
+//! posture and the segments with their stances and task via-points. Strict like scene files:
+//! unknown keys and arrays of the wrong length are errors.
+//!
+//! ```text
+//! name = "..."                       # optional
+//! robot = "jvrc1" | "small-humanoid" | {urdf = "path", locked = {J = 0.0}, posture = {J = 0.3},
+//!          surfaces = [{name, link, position = [x, y, z], rpy = [r, p, y],
+//!                       shape = {rectangle = {half_length, half_width}} | "point" | {polygon = [...]}}]}
+//! gravity = [0, 0, -9.81]            # optional
+//! [[environment]]                    # surfaces: frame z = normal out of the environment
+//! name, position, rpy | rotation, shape = {rectangle = {...}} | {polygon = [...]}, friction
+//! [initial]                          # one of
+//! configuration = [q...]             #   Pinocchio's q
+//! standing = {com_height, com_xy?, contacts = {LF = {surface, at = [x, y], yaw}, ...}}
+//! [planning]   friction?, area_scale (1), friction_model?, margin (0)
+//! [ik]         w_com (1), w_link (0.1), w_posture (1e-5), gain (10), contact_gain (20),
+//!              joint_range (0.95), substeps (4), com_blend (0.25)
+//! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), rest_to_rest (false),
+//!              between_samples (10)
+//! [[segments]] name?, stance = {LF = "floor", RF = "floor"}, w_link?, gain?
+//! [[segments.moves]] duration (2), com = {by = [..]} | {to = [..]},
+//!                    links = [{surface = "RF", by = [..], rotate_by = [r, p, y]}
+//!                           | {surface, to = [..], rpy = [..]}
+//!                           | {surface, onto = "box", at = [x, y], yaw = 0}]
+//! ```
+//!
+//! Lengths in metres, angles in radians, `duration` in units of the path parameter (the paper's
+//! "IK time"; the gains are per unit of it). A robot surface's frame has its z axis along the
+//! surface normal pointing **into** the robot (a sole's z points up, towards the ankle), the
+//! environment's along the normal pointing **out of** the environment, so that in contact the two
+//! frames coincide (up to a yaw) and the GIWC contact frame is the robot surface's frame.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use stance_contact::scene::{strict, ShapeSpec};
+use stance_contact::FrictionModel;
+
+/// The robot: a built-in name or a URDF with its surfaces.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum RobotRef {
+    /// `"jvrc1"` or `"small-humanoid"`.
+    Named(String),
+    /// A URDF robot.
+    Urdf(Box<RobotSpec>),
+}
+
+impl<'de> Deserialize<'de> for RobotRef {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = RobotRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a built-in robot name (\"jvrc1\", \"small-humanoid\") or a robot map")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<RobotRef, E> {
+                Ok(RobotRef::Named(v.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RobotRef, A::Error> {
+                RobotSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(|s| RobotRef::Urdf(Box::new(s)))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
+}
+
+/// A URDF robot with its contact surfaces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// Path of the URDF (relative paths: from the motion file's folder).
+    pub urdf: String,
+    /// Joints locked at a value (removed from `q` and `v`).
+    #[serde(default)]
+    pub locked: BTreeMap<String, f64>,
+    /// Nominal joint values of the posture task and of the standing posture (others 0).
+    #[serde(default)]
+    pub posture: BTreeMap<String, f64>,
+    /// Contact surfaces on the robot's links.
+    pub surfaces: Vec<RobotSurfaceSpec>,
+}
+
+/// A contact surface on a robot link.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSurfaceSpec {
+    /// Name used by stances and moves (e.g. `"LF"`).
+    pub name: String,
+    /// The URDF link (or frame) it is fixed to.
+    pub link: String,
+    /// Origin in the link frame (m).
+    #[serde(deserialize_with = "strict::vec3")]
+    pub position: [f64; 3],
+    /// Orientation in the link frame (roll, pitch, yaw in rad, URDF convention).
+    #[serde(default, deserialize_with = "strict::vec3")]
+    pub rpy: [f64; 3],
+    /// Shape in the surface frame (half sizes for rectangles).
+    pub shape: ShapeSpec,
+}
+
+/// An environment surface.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentSurfaceSpec {
+    /// Name used by stances and moves.
+    pub name: String,
+    /// Origin of the surface frame (m).
+    #[serde(deserialize_with = "strict::vec3")]
+    pub position: [f64; 3],
+    /// Orientation as roll, pitch, yaw (rad); give this or `rotation`.
+    #[serde(default, deserialize_with = "opt_vec3")]
+    pub rpy: Option<[f64; 3]>,
+    /// Orientation as a rotation matrix (row-major, surface frame -> world).
+    #[serde(default, deserialize_with = "opt_mat3")]
+    pub rotation: Option<[[f64; 3]; 3]>,
+    /// Shape in the surface frame (the plane z = 0).
+    pub shape: ShapeSpec,
+    /// Friction coefficient of the surface (the physical one; planning may use less).
+    pub friction: f64,
+}
+
+/// The initial posture.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum InitialSpec {
+    /// A configuration `q` in Pinocchio's conventions.
+    Configuration(Vec<f64>),
+    /// A standing posture found by the project.
+    Standing(StandingSpec),
+}
+
+/// A standing posture to find: the contacts placed on environment surfaces and the CoM.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StandingSpec {
+    /// Robot surface -> where it is placed.
+    pub contacts: BTreeMap<String, Placement>,
+    /// CoM height above the world origin (m).
+    pub com_height: f64,
+    /// CoM horizontal position (m); default: the mean of the contact origins.
+    #[serde(default, deserialize_with = "opt_vec2")]
+    pub com_xy: Option<[f64; 2]>,
+}
+
+/// A robot surface placed on an environment surface.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// The environment surface.
+    pub surface: String,
+    /// Coordinates of the robot surface's origin in the environment surface's frame (m).
+    #[serde(deserialize_with = "vec2")]
+    pub at: [f64; 2],
+    /// Rotation about the surface normal (rad).
+    #[serde(default)]
+    pub yaw: f64,
+}
+
+/// Planning options of the GIWC (the paper: friction 0.7 and area 0.7 while simulating 0.9).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanningSpec {
+    /// Friction used in the GIWC, at most every environment surface's (default: each
+    /// surface's own).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Area scale of every contact polygon in the GIWC (in (0, 1]; half sizes scaled by its
+    /// square root; default 1).
+    #[serde(default = "one")]
+    pub area_scale: f64,
+    /// Friction cone approximation (default: the paper's outer 4-sided pyramid).
+    #[serde(default)]
+    pub friction_model: FrictionModel,
+    /// Safety margin of the retiming rows, as a fraction of the weight `m |g|` (default 0):
+    /// every row of eq. 14 must hold with `a u + b x + c <= -margin m |g|`.
+    #[serde(default)]
+    pub margin: f64,
+}
+
+impl Default for PlanningSpec {
+    fn default() -> Self {
+        Self {
+            friction: None,
+            area_scale: 1.0,
+            friction_model: FrictionModel::default(),
+            margin: 0.0,
+        }
+    }
+}
+
+/// IK options (the paper's weights and gains by default).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IkSpec {
+    /// CoM task weight (1).
+    #[serde(default = "one")]
+    pub w_com: f64,
+    /// Free-link task weight (0.1).
+    #[serde(default = "w_link")]
+    pub w_link: f64,
+    /// Posture task weight (1e-5).
+    #[serde(default = "w_posture")]
+    pub w_posture: f64,
+    /// Task gains `K_p = K_d` (10, per unit of path).
+    #[serde(default = "ten")]
+    pub gain: f64,
+    /// Contact gains (velocity damping and pose correction; 20).
+    #[serde(default = "twenty")]
+    pub contact_gain: f64,
+    /// Fraction of each joint range kept by the joint-limit damper (0.95).
+    #[serde(default = "joint_range")]
+    pub joint_range: f64,
+    /// IK steps per retiming grid interval (4).
+    #[serde(default = "four")]
+    pub substeps: usize,
+    /// Half-width of the smoothing of the CoM polyline's corners (path units; 0.25).
+    #[serde(default = "com_blend")]
+    pub com_blend: f64,
+}
+
+impl Default for IkSpec {
+    fn default() -> Self {
+        Self {
+            w_com: 1.0,
+            w_link: w_link(),
+            w_posture: w_posture(),
+            gain: 10.0,
+            contact_gain: 20.0,
+            joint_range: joint_range(),
+            substeps: 4,
+            com_blend: com_blend(),
+        }
+    }
+}
+
+/// The retiming's discretization.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DiscretizationName {
+    /// Rows of grid point `i` only.
+    Collocation,
+    /// Also the rows of grid point `i + 1` (default).
+    #[default]
+    Interpolation,
+}
+
+/// Retiming options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RetimingSpec {
+    /// Grid intervals per segment (100, the paper's N).
+    #[serde(default = "hundred")]
+    pub grid: usize,
+    /// Discretization (interpolation).
+    #[serde(default)]
+    pub discretization: DiscretizationName,
+    /// Output time step of the trajectory and of the checks (s; 0.01).
+    #[serde(default = "dt")]
+    pub dt: f64,
+    /// Retime every segment from rest to rest (the paper's way) instead of the whole motion
+    /// as one problem (false).
+    #[serde(default)]
+    pub rest_to_rest: bool,
+}
+
+impl Default for RetimingSpec {
+    fn default() -> Self {
+        Self {
+            grid: 100,
+            discretization: DiscretizationName::Interpolation,
+            dt: dt(),
+            rest_to_rest: false,
+        }
+    }
+}
+
+/// A segment: a fixed stance and its moves.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// Name (default `"segment k"`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Robot surface -> environment surface, for every contact held during the segment.
+    pub stance: BTreeMap<String, String>,
+    /// The moves, one after the other.
+    pub moves: Vec<MoveSpec>,
+    /// Free-link weight for this segment (default: the `ik` one).
+    #[serde(default)]
+    pub w_link: Option<f64>,
+    /// Task gain for this segment (default: the `ik` one).
+    #[serde(default)]
+    pub gain: Option<f64>,
+}
+
+/// One move: the CoM and free links driven in straight lines to their via-points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MoveSpec {
+    /// Length of the move in path units (2, the paper's 2 s of IK time).
+    #[serde(default = "two")]
+    pub duration: f64,
+    /// The CoM via-point (default: stay).
+    #[serde(default)]
+    pub com: Option<ComTarget>,
+    /// Free-link via-points.
+    #[serde(default)]
+    pub links: Vec<LinkMoveSpec>,
+}
+
+/// A CoM via-point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ComTarget {
+    /// Offset from the previous CoM via-point (m).
+    By(#[serde(deserialize_with = "strict::vec3")] [f64; 3]),
+    /// World position (m).
+    To(#[serde(deserialize_with = "strict::vec3")] [f64; 3]),
+}
+
+/// A free link's via-point: exactly one of `by`, `to`, `onto`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkMoveSpec {
+    /// The robot surface whose frame moves.
+    pub surface: String,
+    /// Offset of the origin from its previous via-point (world axes, m).
+    #[serde(default, deserialize_with = "opt_vec3")]
+    pub by: Option<[f64; 3]>,
+    /// Rotation from the previous via-point's orientation, as roll, pitch, yaw (rad) about the
+    /// surface frame's own axes (with `by`).
+    #[serde(default, deserialize_with = "opt_vec3")]
+    pub rotate_by: Option<[f64; 3]>,
+    /// World position of the origin (m).
+    #[serde(default, deserialize_with = "opt_vec3")]
+    pub to: Option<[f64; 3]>,
+    /// World orientation as roll, pitch, yaw (rad; with `to`; default: keep).
+    #[serde(default, deserialize_with = "opt_vec3")]
+    pub rpy: Option<[f64; 3]>,
+    /// Place the surface on this environment surface (a landing: the contact of the next
+    /// segment).
+    #[serde(default)]
+    pub onto: Option<String>,
+    /// Coordinates on that surface (m; with `onto`).
+    #[serde(default, deserialize_with = "opt_vec2")]
+    pub at: Option<[f64; 2]>,
+    /// Rotation about its normal (rad; with `onto`).
+    #[serde(default)]
+    pub yaw: Option<f64>,
+}
+
+/// A motion file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// Name for reports.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The robot.
+    pub robot: RobotRef,
+    /// Gravity (m/s^2; default `[0, 0, -9.81]`).
+    #[serde(default = "gravity", deserialize_with = "strict::vec3")]
+    pub gravity: [f64; 3],
+    /// Environment surfaces.
+    pub environment: Vec<EnvironmentSurfaceSpec>,
+    /// Initial posture.
+    pub initial: InitialSpec,
+    /// The segments.
+    pub segments: Vec<SegmentSpec>,
+    /// GIWC planning options.
+    #[serde(default)]
+    pub planning: PlanningSpec,
+    /// IK options.
+    #[serde(default)]
+    pub ik: IkSpec,
+    /// Retiming options.
+    #[serde(default)]
+    pub retiming: RetimingSpec,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn two() -> f64 {
+    2.0
+}
+fn four() -> usize {
+    4
+}
+fn ten() -> f64 {
+    10.0
+}
+fn twenty() -> f64 {
+    20.0
+}
+fn hundred() -> usize {
+    100
+}
+fn w_link() -> f64 {
+    0.1
+}
+fn w_posture() -> f64 {
+    1e-5
+}
+fn com_blend() -> f64 {
+    0.25
+}
+fn joint_range() -> f64 {
+    0.95
+}
+fn dt() -> f64 {
+    0.01
+}
+fn gravity() -> [f64; 3] {
+    stance_contact::scene::STANDARD_GRAVITY
+}
+
+fn opt_vec3<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    strict::vec3(d).map(Some)
+}
+fn opt_mat3<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[[f64; 3]; 3]>, D::Error> {
+    strict::mat3(d).map(Some)
+}
+fn vec2<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    use serde::de::Error;
+    let v: Vec<f64> = Vec::deserialize(d)?;
+    let len = v.len();
+    v.try_into()
+        .map_err(|_| D::Error::invalid_length(len, &"2 numbers [x, y]"))
+}
+fn opt_vec2<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    vec2(d).map(Some)
+}
