@@ -12,6 +12,7 @@
 //!             (+ w_link |J_l,ang x + Jd_l,ang q_s - alpha_l*|^2 for links with an orientation task)
 //!             + w_posture |x_j - xdd_j*|^2 (joints, with a posture reference)  + eps |x|^2
 //! subject to  J_c x = -Jd_c q_s - gamma J_c q_s + k_c e_c             (every contact frame, 6 rows)
+//!             J_h x + Jd_h q_s = pdd_h*                            (hard link tasks, 3 or 6 rows)
 //!             lo(q, q_s) <= x <= hi(q, q_s)                         (bounded joints)
 //! ```
 //!
@@ -22,13 +23,16 @@
 //! configuration the same way, `xdd_j* = -K_d q_s,j + K_p (q*_j - q_j)`. The contact rows keep
 //! the contact frames' velocities at zero (`gamma` damps any residual velocity) and, with
 //! `k_c > 0` and a target placement, pull the frame back onto it (`e_c` = position error and
-//! rotation vector of `R* R^T`, world axes). The joint bounds ([`JointBounds`]) are either
+//! rotation vector of `R* R^T`, world axes). A link task may also be held as an equality (a
+//! "hard" task: a landing foot whose arrival at rest is not traded for the CoM). The joint bounds ([`JointBounds`]) are either
 //!
 //! - **next step**: keep each bounded joint within its limits over the next path step `ds`,
 //!   `2 (lower - q - q_s ds) / ds^2 <= x <= 2 (upper - q - q_s ds) / ds^2`; or
 //! - **damper** (the paper's form): with the range shrunk about its middle to `range` of its
 //!   width, `K_ss (K_s (lower' - q) - q_s) <= x <= K_ss (K_s (upper' - q) - q_s)`, so that a joint
-//!   approaches a limit no faster than `q_s = K_s (upper' - q)` allows;
+//!   approaches a limit no faster than `q_s = K_s (upper' - q)` allows; it may overshoot the
+//!   shrunk range by about `q_s / K_ss`, so the next-step bounds apply too (measured without
+//!   them: JVRC-1's waist pitch 0.028 rad past its URDF limit in the box climbing);
 //!
 //! and the optional rate bound `-r_max <= q_s + x ds <= r_max` ([`IkOptions::max_path_rate`])
 //! bounds the joint rates along the path. All of them are bounds on single coordinates of `x`,

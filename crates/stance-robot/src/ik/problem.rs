@@ -49,8 +49,11 @@ pub struct IkTasks<'a> {
     pub contacts: &'a [ContactHold],
     /// The CoM reference.
     pub com: PointReference,
-    /// Free link tasks.
+    /// Free link tasks (weighted).
     pub links: &'a [LinkTarget],
+    /// Free link tasks held as equality constraints (the desired task acceleration exactly; for
+    /// example a link about to land, whose arrival at rest must not be traded for the CoM).
+    pub hard_links: &'a [LinkTarget],
     /// A reference configuration for the posture task (`nq` entries; only the revolute and
     /// prismatic joints are tracked, with weight [`IkOptions::w_posture`]).
     pub posture: Option<&'a [f64]>,
@@ -105,7 +108,7 @@ impl IkWorkspace {
     /// let feet = [ContactHold::velocity(m.frame_id("r_sole").unwrap()),
     ///             ContactHold::velocity(m.frame_id("l_sole").unwrap())];
     /// let tasks = IkTasks { contacts: &feet, com: PointReference::hold(nalgebra::Vector3::zeros()),
-    ///                       links: &[], posture: None };
+    ///                       links: &[], hard_links: &[], posture: None };
     /// ws.build(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01, &IkOptions::default()).unwrap();
     /// assert_eq!(ws.qp().a_eq.nrows(), 12);
     /// ```
@@ -136,6 +139,7 @@ impl IkWorkspace {
         }
         let refs_finite = std::iter::once(&tasks.com)
             .chain(tasks.links.iter().map(|l| &l.reference))
+            .chain(tasks.hard_links.iter().map(|l| &l.reference))
             .all(|r| {
                 r.p.iter()
                     .chain(r.p_s.iter())
@@ -153,6 +157,7 @@ impl IkWorkspace {
             .iter()
             .map(|c| c.frame)
             .chain(tasks.links.iter().map(|l| l.frame))
+            .chain(tasks.hard_links.iter().map(|l| l.frame))
         {
             if f >= model.frames.len() {
                 return Err(RobotError::UnknownFrame(format!("#{f}")));
@@ -181,44 +186,12 @@ impl IkWorkspace {
         );
         // link tasks
         for l in tasks.links {
-            frame_jacobian(
-                model,
-                data,
-                l.frame,
-                ReferenceFrame::LocalWorldAligned,
-                &mut self.jac,
-            )?;
-            let (lin_drift, ang_drift) = frame_classical_acceleration(
-                model,
-                data,
-                l.frame,
-                ReferenceFrame::LocalWorldAligned,
-            )?;
-            let placement = frame_placement(model, data, l.frame)?;
+            let (lin, ang) = self.link_rows(model, data, q_s, l, options)?;
             let j_lin = self.jac.fixed_rows::<3>(0);
-            let vel = row_dot(&j_lin, q_s);
-            let r = &l.reference;
-            let desired =
-                r.p_ss + (r.p_s - vel) * options.k_d + (r.p - placement.translation) * options.k_p;
-            add_task(
-                &mut self.p,
-                &mut self.c,
-                &j_lin,
-                &(desired - lin_drift),
-                options.w_link,
-            );
-            if let Some(o) = &l.orientation {
+            add_task(&mut self.p, &mut self.c, &j_lin, &lin, options.w_link);
+            if let Some(ang) = ang {
                 let j_ang = self.jac.fixed_rows::<3>(3);
-                let w = row_dot(&j_ang, q_s);
-                let error = rotation_error(&o.rotation, &placement.rotation);
-                let desired = o.w_ss + (o.w_s - w) * options.k_d + error * options.k_p;
-                add_task(
-                    &mut self.p,
-                    &mut self.c,
-                    &j_ang,
-                    &(desired - ang_drift),
-                    options.w_link,
-                );
+                add_task(&mut self.p, &mut self.c, &j_ang, &ang, options.w_link);
             }
         }
         // posture task on the revolute and prismatic joints
@@ -236,8 +209,13 @@ impl IkWorkspace {
                 }
             }
         }
-        // contacts
-        let rows = 6 * tasks.contacts.len();
+        // contacts, then hard link tasks
+        let rows = 6 * tasks.contacts.len()
+            + tasks
+                .hard_links
+                .iter()
+                .map(|l| if l.orientation.is_some() { 6 } else { 3 })
+                .sum::<usize>();
         if self.a_eq.nrows() != rows {
             self.a_eq = DMatrix::zeros(rows, nv);
             self.b_eq = DVector::zeros(rows);
@@ -275,6 +253,21 @@ impl IkWorkspace {
                     -drift - options.gamma * vel + options.contact_k_p * error[r];
             }
         }
+        let mut row = 6 * tasks.contacts.len();
+        for l in tasks.hard_links {
+            let (lin, ang) = self.link_rows(model, data, q_s, l, options)?;
+            let targets = [Some(lin), ang];
+            for (block, target) in targets.iter().enumerate() {
+                let Some(t) = target else { continue };
+                for r in 0..3 {
+                    for k in 0..nv {
+                        self.a_eq[(row, k)] = self.jac[(3 * block + r, k)];
+                    }
+                    self.b_eq[row] = t[r];
+                    row += 1;
+                }
+            }
+        }
         // joint bounds (boxes on single coordinates)
         self.lo.fill(f64::NEG_INFINITY);
         self.hi.fill(f64::INFINITY);
@@ -286,20 +279,21 @@ impl IkWorkspace {
                 continue;
             }
             let (k, qj, vj) = (j.idx_v, q[j.idx_q], q_s[j.idx_v]);
+            let scale = 2.0 / (ds * ds);
+            let next_step = (
+                scale * (j.lower - qj - vj * ds),
+                scale * (j.upper - qj - vj * ds),
+            );
             let (lo, hi) = match options.joint_bounds {
-                JointBounds::NextStep => {
-                    let scale = 2.0 / (ds * ds);
-                    (
-                        scale * (j.lower - qj - vj * ds),
-                        scale * (j.upper - qj - vj * ds),
-                    )
-                }
+                JointBounds::NextStep => next_step,
                 JointBounds::Damper { k_s, k_ss, range } => {
                     let (mid, half) = (0.5 * (j.upper + j.lower), 0.5 * (j.upper - j.lower));
                     let (lower, upper) = (mid - range * half, mid + range * half);
+                    // the damper may overshoot its shrunk range by about q_s / K_ss: the
+                    // next-step bound keeps the joint within its true limits meanwhile
                     (
-                        k_ss * (k_s * (lower - qj) - vj),
-                        k_ss * (k_s * (upper - qj) - vj),
+                        (k_ss * (k_s * (lower - qj) - vj)).max(next_step.0),
+                        (k_ss * (k_s * (upper - qj) - vj)).min(next_step.1),
                     )
                 }
             };
@@ -318,6 +312,39 @@ impl IkWorkspace {
         Ok(())
     }
 
+    /// A link task's Jacobian (left in `self.jac`) and its desired accelerations minus drifts:
+    /// `J_lin x = lin` (and `J_ang x = ang` with an orientation task).
+    fn link_rows(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        q_s: &[f64],
+        l: &LinkTarget,
+        options: &IkOptions,
+    ) -> Result<(Vector3<f64>, Option<Vector3<f64>>), RobotError> {
+        frame_jacobian(
+            model,
+            data,
+            l.frame,
+            ReferenceFrame::LocalWorldAligned,
+            &mut self.jac,
+        )?;
+        let (lin_drift, ang_drift) =
+            frame_classical_acceleration(model, data, l.frame, ReferenceFrame::LocalWorldAligned)?;
+        let placement = frame_placement(model, data, l.frame)?;
+        let vel = row_dot(&self.jac.fixed_rows::<3>(0), q_s);
+        let r = &l.reference;
+        let lin =
+            r.p_ss + (r.p_s - vel) * options.k_d + (r.p - placement.translation) * options.k_p
+                - lin_drift;
+        let ang = l.orientation.as_ref().map(|o| {
+            let w = row_dot(&self.jac.fixed_rows::<3>(3), q_s);
+            let error = rotation_error(&o.rotation, &placement.rotation);
+            o.w_ss + (o.w_s - w) * options.k_d + error * options.k_p - ang_drift
+        });
+        Ok((lin, ang))
+    }
+
     /// Solves the assembled QP (dense solver with Clarabel as fallback, or as asked by
     /// [`IkOptions::solver`]).
     ///
@@ -330,7 +357,7 @@ impl IkWorkspace {
     ///             ContactHold::velocity(m.frame_id("l_sole").unwrap())];
     /// let q = m.neutral();
     /// let c0 = stance_robot::center_of_mass(&m, &mut d, &q).unwrap();
-    /// let tasks = IkTasks { contacts: &feet, links: &[], posture: None,
+    /// let tasks = IkTasks { contacts: &feet, links: &[], hard_links: &[], posture: None,
     ///     com: PointReference::hold(c0 + nalgebra::Vector3::new(0.0, 0.0, -0.01)) };
     /// let o = IkOptions::default();
     /// ws.build(&m, &mut d, &q, &vec![0.0; m.nv], &tasks, 0.01, &o).unwrap();
@@ -381,7 +408,7 @@ impl IkWorkspace {
     ///     PointReference};
     /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
     /// let (mut ws, mut d) = (IkWorkspace::new(&m), Data::new(&m));
-    /// let tasks = IkTasks { contacts: &[], links: &[], posture: None,
+    /// let tasks = IkTasks { contacts: &[], links: &[], hard_links: &[], posture: None,
     ///     com: PointReference::hold(nalgebra::Vector3::zeros()) };
     /// let step = ws.step(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01,
     ///     &IkOptions::default()).unwrap();
@@ -504,6 +531,7 @@ pub fn ik_qp(
         contacts: &holds,
         com: *com,
         links,
+        hard_links: &[],
         posture: None,
     };
     let mut ws = IkWorkspace::new(model);
@@ -542,6 +570,7 @@ pub fn ik_step(
         contacts: &holds,
         com: *com,
         links,
+        hard_links: &[],
         posture: None,
     };
     IkWorkspace::new(model).step(model, data, q, q_s, &tasks, ds, options)

@@ -113,6 +113,7 @@ pub fn track_path(
             contacts: &holds,
             com: com_ref,
             links: &links,
+            hard_links: &[],
             posture: None,
         };
         let step = ws.step(model, &mut data, &q, &q_s, &tasks, ds, options)?;

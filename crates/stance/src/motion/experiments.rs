@@ -7,10 +7,12 @@ use super::spec::MotionSpec;
 use crate::StanceError;
 
 /// The names of the built-in motions.
-pub const NAMES: [&str; 1] = ["small-sway"];
+pub const NAMES: [&str; 3] = ["stair-climbing", "box-climbing", "small-sway"];
 
 fn text(name: &str) -> Option<&'static str> {
     match name {
+        "stair-climbing" => Some(include_str!("../../motions/stair-climbing.toml")),
+        "box-climbing" => Some(include_str!("../../motions/box-climbing.toml")),
         "small-sway" => Some(include_str!("../../motions/small-sway.toml")),
         _ => None,
     }

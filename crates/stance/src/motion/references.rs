@@ -37,7 +37,8 @@
 //! ```
 //!
 //! so every link arrives at each via-point with zero velocity and acceleration: a landing foot
-//! touches down at rest (no impact), whatever the CoM does meanwhile. Before its first move in a
+//! touches down at rest (no impact), whatever the CoM does meanwhile (the IK holds a landing
+//! leg's task as an equality, so its tracking is not traded for the CoM's). Before its first move in a
 //! segment a link holds its placement at the segment's start, after its last move its last
 //! via-point.
 
@@ -53,6 +54,9 @@ pub struct LinkLeg {
     pub from: Pose,
     /// End placement.
     pub to: Pose,
+    /// It lands the link on an environment surface (`onto`): the IK holds the link's task as
+    /// an equality over the segment, so that its arrival at rest is not traded for the CoM.
+    pub landing: bool,
 }
 
 /// A free link's references over a segment.
@@ -173,7 +177,7 @@ impl LinkPlan {
     /// let a = Pose::identity();
     /// let b = Pose::from_xyz_rpy([0.2, 0.0, 0.1], [0.0, 0.3, 0.0]);
     /// let plan = LinkPlan { surface: 0, frame: 7, start: a,
-    ///     legs: vec![LinkLeg { s: [1.0, 3.0], from: a, to: b }] };
+    ///     legs: vec![LinkLeg { s: [1.0, 3.0], from: a, to: b, landing: false }] };
     /// assert_eq!(plan.target_at(0.5).reference.p, a.translation); // holds before
     /// let mid = plan.target_at(2.0);
     /// assert!((mid.reference.p - b.translation * 0.5).norm() < 1e-15);
@@ -233,9 +237,19 @@ impl SegmentReferences {
         self.com.at(self.s_offset + s)
     }
 
-    /// The free-link targets at segment-local `s`, into `out`.
-    pub fn links_at(&self, s: f64, out: &mut Vec<LinkTarget>) {
-        out.clear();
-        out.extend(self.links.iter().map(|l| l.target_at(s)));
+    /// The free-link targets at segment-local `s`: weighted tasks into `soft`, those of links
+    /// that land in the segment into `hard` (over the whole segment: the tracking error of an
+    /// earlier weighted leg would still decay when the link arrives).
+    pub fn links_at(&self, s: f64, soft: &mut Vec<LinkTarget>, hard: &mut Vec<LinkTarget>) {
+        soft.clear();
+        hard.clear();
+        for l in &self.links {
+            let landing = l.legs.iter().any(|leg| leg.landing);
+            if landing {
+                hard.push(l.target_at(s));
+            } else {
+                soft.push(l.target_at(s));
+            }
+        }
     }
 }

@@ -15,7 +15,9 @@
 //!
 //! (`W` weighs the base coordinates by [`crate::tol::STAND_BASE_WEIGHT`] against 1 for the
 //! joints, `mu` = [`crate::tol::STAND_DAMPING`]), applied with `q <- q (+) dq` and the joints
-//! clamped to their limits, until `|e|_inf <= `[`crate::tol::STAND_RESIDUAL`]. At the answer,
+//! clamped to their limits (a joint at a limit is held there for the next step: infinite
+//! weight, no posture pull); once `|e|_inf <= `[`crate::tol::STAND_POLISH`] the posture pull
+//! stops (`d = 0`: Gauss-Newton on the tasks alone, quadratic convergence from there), until `|e|_inf <= `[`crate::tol::STAND_RESIDUAL`]. At the answer,
 //! the tasks hold and `q - q_nom` has no component left in their null space: the posture is the
 //! closest to the nominal one, in `W`, among those that satisfy them.
 
@@ -93,10 +95,17 @@ pub fn stand(
         j.view_mut((r0, 0), (3, nv)).copy_from(&data.com_jacobian);
         residual = e.amax();
         // posture step in the joints' coordinates (revolute and prismatic joints)
+        // (a joint at a limit is held there: it takes no part in the step)
         let mut d = DVector::zeros(nv);
+        let mut w_inv = w_inv.clone();
         for jt in &m.joints[2..] {
             if jt.dims() == (1, 1) {
-                d[jt.idx_v] = robot.posture[jt.idx_q] - q[jt.idx_q];
+                let x = q[jt.idx_q];
+                if x <= jt.lower || x >= jt.upper {
+                    w_inv[jt.idx_v] = 0.0;
+                } else if residual > crate::tol::STAND_POLISH {
+                    d[jt.idx_v] = robot.posture[jt.idx_q] - x;
+                }
             }
         }
         let jw = DMatrix::from_fn(rows, nv, |r, k| j[(r, k)] * w_inv[k]);
