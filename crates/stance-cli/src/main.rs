@@ -34,6 +34,9 @@ enum Command {
     Equilibrium(cmd::contact::EquilibriumCommand),
     /// Retime a CoM motion under contact stability (GIWC -> TOPP), with a phase-plane plot.
     Retime(cmd::retime::RetimeArgs),
+    /// A whole-body motion across stances: IK, GIWC, chained retiming, checks (the paper's
+    /// stair and box climbing are built in).
+    Motion(cmd::motion::MotionArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
         Command::Retime(a) => cmd::retime::run(a),
+        Command::Motion(a) => cmd::motion::run_cmd(a),
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
         Command::Giwc(a) => cmd::contact::run_giwc(a),

@@ -356,14 +356,19 @@ pub struct Retiming {
 }
 
 /// The feasible set of `x` at one grid point: min and max `x` over `{(u, x) : rows <= 0}`
-/// within the solver's bounding box (two exact 2-variable LPs).
-fn feasible_set(k: &CanonicalConstraints, i: usize, tol: &Tolerances) -> Option<[f64; 2]> {
+/// within the solver's bounding box and the point's bounds on `x` (two exact 2-variable LPs).
+pub(crate) fn feasible_set(
+    k: &CanonicalConstraints,
+    i: usize,
+    tol: &Tolerances,
+) -> Option<[f64; 2]> {
     let lines = StageLines::from_rows(k.rows_at(i));
+    let [x_lo, x_hi] = k.x_bounds_at(i);
     let bbox = Box2 {
         u_lo: -tol.max_u,
         u_hi: tol.max_u,
-        x_lo: 0.0,
-        x_hi: tol.max_x,
+        x_lo: x_lo.max(0.0),
+        x_hi: x_hi.min(tol.max_x),
     };
     let mut stats = Lp2Stats::default();
     let mut extreme =

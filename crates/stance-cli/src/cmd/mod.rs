@@ -5,6 +5,7 @@ pub mod contact;
 pub mod demo;
 #[allow(dead_code)] // shared helpers; each command module uses the ones it needs
 pub mod io;
+pub mod motion;
 pub mod plot;
 pub mod retime;
 pub mod robot;

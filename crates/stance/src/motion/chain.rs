@@ -119,6 +119,12 @@ pub struct Retimed {
     pub t_assemble: Duration,
     /// What the refinement between grid points did.
     pub refinement: Refinement,
+    /// Controllable sets `[lo, hi]` of `x = s'^2` at the grid points (`None` where empty or not
+    /// computed: after a failure in rest-to-rest mode, the segments not solved).
+    pub controllable: Vec<Option<[f64; 2]>>,
+    /// Feasible sets of `x` at the grid points (the `x` for which some `s''` satisfies the rows
+    /// of that point).
+    pub feasible: Vec<Option<[f64; 2]>>,
 }
 
 fn discretization(d: DiscretizationName) -> Discretization {
@@ -238,6 +244,7 @@ fn solve_layout(
     opts: &SolveOptions,
     ws: &mut Workspace,
     segments: &mut Vec<SegmentSolve>,
+    controllable: &mut Vec<Option<[f64; 2]>>,
 ) -> Result<(Option<Profile>, Option<RetimeFailure>, Duration), StanceError> {
     let nseg = l.seg_start.len() - 1;
     let locate = |status: &Status, global: usize| {
@@ -254,11 +261,14 @@ fn solve_layout(
         }
     };
     segments.clear();
+    controllable.clear();
+    controllable.resize(l.constraints.num_points(), None);
     match mode {
         RetimingMode::Chained => {
             let t1 = Instant::now();
             let sol: Solution = solve_with(&l.constraints, opts, ws)?;
             let t = t1.elapsed();
+            controllable.clone_from(&sol.controllable);
             match (&sol.status, sol.profile) {
                 (Status::Optimal, Some(p)) => Ok((Some(p), None, t)),
                 (status, _) => Ok((
@@ -277,6 +287,9 @@ fn solve_layout(
                 let sol = solve_with(&kk, opts, ws)?;
                 let t = t2.elapsed();
                 total += t;
+                for (i, c) in sol.controllable.iter().enumerate() {
+                    controllable[l.seg_start[k] + i] = *c;
+                }
                 match (&sol.status, &sol.profile) {
                     (Status::Optimal, Some(p)) => {
                         let skip = usize::from(k > 0);
@@ -362,8 +375,9 @@ pub fn retime(
     let t_layout = Instant::now();
     let mut l = layout(paths, rows, margin, &boundary_x_max)?;
     let mut t_assemble = t_layout.elapsed();
+    let mut controllable = Vec::new();
     let (mut profile, mut failure, mut t_topp) =
-        solve_layout(&l, mode, &opts, &mut ws, &mut segments)?;
+        solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
     // refinement: IK samples where the rows do not hold (with half the margin) become grid points
     while let (Some(p), true) = (&profile, refine.rounds < crate::tol::MAX_REFINE_ROUNDS) {
         let t_r = Instant::now();
@@ -393,7 +407,8 @@ pub fn retime(
         let t_lay = Instant::now();
         l = layout(paths, rows, margin, &boundary_x_max)?;
         t_assemble = t_lay.elapsed();
-        (profile, failure, t_topp) = solve_layout(&l, mode, &opts, &mut ws, &mut segments)?;
+        (profile, failure, t_topp) =
+            solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
         refine.elapsed += t_r.elapsed();
     }
     // per-segment re-solves of a chained profile, for their T_TOPP
@@ -417,6 +432,9 @@ pub fn retime(
         }
     }
     let _ = t0;
+    let feasible = (0..l.constraints.num_points())
+        .map(|i| crate::retime::feasible_set(&l.constraints, i, &opts.tol))
+        .collect();
     Ok(Retimed {
         mode,
         constraints: l.constraints,
@@ -429,6 +447,8 @@ pub fn retime(
         t_topp,
         t_assemble,
         refinement: refine,
+        controllable,
+        feasible,
     })
 }
 

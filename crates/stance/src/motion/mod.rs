@@ -51,8 +51,8 @@ use chain::{retime, RetimeFailure, RetimingMode};
 use ik_stage::{run_segment, IkStageWorkspace, SegmentPath};
 use plan::MotionPlan;
 use result::{
-    ChecksInfo, ContactInfo, MotionResult, MotionStatus, RobotInfo, SegmentInfo, Timings,
-    TrajectoryInfo,
+    ChecksInfo, ContactInfo, MotionResult, MotionStatus, PhaseInfo, RobotInfo, SegmentInfo,
+    Timings, TrajectoryInfo,
 };
 use rows::{segment_rows, SegmentRows};
 use spec::MotionSpec;
@@ -283,6 +283,15 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         failure,
         landings: retimed.as_ref().map_or(Vec::new(), |r| r.landings.clone()),
         refinement: retimed.as_ref().map(|r| r.refinement),
+        phase: retimed.as_ref().map(|r| PhaseInfo {
+            s: r.constraints.grid().to_vec(),
+            segment_starts: r.seg_start.clone(),
+            sd: profile.as_ref().map_or(Vec::new(), |p| p.sd()),
+            sdd: profile.as_ref().map_or(Vec::new(), |p| p.u().to_vec()),
+            t: profile.as_ref().map_or(Vec::new(), |p| p.times().to_vec()),
+            controllable_sets: r.controllable.clone(),
+            feasible_sets: r.feasible.clone(),
+        }),
         checks,
         trajectory: (!samples.is_empty()).then(|| TrajectoryInfo {
             t: samples.iter().map(|s| s.t).collect(),

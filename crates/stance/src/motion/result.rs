@@ -143,6 +143,25 @@ pub struct TrajectoryInfo {
     pub joint_names: Vec<String>,
 }
 
+/// The retiming in the phase plane, on the global grid of the path parameter.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PhaseInfo {
+    /// Grid `s_i` (global path parameter).
+    pub s: Vec<f64>,
+    /// Index of each segment's first grid point, and of the last point.
+    pub segment_starts: Vec<usize>,
+    /// Path speed `s'` at the grid points (empty without a profile).
+    pub sd: Vec<f64>,
+    /// Path acceleration `s''` on each interval (empty without a profile).
+    pub sdd: Vec<f64>,
+    /// Time at the grid points (empty without a profile).
+    pub t: Vec<f64>,
+    /// Controllable sets `[lo, hi]` of `x = s'^2` (null where empty or not computed).
+    pub controllable_sets: Vec<Option<[f64; 2]>>,
+    /// Feasible sets of `x` (null where empty).
+    pub feasible_sets: Vec<Option<[f64; 2]>>,
+}
+
 /// Stage timings of the pipeline (ms).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Timings {
@@ -185,6 +204,8 @@ pub struct MotionResult {
     pub landings: Vec<LandingBound>,
     /// What the refinement between grid points did.
     pub refinement: Option<Refinement>,
+    /// The retiming in the phase plane (when the IK succeeded).
+    pub phase: Option<PhaseInfo>,
     /// The checks (when run and a profile exists).
     pub checks: Option<ChecksInfo>,
     /// The trajectory (when a profile exists).

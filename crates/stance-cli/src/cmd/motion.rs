@@ -1,0 +1,202 @@
+//! `stance motion FILE|NAME`: a whole-body motion across stances (the paper's Section V on a
+//! humanoid): IK per segment, `U_stance` and eq. 14 rows, one chained retiming (or rest to rest
+//! per segment), the trajectory `q(t), v(t), a(t)` and the independent checks.
+//!
+//! `FILE` is a motion file (JSON, or TOML for `.toml`; format in the `stance::motion::spec`
+//! docs and the README); `NAME` a built-in motion: `stair-climbing`, `box-climbing` (JVRC-1,
+//! the paper's experiments) or `small-sway` (the project's small humanoid). Output: the
+//! `stance::motion::result::MotionResult` as JSON. `--plot DIR` draws the phase plane of the
+//! whole motion (`motion.svg`) and of each segment (`segment-K.svg`); `--table` prints the
+//! per-segment table (the paper's Tables I and II columns) to standard error.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use stance::motion::result::MotionResult;
+use stance::motion::spec::MotionSpec;
+use stance::motion::{experiments, plan, run, RunOptions};
+
+use super::io::{read_input, write_output, Common};
+use super::plot::{phase_plane, PhasePlane};
+
+#[derive(clap::Args)]
+pub struct MotionArgs {
+    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway.
+    pub motion: String,
+    /// Retime every segment from rest to rest (the paper's way) instead of the whole motion as
+    /// one problem.
+    #[arg(long)]
+    pub rest_to_rest: bool,
+    /// Output time step of the trajectory and the checks (s).
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Retiming grid intervals per segment.
+    #[arg(long, value_name = "N")]
+    pub grid: Option<usize>,
+    /// Draw phase-plane plots (motion.svg and segment-K.svg) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Skip the independent checks.
+    #[arg(long)]
+    pub no_checks: bool,
+    /// Check the trajectory played K times faster (K > 1: the force check must then fail
+    /// somewhere if the retiming was tight).
+    #[arg(long, value_name = "K")]
+    pub time_scale: Option<f64>,
+    /// Print the per-segment table to standard error.
+    #[arg(long)]
+    pub table: bool,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// A motion file's spec and folder, or a built-in motion by name.
+pub fn load(motion: &str) -> Result<(MotionSpec, Option<PathBuf>)> {
+    let path = Path::new(motion);
+    if path.is_file() {
+        let spec: MotionSpec = read_input(path)?;
+        let dir = path.parent().map(Path::to_path_buf);
+        return Ok((spec, dir));
+    }
+    if let Ok(spec) = experiments::by_name(motion) {
+        return Ok((spec, None));
+    }
+    bail!(
+        "{motion} is neither a motion file nor a built-in motion ({})",
+        experiments::NAMES.join(", ")
+    )
+}
+
+pub fn run_cmd(args: MotionArgs) -> Result<()> {
+    let (mut spec, base_dir) = load(&args.motion)?;
+    if args.rest_to_rest {
+        spec.retiming.rest_to_rest = true;
+    }
+    if let Some(dt) = args.dt {
+        spec.retiming.dt = dt;
+    }
+    if let Some(g) = args.grid {
+        spec.retiming.grid = g;
+    }
+    plan::check_retiming(&spec.retiming)?;
+    let options = RunOptions {
+        base_dir,
+        skip_checks: args.no_checks,
+        time_scale: args.time_scale,
+    };
+    let mut out = run(spec.clone(), &options)?;
+    for _ in 1..args.common.repeat {
+        out = run(spec.clone(), &options)?;
+    }
+    if let Some(dir) = &args.plot {
+        plots(dir, &out)?;
+    }
+    if args.table {
+        eprint!("{}", table(&out));
+    }
+    write_output(&args.common, &out)
+}
+
+/// The phase planes of the whole motion and of each segment.
+pub fn plots(dir: &Path, r: &MotionResult) -> Result<()> {
+    let Some(ph) = &r.phase else {
+        return Ok(());
+    };
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create the plot folder {}", dir.display()))?;
+    let starts = &ph.segment_starts;
+    let boundaries: Vec<f64> = starts[1..starts.len() - 1]
+        .iter()
+        .map(|&i| ph.s[i])
+        .collect();
+    let whole = PhasePlane {
+        s: &ph.s,
+        sd: &ph.sd,
+        controllable: &ph.controllable_sets,
+        feasible: &ph.feasible_sets,
+        boundaries: &boundaries,
+    };
+    phase_plane(&dir.join("motion.svg"), &whole)?;
+    for k in 0..starts.len() - 1 {
+        let (a, b) = (starts[k], starts[k + 1]);
+        let part = PhasePlane {
+            s: &ph.s[a..=b],
+            sd: if ph.sd.is_empty() { &[] } else { &ph.sd[a..=b] },
+            controllable: &ph.controllable_sets[a..=b],
+            feasible: &ph.feasible_sets[a..=b],
+            boundaries: &[],
+        };
+        phase_plane(&dir.join(format!("segment-{}.svg", k + 1)), &part)?;
+    }
+    Ok(())
+}
+
+/// The per-segment table: the paper's columns (rows of `U_stance`, `T_U`, `T_abc`, `T_TOPP`)
+/// with `T_IK`, the grid and the durations, and the totals.
+pub fn table(r: &MotionResult) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{} ({:?}, {:?}): duration {}",
+        r.name,
+        r.status,
+        r.mode,
+        r.duration
+            .map_or_else(|| "none".to_string(), |d| format!("{d:.3} s"))
+    );
+    let _ = writeln!(
+        o,
+        "  {:<34} {:>5} {:>6} {:>6} {:>7} {:>7} {:>7} {:>8} {:>8} {:>9}",
+        "segment", "rows", "grid", "T_IK", "T_U", "T_abc", "T_TOPP", "start", "end", "duration"
+    );
+    let f = |x: Option<f64>, p: usize| x.map_or_else(|| "-".to_string(), |v| format!("{v:.p$}"));
+    for s in &r.segments {
+        let _ = writeln!(
+            o,
+            "  {:<34} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.2} {:>7} {:>8} {:>8} {:>9}",
+            s.name.chars().take(34).collect::<String>(),
+            s.u_stance_rows,
+            s.grid_points,
+            s.t_ik_ms,
+            s.t_u_ms,
+            s.t_abc_ms,
+            f(s.t_topp_ms, 2),
+            f(s.t_start, 3),
+            f(s.t_end, 3),
+            f(s.duration, 3),
+        );
+    }
+    let t = &r.timings;
+    let _ = writeln!(
+        o,
+        "  times in ms; U_stance + rows + TOPP {:.2} (refinement {:.2}), IK {:.1}, pipeline {:.1}",
+        t.t_u_abc_topp_ms, t.t_refine_ms, t.t_ik_ms, t.t_pipeline_ms
+    );
+    if let Some(c) = &r.checks {
+        let _ = writeln!(
+            o,
+            "  checks: {} samples, {} without supporting forces, friction usage <= {:.3}, \
+             contact drift <= {:.2e} m, violation between grid points {:.2e} of the weight \
+             ({:.1} us per sample)",
+            c.samples,
+            c.samples_without_forces,
+            c.max_friction_usage,
+            c.max_contact_drift,
+            c.max_between_violation_fraction,
+            c.t_per_sample_us
+        );
+    }
+    if let Some(fl) = &r.failure {
+        let _ = writeln!(
+            o,
+            "  failure: {} in segment {} at grid point {} (s = {:.3}): {}",
+            fl.status,
+            fl.segment + 1,
+            fl.grid_point,
+            fl.s,
+            fl.reason
+        );
+    }
+    o
+}
