@@ -240,18 +240,6 @@ impl MotionPlan {
             )));
         }
         check_retiming(&spec.retiming)?;
-        let shortest = spec
-            .segments
-            .iter()
-            .flat_map(|s| s.moves.iter().map(|m| m.duration))
-            .fold(f64::INFINITY, f64::min);
-        finite_in(
-            "ik.com_blend",
-            ik.com_blend,
-            f64::MIN_POSITIVE,
-            0.5 * shortest.max(f64::MIN_POSITIVE),
-            "give a half-width > 0 and at most half of the shortest move",
-        )?;
         // segments
         if spec.segments.is_empty() {
             return Err(bad("the motion has no segments; give at least one".into()));
@@ -398,6 +386,17 @@ impl MotionPlan {
                 gain,
             });
         }
+        let shortest = segments
+            .iter()
+            .flat_map(|s| s.moves.iter().map(|m| m.duration))
+            .fold(f64::INFINITY, f64::min);
+        finite_in(
+            "ik.com_blend",
+            ik.com_blend,
+            f64::MIN_POSITIVE,
+            0.5 * shortest,
+            "give a half-width > 0 and at most half of the shortest move",
+        )?;
         // initial configuration
         let q0 = match &spec.initial {
             InitialSpec::Configuration(q) => {
