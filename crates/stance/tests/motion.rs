@@ -158,7 +158,7 @@ fn small_sway_is_retimed_and_every_sample_has_supporting_forces() {
     // one landing, made at rest
     assert_eq!(r.landings.len(), 1);
     let l = &r.landings[0];
-    assert!(l.max_sd.map_or(true, |m| m * l.path_speed <= 1e-3 + 1e-12));
+    assert!(l.max_sd.is_none_or(|m| m * l.path_speed <= 1e-3 + 1e-12));
     // segment times tile the motion
     let segs = &r.segments;
     assert_eq!(segs[0].t_start, Some(0.0));
