@@ -37,6 +37,9 @@ pub struct MotionArgs {
     /// Draw phase-plane plots (motion.svg and segment-K.svg) into this folder.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// Image format of the plots: svg or png.
+    #[arg(long, value_name = "FORMAT", default_value = "svg", value_parser = ["svg", "png"])]
+    pub plot_format: String,
     /// Skip the independent checks.
     #[arg(long)]
     pub no_checks: bool,
@@ -90,7 +93,7 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         out = run(spec.clone(), &options)?;
     }
     if let Some(dir) = &args.plot {
-        plots(dir, &out)?;
+        plots(dir, &out, &args.plot_format)?;
     }
     if args.table {
         eprint!("{}", table(&out));
@@ -98,8 +101,8 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
     write_output(&args.common, &out)
 }
 
-/// The phase planes of the whole motion and of each segment.
-pub fn plots(dir: &Path, r: &MotionResult) -> Result<()> {
+/// The phase planes of the whole motion and of each segment, as `ext` files (`svg`, `png`).
+pub fn plots(dir: &Path, r: &MotionResult, ext: &str) -> Result<()> {
     let Some(ph) = &r.phase else {
         return Ok(());
     };
@@ -117,7 +120,7 @@ pub fn plots(dir: &Path, r: &MotionResult) -> Result<()> {
         feasible: &ph.feasible_sets,
         boundaries: &boundaries,
     };
-    phase_plane(&dir.join("motion.svg"), &whole)?;
+    phase_plane(&dir.join(format!("motion.{ext}")), &whole)?;
     for k in 0..starts.len() - 1 {
         let (a, b) = (starts[k], starts[k + 1]);
         let part = PhasePlane {
@@ -127,7 +130,7 @@ pub fn plots(dir: &Path, r: &MotionResult) -> Result<()> {
             feasible: &ph.feasible_sets[a..=b],
             boundaries: &[],
         };
-        phase_plane(&dir.join(format!("segment-{}.svg", k + 1)), &part)?;
+        phase_plane(&dir.join(format!("segment-{}.{ext}", k + 1)), &part)?;
     }
     Ok(())
 }
