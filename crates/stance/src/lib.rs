@@ -13,6 +13,10 @@
 //! - [`retime`]: the glue of the paper's Section V: a stance and a CoM path become the rows of
 //!   eq. (14) through `U_stance` (computed once), solved by reachability analysis, with the
 //!   violation of contact stability between grid points measured (and optionally refined away).
+//! - [`motion`]: whole-body motions across stances: a humanoid's path made by the
+//!   acceleration-level IK, `U_stance` per stance, eq. 14 with the real body's angular momentum,
+//!   one chained retiming of all segments, the trajectory and its independent force check; the
+//!   paper's stair- and box-climbing experiments on JVRC-1 by name.
 //!
 //! # The pipeline in one call
 //!
@@ -31,8 +35,8 @@
 //!
 //! # Limitations
 //!
-//! - [`retime::retime`] holds one stance for the whole motion: split a multi-stance motion at
-//!   the contact switches and chain the segments through their end speeds yourself.
+//! - [`retime::retime`] holds one stance for a point-mass CoM path; motions across stances with
+//!   the whole body are [`motion`]'s.
 //! - The CoM path is a polyline or a clamped cubic spline through waypoints (rest to rest: the
 //!   spline's end tangents are zero); other paths go through [`stance_topp`] directly.
 //! - Without `angular_momentum` samples the model is a point mass (`L' = 0`); with them, `l1`
@@ -41,8 +45,20 @@
 //!   vary fast, e.g. from [`stance_robot::path_terms_along`]).
 //! - The stance's GIWC must be full-dimensional for retiming (a lower-dimensional GIWC, e.g.
 //!   point contacts only, is reported as an error naming the equations).
-//! - The whole-body pipeline of the paper (IK along the path, `l1`, `l2` from the robot model,
-//!   the MuJoCo check) is not wired into [`retime`] yet.
+//! - [`motion`]: the CoM reference is the via-point polyline with its corners rounded over
+//!   `2 com_blend` path units (it lags the polyline by `com_blend`), so the CoM passes near, not
+//!   through, its via-points; free links move along straight lines with minimum-jerk timing and
+//!   stop at every via-point. The IK is integrated with `q_ss` constant per step: the retiming
+//!   enforces the rows on both sides of every grid point and refines the grid at IK samples
+//!   where they fail, so the rows hold at every IK sample, but between IK samples only as the
+//!   independent force check measures (no sample of the built-in motions fails it). The
+//!   greedy profile is time-optimal as the grid is refined, not exactly on the grid (measured:
+//!   0.23 % longer than a one-shot LP's on `small-sway`). Path speeds are unbounded where the
+//!   whole body is at rest in path terms (the start, via-points where nothing else moves):
+//!   there the profile may reach the solver's box (`s'^2 = 1e8`), which costs no time. No
+//!   collision checking (a swing foot may graze a step edge: choose via-points that clear
+//!   it), no joint velocity or torque limits in the retiming, planar convex environment
+//!   surfaces only; the MuJoCo validation is not built yet.
 
 pub use polycone;
 pub use stance_contact;
