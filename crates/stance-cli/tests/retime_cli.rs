@@ -213,6 +213,17 @@ fn demo_runs_the_built_in_examples() {
     }
     assert!(!text.contains("false"), "every GIWC certified:\n{text}");
     assert!(text.contains("optimal"));
+    // the paper's whole-body experiments on JVRC-1, beside Tables I and II (the demo installs
+    // JVRC-1 when it is missing; it never skips them)
+    for (table, motion) in [("Table I", "stair-climbing"), ("Table II", "box-climbing")] {
+        assert!(text.contains(table), "{text}");
+        assert!(dir.join(motion).join("motion.svg").exists());
+    }
+    assert_eq!(
+        text.matches(", 0 without supporting forces").count(),
+        2,
+        "{text}"
+    );
 }
 
 #[test]

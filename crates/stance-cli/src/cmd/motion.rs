@@ -29,7 +29,7 @@ pub struct MotionArgs {
     #[arg(long)]
     pub rest_to_rest: bool,
     /// Output time step of the trajectory and the checks (s).
-    #[arg(long, value_name = "DT")]
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// Retiming grid intervals per segment.
     #[arg(long, value_name = "N")]
@@ -45,7 +45,7 @@ pub struct MotionArgs {
     pub no_checks: bool,
     /// Check the trajectory played K times faster (K > 1: the force check must then fail
     /// somewhere if the retiming was tight).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub time_scale: Option<f64>,
     /// Print the per-segment table to standard error.
     #[arg(long)]

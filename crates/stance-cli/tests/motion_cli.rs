@@ -1,0 +1,141 @@
+//! `stance motion` through the binary (the small humanoid's built-in motion: no Python needed).
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stance-motion-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn stance() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stance"))
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = stance().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn motion_writes_the_contract_fields_and_plots() {
+    let dir = tmp("plots");
+    let v = json(&[
+        "motion",
+        "small-sway",
+        "--dt",
+        "0.02",
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(v["status"], "optimal");
+    let duration = v["duration"].as_f64().unwrap();
+    assert!(duration > 0.5 && duration < 10.0, "{duration}");
+    assert_eq!(v["robot"]["name"], "small-humanoid");
+    assert!((v["robot"]["mass"].as_f64().unwrap() - 43.2).abs() < 1e-9);
+    let segs = v["segments"].as_array().unwrap();
+    assert_eq!(segs.len(), 3);
+    for s in segs {
+        for key in [
+            "t_start",
+            "t_end",
+            "u_stance_rows",
+            "grid_points",
+            "duration",
+            "t_ik_ms",
+            "t_u_ms",
+            "t_abc_ms",
+            "t_topp_ms",
+        ] {
+            assert!(!s[key].is_null(), "{key} in {s}");
+        }
+        for c in s["contacts"].as_array().unwrap() {
+            for key in [
+                "name",
+                "link",
+                "position",
+                "rotation",
+                "half_length",
+                "half_width",
+                "friction",
+            ] {
+                assert!(!c[key].is_null(), "{key} in {c}");
+            }
+            // planning friction and 70 % of the sole's area, as the file asks
+            assert_eq!(c["friction"], 0.7);
+            let hl = c["half_length"].as_f64().unwrap();
+            assert!((hl - 0.11 * 0.7f64.sqrt()).abs() < 1e-12, "{hl}");
+        }
+    }
+    let checks = &v["checks"];
+    for key in [
+        "samples",
+        "samples_without_forces",
+        "max_friction_usage",
+        "min_normal_force",
+        "max_contact_drift",
+        "max_between_violation_fraction",
+    ] {
+        assert!(!checks[key].is_null(), "{key}");
+    }
+    assert_eq!(checks["samples_without_forces"], 0);
+    let tr = &v["trajectory"];
+    let t = tr["t"].as_array().unwrap();
+    assert!(t.len() as f64 >= duration / 0.02);
+    let nq = v["robot"]["nq"].as_u64().unwrap() as usize;
+    let nv = v["robot"]["nv"].as_u64().unwrap() as usize;
+    assert_eq!(tr["q"][0].as_array().unwrap().len(), nq);
+    assert_eq!(tr["v"][0].as_array().unwrap().len(), nv);
+    assert_eq!(tr["a"][0].as_array().unwrap().len(), nv);
+    assert_eq!(tr["joint_names"].as_array().unwrap().len(), nv - 6);
+    for f in ["motion.svg", "segment-1.svg", "segment-3.svg"] {
+        assert!(std::fs::metadata(dir.join(f)).unwrap().len() > 1000, "{f}");
+    }
+}
+
+#[test]
+fn rest_to_rest_is_longer_and_its_boundary_speeds_are_zero() {
+    let chained = json(&["motion", "small-sway", "--no-checks"]);
+    let r2r = json(&["motion", "small-sway", "--no-checks", "--rest-to-rest"]);
+    assert_eq!(r2r["mode"], "rest_to_rest");
+    assert!(chained["duration"].as_f64().unwrap() < r2r["duration"].as_f64().unwrap());
+    for s in r2r["segments"].as_array().unwrap() {
+        assert_eq!(s["sd_boundaries"][0], 0.0);
+        assert_eq!(s["sd_boundaries"][1], 0.0);
+    }
+    assert!(chained["segments"][0]["sd_boundaries"][1].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn played_faster_the_motion_fails_the_force_check() {
+    let v = json(&["motion", "small-sway", "--time-scale", "1.3"]);
+    assert!(v["checks"]["samples_without_forces"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn bad_motion_input_is_one_line_and_exit_code_2() {
+    let bad = tmp("bad.toml");
+    std::fs::write(&bad, "robot = \"small-humanoid\"\nenvironment = []\n").unwrap();
+    for (args, needle) in [
+        (vec!["motion", "moonwalk"], "built-in motion"),
+        (vec!["motion", bad.to_str().unwrap()], "missing field"),
+        (vec!["motion", "small-sway", "--dt", "0"], "retiming.dt"),
+        (vec!["motion", "small-sway", "--grid", "1"], "retiming.grid"),
+        (
+            vec!["motion", "small-sway", "--time-scale", "-1"],
+            "time scale",
+        ),
+    ] {
+        let out = stance().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
