@@ -33,7 +33,13 @@ fn scene(contacts: Vec<ContactSpec>) -> Scene {
 }
 
 /// Names accepted by [`by_name`].
-pub const NAMES: [&str; 4] = ["single-support", "double-support", "stairs", "box-climbing"];
+pub const NAMES: [&str; 5] = [
+    "single-support",
+    "double-support",
+    "stairs",
+    "box-climbing",
+    "robust-equilibrium",
+];
 
 /// One foot flat at the origin, mu = 0.7 (the paper's 16-row single support).
 ///
@@ -114,6 +120,49 @@ pub fn box_climbing() -> Scene {
     ])
 }
 
+/// Roll-pitch-yaw (rad) to a rotation matrix, `Rz(yaw) Ry(pitch) Rx(roll)`, row-major.
+fn rpy(roll: f64, pitch: f64, yaw: f64) -> [[f64; 3]; 3] {
+    let (sr, cr) = roll.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    let (sy, cy) = yaw.sin_cos();
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// The paper's robust static-equilibrium scene (Fig. 3): the right foot on a box tilted about
+/// 9 deg (roll -8.6 deg, pitch 2.7 deg) at (0.552, -0.109, 0.087), the right forearm on a
+/// ledge at (0.5, -0.4, 0.87); the paper's HRP-4 foot (0.224 x 0.13 m) and forearm patch
+/// (0.03 x 0.05 m), mu = 0.7. The paper tests 10^6 random CoMs against the gravities
+/// `(+-0.15, 0, -9.81)` and `(0, +-0.15, -9.81)`.
+///
+/// ```
+/// let s = stance_contact::examples::robust_equilibrium();
+/// assert_eq!(s.contacts[1].name, "RA");
+/// assert!(s.stance().is_ok());
+/// ```
+pub fn robust_equilibrium() -> Scene {
+    let deg = std::f64::consts::PI / 180.0;
+    let mut arm = foot("RA", [0.5, -0.4, 0.87], EYE, 0.7);
+    arm.shape = ShapeSpec::Rectangle {
+        half_length: 0.015,
+        half_width: 0.025,
+    };
+    let mut rf = foot(
+        "RF",
+        [0.552, -0.109, 0.087],
+        rpy(-8.6 * deg, 2.7 * deg, 0.0),
+        0.7,
+    );
+    rf.shape = ShapeSpec::Rectangle {
+        half_length: 0.112,
+        half_width: 0.065,
+    };
+    scene(vec![rf, arm])
+}
+
 /// The example scene called `name` (one of [`NAMES`]), or `None`.
 ///
 /// ```
@@ -127,6 +176,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "double-support" => Some(double_support_flat()),
         "stairs" => Some(stairs()),
         "box-climbing" => Some(box_climbing()),
+        "robust-equilibrium" => Some(robust_equilibrium()),
         _ => None,
     }
 }
