@@ -36,7 +36,7 @@ use stance_topp::{
 
 use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
 use super::plan::MotionPlan;
-use super::rows::{eq14_of, SegmentRows};
+use super::rows::SegmentRows;
 use super::spec::DiscretizationName;
 use crate::StanceError;
 
@@ -134,12 +134,16 @@ fn discretization(d: DiscretizationName) -> Discretization {
     }
 }
 
-fn with_margin(rows: &[Row], margin: f64) -> impl Iterator<Item = Row> + '_ {
-    rows.iter().map(move |r| Row {
-        a: r.a,
-        b: r.b,
-        c: r.c + margin,
-    })
+fn extend_with_margin(all: &mut Vec<Row>, rows: &[Row], margin: f64) {
+    if margin == 0.0 {
+        all.extend_from_slice(rows);
+    } else {
+        all.extend(rows.iter().map(|r| Row {
+            a: r.a,
+            b: r.b,
+            c: r.c + margin,
+        }));
+    }
 }
 
 fn reason(status: &Status) -> String {
@@ -182,9 +186,10 @@ fn layout(
     boundary_x_max: &[f64],
 ) -> Result<Layout, StanceError> {
     let nseg = paths.len();
+    let total: usize = rows.iter().map(|r| r.rows.len()).sum::<usize>() + rows.len() * 200;
     let mut s = Vec::new();
     let mut offsets = vec![0];
-    let mut all = Vec::new();
+    let mut all = Vec::with_capacity(total);
     let mut x_bounds = Vec::new();
     let mut seg_start = Vec::with_capacity(nseg + 1);
     let mut s_offset = vec![0.0];
@@ -196,10 +201,10 @@ fn layout(
         let last = r.grid.len() - 1;
         for i in first..=last {
             s.push(off + path.samples[r.grid[i]].s);
-            all.extend(with_margin(r.rows_at(i), margin));
+            extend_with_margin(&mut all, r.rows_at(i), margin);
             let mut bound = [0.0, f64::INFINITY];
             if i == last && k + 1 < nseg {
-                all.extend(with_margin(rows[k + 1].rows_at(0), margin));
+                extend_with_margin(&mut all, rows[k + 1].rows_at(0), margin);
                 bound[1] = boundary_x_max[k + 1];
             }
             x_bounds.push(bound);
@@ -379,9 +384,14 @@ pub fn retime(
     let (mut profile, mut failure, mut t_topp) =
         solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
     // refinement: IK samples where the rows do not hold (with half the margin) become grid points
+    let t_refine = Instant::now();
+    if profile.is_some() {
+        for (k, r) in rows.iter_mut().enumerate() {
+            r.ensure_sample_rows(plan, &paths[k])?;
+        }
+    }
     while let (Some(p), true) = (&profile, refine.rounds < crate::tol::MAX_REFINE_ROUNDS) {
-        let t_r = Instant::now();
-        let values = sample_row_values(plan, paths, rows, &l.s_offset, p);
+        let values = sample_row_values(paths, rows, &l.s_offset, p);
         let mut added = 0;
         for k in 0..nseg {
             let bad: Vec<usize> = values[k]
@@ -397,7 +407,7 @@ pub fn retime(
             let mut grid = rows[k].grid.clone();
             grid.extend(bad);
             grid.sort_unstable();
-            rows[k].set_grid(plan, &paths[k], grid)?;
+            rows[k].set_grid(grid);
         }
         if added == 0 {
             break;
@@ -409,8 +419,8 @@ pub fn retime(
         t_assemble = t_lay.elapsed();
         (profile, failure, t_topp) =
             solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
-        refine.elapsed += t_r.elapsed();
     }
+    refine.elapsed = t_refine.elapsed();
     // per-segment re-solves of a chained profile, for their T_TOPP
     if let (RetimingMode::Chained, Some(p)) = (mode, &profile) {
         let sd = p.sd();
@@ -467,7 +477,6 @@ pub struct Refinement {
 /// The largest row value (N, no margin) at every IK sample of every segment under the profile,
 /// over its two limits (module doc of [`super::checks`]).
 pub fn sample_row_values(
-    plan: &MotionPlan,
     paths: &[SegmentPath],
     rows: &[SegmentRows],
     s_offset: &[f64],
@@ -475,7 +484,6 @@ pub fn sample_row_values(
 ) -> Vec<Vec<f64>> {
     let grid = profile.grid();
     let (x, u) = (profile.x(), profile.u());
-    let mass = plan.robot.model.total_mass();
     let interval = |s: f64, left: bool| {
         // the grid interval traversed just after (right limit) or just before (left limit) s
         let p = if left {
@@ -503,14 +511,8 @@ pub fn sample_row_values(
                         let i = interval(s, left);
                         let ui = u[i];
                         let xs = (x[i] + 2.0 * ui * (s - grid[i])).max(0.0);
-                        let [wa, wb, wc] = eq14_of(smp, left, mass, plan.gravity);
-                        let mut w = [0.0; 6];
-                        for r in 0..6 {
-                            w[r] = wc[r] + wa[r] * ui + wb[r] * xs;
-                        }
-                        for row in &rows[k].u {
-                            let v: f64 = row.iter().zip(&w).map(|(a, b)| a * b).sum();
-                            worst = worst.max(v);
+                        for r in rows[k].sample_rows(j, left) {
+                            worst = worst.max(r.a * ui + r.b * xs + r.c);
                         }
                     }
                     worst

@@ -157,7 +157,6 @@ pub fn check_samples(
 /// The largest row value (N, no margin) at the IK samples under the profile, and where (global
 /// `s`): the violation between grid points (module doc).
 pub fn between_violation(
-    plan: &MotionPlan,
     paths: &[SegmentPath],
     rows: &[SegmentRows],
     retimed: &Retimed,
@@ -165,7 +164,7 @@ pub fn between_violation(
     let Some(profile) = &retimed.profile else {
         return (f64::NAN, f64::NAN);
     };
-    let values = super::chain::sample_row_values(plan, paths, rows, &retimed.s_offset, profile);
+    let values = super::chain::sample_row_values(paths, rows, &retimed.s_offset, profile);
     let mut worst = (f64::NEG_INFINITY, 0.0);
     for (k, (path, v)) in paths.iter().zip(&values).enumerate() {
         for (smp, &x) in path.samples.iter().zip(v) {

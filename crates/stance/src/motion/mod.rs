@@ -192,7 +192,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         if !options.skip_checks {
             let t0 = Instant::now();
             let c = checks::check_samples(&plan, &paths, &rows, &samples)?;
-            let (between, _at) = checks::between_violation(&plan, &paths, &rows, r);
+            let (between, _at) = checks::between_violation(&paths, &rows, r);
             let t = t0.elapsed();
             let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
             checks = Some(ChecksInfo {

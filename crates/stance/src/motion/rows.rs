@@ -10,6 +10,11 @@
 //! world origin; [`stance_contact::Stance::u_stance`]); with the IK's path terms at grid point
 //! `i`, eq. 14 gives `a_i = U w_a`, `b_i = U w_b`, `c_i = U w_c`
 //! ([`stance_topp::factored::eq14_vectors`], [`stance_topp::factored::FactoredRows`]).
+//!
+//! The IK's joint path has a constant `q_ss` on each IK step, so `p_ss` and `l2` jump at every
+//! IK sample: an interior grid point has the rows of both limits (the step arriving, the step
+//! leaving). The refinement between grid points makes the rows at every IK sample, once, and
+//! evaluates them under the profile.
 
 use std::time::{Duration, Instant};
 
@@ -41,10 +46,37 @@ pub struct SegmentRows {
     pub rows: Vec<Row>,
     /// Where each grid point's rows start in `rows` (one more than the grid points).
     pub offsets: Vec<usize>,
+    /// Rows at every IK sample, right limit (`u.len()` per sample), once the refinement
+    /// between grid points has asked for them ([`Self::ensure_sample_rows`]; empty before).
+    pub sample_right: Vec<Row>,
+    /// Rows at every IK sample, left limit (`u.len()` per sample; the right limit's at the
+    /// first sample).
+    pub sample_left: Vec<Row>,
     /// Time of `U_stance` (the paper's `T_U`).
     pub t_u: Duration,
-    /// Time of the rows (`T_abc`) on the last grid.
+    /// Time of the rows on the initial retiming grid (`T_abc`).
     pub t_abc: Duration,
+}
+
+/// The rows of eq. 14 at the given IK samples of a path, for the right or the left limit
+/// (`u.len()` rows per sample, in sample order).
+fn rows_at_samples(
+    plan: &MotionPlan,
+    path: &SegmentPath,
+    u: &[[f64; 6]],
+    samples: &[usize],
+    left: bool,
+) -> Result<Vec<Row>, StanceError> {
+    let mass = plan.robot.model.total_mass();
+    let s: Vec<f64> = samples.iter().map(|&j| path.samples[j].s).collect();
+    let w = samples
+        .iter()
+        .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
+        .collect();
+    let f = FactoredRows::new(u, s, w)?;
+    let mut rows = vec![Row::default(); samples.len() * u.len()];
+    f.fill(&mut rows)?;
+    Ok(rows)
 }
 
 impl SegmentRows {
@@ -53,44 +85,62 @@ impl SegmentRows {
         &self.rows[self.offsets[i]..self.offsets[i + 1]]
     }
 
-    /// Computes the rows on a new grid (indices of IK samples).
-    pub fn set_grid(
+    /// Computes the rows at every IK sample (both limits), once.
+    pub fn ensure_sample_rows(
         &mut self,
         plan: &MotionPlan,
         path: &SegmentPath,
-        grid: Vec<usize>,
     ) -> Result<(), StanceError> {
-        let t1 = Instant::now();
-        let mass = plan.robot.model.total_mass();
-        let fill = |left: bool| -> Result<Vec<Row>, StanceError> {
-            let w = grid
-                .iter()
-                .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
-                .collect();
-            let s = grid.iter().map(|&j| path.samples[j].s).collect();
-            Ok(FactoredRows::new(&self.u, s, w)?
-                .to_constraints()
-                .rows()
-                .to_vec())
-        };
-        let (right, left) = (fill(false)?, fill(true)?);
+        if self.sample_right.is_empty() {
+            let all: Vec<usize> = (0..path.samples.len()).collect();
+            self.sample_right = rows_at_samples(plan, path, &self.u, &all, false)?;
+            self.sample_left = rows_at_samples(plan, path, &self.u, &all, true)?;
+        }
+        Ok(())
+    }
+
+    /// The rows of IK sample `j`: the right limit (`left = false`) or the left one (after
+    /// [`Self::ensure_sample_rows`]).
+    pub fn sample_rows(&self, j: usize, left: bool) -> &[Row] {
         let m = self.u.len();
-        let n = grid.len();
+        let all = if left {
+            &self.sample_left
+        } else {
+            &self.sample_right
+        };
+        &all[j * m..(j + 1) * m]
+    }
+
+    /// Lays out the rows of the grid from rows at its points (`right`, `left`: `u.len()` per
+    /// grid point).
+    fn lay_out(&mut self, grid: Vec<usize>, right: &[Row], left: &[Row], per_point: bool) {
+        let (n, m) = (grid.len(), self.u.len());
         self.rows.clear();
         self.offsets.clear();
         self.offsets.push(0);
-        for i in 0..n {
+        for (i, &j) in grid.iter().enumerate() {
+            let at = if per_point { i } else { j };
             if i + 1 < n {
-                self.rows.extend_from_slice(&right[i * m..(i + 1) * m]);
+                self.rows.extend_from_slice(&right[at * m..(at + 1) * m]);
             }
             if i > 0 {
-                self.rows.extend_from_slice(&left[i * m..(i + 1) * m]);
+                self.rows.extend_from_slice(&left[at * m..(at + 1) * m]);
             }
             self.offsets.push(self.rows.len());
         }
         self.grid = grid;
-        self.t_abc = t1.elapsed();
-        Ok(())
+    }
+
+    /// Takes the rows of a new grid (indices of IK samples, increasing, first and last sample
+    /// included) from the rows at the IK samples (after [`Self::ensure_sample_rows`]).
+    pub fn set_grid(&mut self, grid: Vec<usize>) {
+        let (right, left) = (
+            std::mem::take(&mut self.sample_right),
+            std::mem::take(&mut self.sample_left),
+        );
+        self.lay_out(grid, &right, &left, false);
+        self.sample_right = right;
+        self.sample_left = left;
     }
 }
 
@@ -194,6 +244,10 @@ pub fn segment_rows(
         .row_iter()
         .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
         .collect();
+    let t1 = Instant::now();
+    let grid: Vec<usize> = (0..path.samples.len()).step_by(substeps).collect();
+    let right = rows_at_samples(plan, path, &u, &grid, false)?;
+    let left = rows_at_samples(plan, path, &u, &grid, true)?;
     let mut out = SegmentRows {
         stance,
         u,
@@ -201,10 +255,12 @@ pub fn segment_rows(
         grid: Vec::new(),
         rows: Vec::new(),
         offsets: Vec::new(),
+        sample_right: Vec::new(),
+        sample_left: Vec::new(),
         t_u,
         t_abc: Duration::ZERO,
     };
-    let grid = (0..path.samples.len()).step_by(substeps).collect();
-    out.set_grid(plan, path, grid)?;
+    out.lay_out(grid, &right, &left, true);
+    out.t_abc = t1.elapsed();
     Ok(out)
 }
