@@ -11,8 +11,10 @@ use stance_robot::{
     SMALL_HUMANOID_URDF,
 };
 
-/// A model, a standing configuration, its two sole frames and a hand frame.
-fn setups() -> Vec<(&'static str, Model, Vec<f64>, [usize; 2], usize)> {
+/// A model's name, the model, a standing configuration, its two sole frames and a hand frame.
+type Setup = (&'static str, Model, Vec<f64>, [usize; 2], usize);
+
+fn setups() -> Vec<Setup> {
     let mut out = Vec::new();
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     match jvrc1::locate_urdf(Some(&root)) {
