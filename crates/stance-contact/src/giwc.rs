@@ -48,6 +48,22 @@ fn unit_rows(m: &DMatrix<f64>, what: &str) -> Result<DMatrix<f64>, ContactError>
 }
 
 impl Giwc {
+    /// The facets `U` as an array of rows (the layout of the retiming's factored rows).
+    ///
+    /// ```
+    /// # use stance_contact::examples;
+    /// let giwc = examples::single_support_flat().stance().unwrap().u_stance(&Default::default()).unwrap();
+    /// let rows = giwc.facet_rows();
+    /// assert_eq!(rows.len(), 16);
+    /// assert_eq!(rows[3][5], giwc.facets[(3, 5)]);
+    /// ```
+    pub fn facet_rows(&self) -> Vec<[f64; 6]> {
+        self.facets
+            .row_iter()
+            .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
+            .collect()
+    }
+
     /// Builds a GIWC from a face matrix `U` (rows `u . w_GI <= 0`) and equations `E` (rows
     /// `e . w_GI = 0`), both with 6 columns; rows are normalized and zero rows dropped.
     /// The lineality is left empty (unknown) and `certified` false.

@@ -104,6 +104,32 @@ pub enum ShapeSpec {
     Polygon(#[serde(deserialize_with = "strict::points2")] Vec<[f64; 2]>),
 }
 
+impl ShapeSpec {
+    /// The contact shape it describes, scaled by `k` about the contact origin (`k = 1`: as
+    /// given; the polygon's vertices and the rectangle's half sizes are multiplied by `k`).
+    ///
+    /// ```
+    /// use stance_contact::{Shape, ShapeSpec};
+    /// let r = ShapeSpec::Rectangle { half_length: 0.1, half_width: 0.05 };
+    /// assert_eq!(r.shape(2.0), Shape::Rectangle { half_length: 0.2, half_width: 0.1 });
+    /// ```
+    pub fn shape(&self, k: f64) -> Shape {
+        match self {
+            ShapeSpec::Point => Shape::Point,
+            ShapeSpec::Rectangle {
+                half_length,
+                half_width,
+            } => Shape::Rectangle {
+                half_length: half_length * k,
+                half_width: half_width * k,
+            },
+            ShapeSpec::Polygon(v) => {
+                Shape::Polygon(v.iter().map(|p| [p[0] * k, p[1] * k]).collect())
+            }
+        }
+    }
+}
+
 /// One contact of a scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -171,18 +197,14 @@ impl Scene {
             .contacts
             .iter()
             .map(|c| {
-                let shape = match &c.shape {
-                    ShapeSpec::Point => Shape::Point,
-                    ShapeSpec::Rectangle {
-                        half_length,
-                        half_width,
-                    } => Shape::Rectangle {
-                        half_length: *half_length,
-                        half_width: *half_width,
-                    },
-                    ShapeSpec::Polygon(v) => Shape::Polygon(v.clone()),
-                };
-                Contact::new(&c.name, c.position, c.rotation, shape, c.friction, tol)
+                Contact::new(
+                    &c.name,
+                    c.position,
+                    c.rotation,
+                    c.shape.shape(1.0),
+                    c.friction,
+                    tol,
+                )
             })
             .collect::<Result<Vec<_>, _>>()?;
         Stance::new(contacts, self.friction_model)

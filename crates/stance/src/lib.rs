@@ -67,6 +67,7 @@ pub use stance_topp;
 
 pub mod error;
 pub mod motion;
+mod name_or;
 pub mod retime;
 pub mod tol;
 

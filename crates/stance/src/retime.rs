@@ -34,6 +34,7 @@ use stance_topp::{
     solve_with, CanonicalConstraints, Discretization, SolveOptions, Tolerances, Workspace,
 };
 
+use crate::name_or::NameOr;
 use crate::StanceError;
 
 /// Where the scene of a motion comes from: a built-in example by name
@@ -52,21 +53,15 @@ pub enum SceneRef {
 
 impl<'de> Deserialize<'de> for SceneRef {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Visit;
-        impl<'de> serde::de::Visitor<'de> for Visit {
-            type Value = SceneRef;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a built-in example name (string) or a scene (map)")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<SceneRef, E> {
-                Ok(SceneRef::Named(v.to_string()))
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<SceneRef, A::Error> {
-                Scene::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(|s| SceneRef::Inline(Box::new(s)))
-            }
-        }
-        d.deserialize_any(Visit)
+        Ok(
+            match NameOr::<Scene>::deserialize(
+                d,
+                "a built-in example name (string) or a scene (map)",
+            )? {
+                NameOr::Name(n) => SceneRef::Named(n),
+                NameOr::Value(s) => SceneRef::Inline(Box::new(s)),
+            },
+        )
     }
 }
 
@@ -457,11 +452,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
             giwc.equations.nrows()
         )));
     }
-    let u: Vec<[f64; 6]> = giwc
-        .facets
-        .row_iter()
-        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
-        .collect();
+    let u = giwc.facet_rows();
 
     // Knots too close together (or waypoints too far apart) overflow the path's derivatives:
     // say so rather than report a non-finite row.

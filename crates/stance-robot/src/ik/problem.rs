@@ -499,6 +499,25 @@ fn add_task<S>(
     c.gemv_tr(-2.0 * w, j, r, 1.0);
 }
 
+fn velocity_holds(contacts: &[usize]) -> Vec<ContactHold> {
+    contacts.iter().map(|&f| ContactHold::velocity(f)).collect()
+}
+
+/// The tasks of [`ik_qp`] and [`ik_step`]: contacts held by their velocities, no posture.
+fn plain_tasks<'a>(
+    holds: &'a [ContactHold],
+    com: &PointReference,
+    links: &'a [LinkTarget],
+) -> IkTasks<'a> {
+    IkTasks {
+        contacts: holds,
+        com: *com,
+        links,
+        hard_links: &[],
+        posture: None,
+    }
+}
+
 /// Builds the IK QP at `(q, q_s)` (see the module doc) for a step `ds > 0`, with the contacts
 /// held by their velocities.
 ///
@@ -526,16 +545,17 @@ pub fn ik_qp(
     ds: f64,
     options: &IkOptions,
 ) -> Result<IkQp, RobotError> {
-    let holds: Vec<ContactHold> = contacts.iter().map(|&f| ContactHold::velocity(f)).collect();
-    let tasks = IkTasks {
-        contacts: &holds,
-        com: *com,
-        links,
-        hard_links: &[],
-        posture: None,
-    };
+    let holds = velocity_holds(contacts);
     let mut ws = IkWorkspace::new(model);
-    ws.build(model, data, q, q_s, &tasks, ds, options)?;
+    ws.build(
+        model,
+        data,
+        q,
+        q_s,
+        &plain_tasks(&holds, com, links),
+        ds,
+        options,
+    )?;
     Ok(ws.qp())
 }
 
@@ -565,13 +585,7 @@ pub fn ik_step(
     ds: f64,
     options: &IkOptions,
 ) -> Result<IkStep, RobotError> {
-    let holds: Vec<ContactHold> = contacts.iter().map(|&f| ContactHold::velocity(f)).collect();
-    let tasks = IkTasks {
-        contacts: &holds,
-        com: *com,
-        links,
-        hard_links: &[],
-        posture: None,
-    };
+    let holds = velocity_holds(contacts);
+    let tasks = plain_tasks(&holds, com, links);
     IkWorkspace::new(model).step(model, data, q, q_s, &tasks, ds, options)
 }

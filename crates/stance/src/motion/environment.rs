@@ -73,22 +73,12 @@ pub fn polygon_of(
     what: &str,
     allow_point: bool,
 ) -> Result<Vec<[f64; 2]>, StanceError> {
-    let shape = match shape {
-        ShapeSpec::Point if !allow_point => {
-            return Err(StanceError::BadMotion(format!(
-                "{what} is a point; give a rectangle or polygon"
-            )))
-        }
-        ShapeSpec::Point => Shape::Point,
-        ShapeSpec::Rectangle {
-            half_length,
-            half_width,
-        } => Shape::Rectangle {
-            half_length: *half_length,
-            half_width: *half_width,
-        },
-        ShapeSpec::Polygon(v) => Shape::Polygon(v.clone()),
-    };
+    if *shape == ShapeSpec::Point && !allow_point {
+        return Err(StanceError::BadMotion(format!(
+            "{what} is a point; give a rectangle or polygon"
+        )));
+    }
+    let shape = shape.shape(1.0);
     let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let c = Contact::new(what, [0.0; 3], eye, shape, 0.0, &Default::default())
         .map_err(|e| StanceError::BadMotion(format!("{what}: {e}")))?;

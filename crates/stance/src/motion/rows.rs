@@ -18,8 +18,7 @@
 
 use std::time::{Duration, Instant};
 
-use stance_contact::scene::ShapeSpec;
-use stance_contact::{Contact, GiwcOptions, Shape, Stance};
+use stance_contact::{Contact, GiwcOptions, Stance};
 use stance_topp::factored::{eq14_vectors, FactoredRows};
 use stance_topp::path::PathPoint;
 use stance_topp::Row;
@@ -144,20 +143,6 @@ impl SegmentRows {
     }
 }
 
-fn scaled_shape(shape: &ShapeSpec, k: f64) -> Shape {
-    match shape {
-        ShapeSpec::Point => Shape::Point,
-        ShapeSpec::Rectangle {
-            half_length,
-            half_width,
-        } => Shape::Rectangle {
-            half_length: half_length * k,
-            half_width: half_width * k,
-        },
-        ShapeSpec::Polygon(v) => Shape::Polygon(v.iter().map(|p| [p[0] * k, p[1] * k]).collect()),
-    }
-}
-
 /// The planned stance of a segment path's contacts (planning friction and area scale).
 ///
 /// ```
@@ -189,7 +174,7 @@ pub fn planned_stance(plan: &MotionPlan, path: &SegmentPath) -> Result<Stance, S
                 &surf.name,
                 c.pose.translation.into(),
                 rotation,
-                scaled_shape(&surf.shape, k),
+                surf.shape.shape(k),
                 p.friction.unwrap_or(env.friction),
                 &Default::default(),
             )
@@ -239,11 +224,7 @@ pub fn segment_rows(
             giwc.equations.nrows()
         )));
     }
-    let u: Vec<[f64; 6]> = giwc
-        .facets
-        .row_iter()
-        .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
-        .collect();
+    let u = giwc.facet_rows();
     let t1 = Instant::now();
     let grid: Vec<usize> = (0..path.samples.len()).step_by(substeps).collect();
     let right = rows_at_samples(plan, path, &u, &grid, false)?;

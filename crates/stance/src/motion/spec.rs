@@ -49,21 +49,15 @@ pub enum RobotRef {
 
 impl<'de> Deserialize<'de> for RobotRef {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Visit;
-        impl<'de> serde::de::Visitor<'de> for Visit {
-            type Value = RobotRef;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a built-in robot name (\"jvrc1\", \"small-humanoid\") or a robot map")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<RobotRef, E> {
-                Ok(RobotRef::Named(v.to_string()))
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RobotRef, A::Error> {
-                RobotSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(|s| RobotRef::Urdf(Box::new(s)))
-            }
-        }
-        d.deserialize_any(Visit)
+        Ok(
+            match crate::name_or::NameOr::<RobotSpec>::deserialize(
+                d,
+                "a built-in robot name (\"jvrc1\", \"small-humanoid\") or a robot map",
+            )? {
+                crate::name_or::NameOr::Name(n) => RobotRef::Named(n),
+                crate::name_or::NameOr::Value(s) => RobotRef::Urdf(Box::new(s)),
+            },
+        )
     }
 }
 
