@@ -386,9 +386,10 @@ pub fn retime(
     // refinement: IK samples where the rows do not hold (with half the margin) become grid points
     let t_refine = Instant::now();
     if profile.is_some() {
-        for (k, r) in rows.iter_mut().enumerate() {
-            r.ensure_sample_rows(plan, &paths[k])?;
-        }
+        use rayon::prelude::*;
+        rows.par_iter_mut()
+            .zip(paths.par_iter())
+            .try_for_each(|(r, path)| r.ensure_sample_rows(plan, path))?;
     }
     while let (Some(p), true) = (&profile, refine.rounds < crate::tol::MAX_REFINE_ROUNDS) {
         let values = sample_row_values(paths, rows, &l.s_offset, p);
@@ -493,8 +494,9 @@ pub fn sample_row_values(
         };
         p.saturating_sub(1).min(u.len() - 1)
     };
+    use rayon::prelude::*;
     paths
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(k, path)| {
             let n = path.samples.len();
