@@ -10,14 +10,14 @@ Steps, per motion:
 1. the Rust runner (`crates/stance/examples/bench_motion.rs`, release build) runs the motion
    `--repeat` times and writes its stage timings (medians), each segment's GIWC generators (span
    form) and U_stance rows, and the whole motion's retiming rows exactly as its solver solved
-   them. It runs twice: as `stance motion` runs it (JVRC-1's URDF located by asking the
-   virtualenv's Python) and with the URDF's path given in STANCE_JVRC1_URDF;
+   them;
 2. answers first: per segment, pycddlib (float and GMP) converts the same generators to a face
    form, which is compared with our rows (unit rows within 1e-6, both ways); the whole motion's
    retiming problem is solved by toppra (same rows, grid, first-order interpolation, rest to
    rest) and its duration compared with ours. The script stops before any timing if an answer
    disagrees;
-3. timings: pycddlib's conversions and toppra's solve (medians over repeats), beside the Rust
+3. timings, in rounds (the Rust runner, then pycddlib's conversions, then toppra's solves, so
+   that both sides see the same load on this small shared machine): medians beside the Rust
    medians, with ratios; then the totals against the targets. See bench/peers/motion.md.
 """
 
@@ -52,18 +52,12 @@ TARGETS = {"u_abc_topp_ms": 5.0, "ik_step_us": 50.0, "pipeline_ms": 100.0}
 # ---------------------------------------------------------------------------------------------
 # Rust side
 
-def run_rust(name, repeat, urdf=None):
-    """Runs the release runner; `urdf` given: STANCE_JVRC1_URDF set, else unset."""
-    env = dict(os.environ)
-    env.pop("STANCE_JVRC1_URDF", None)
-    if urdf:
-        env["STANCE_JVRC1_URDF"] = urdf
+def run_rust(name, repeat):
     target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
     exe = os.path.join(target, "release", "examples", "bench_motion")
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "motion.json")
-        r = subprocess.run([exe, name, str(repeat), out], cwd=ROOT, env=env,
-                           capture_output=True, text=True)
+        r = subprocess.run([exe, name, str(repeat), out], cwd=ROOT, capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"bench_motion {name} failed:\n{r.stderr}")
         with open(out) as f:
@@ -84,7 +78,7 @@ def unit_outward(h):
         big = max(abs(x) for x in r[1:])
         out.append([-float(x / big) for x in r[1:]] if isinstance(big, Fraction)
                    else [-float(x) / float(big) for x in r[1:]])
-    u = np.array(out).reshape(-1, len(h.array[0]) - 1 if len(h.array) else 6)
+    u = np.array(out, dtype=float).reshape(len(out), len(h.array[0]) - 1 if len(h.array) else 6)
     return u / np.linalg.norm(u, axis=1, keepdims=True), len(lin)
 
 
@@ -143,7 +137,7 @@ def exact_facets(h, vq):
         if any(x < 0 for x in vals):
             raise SystemExit("cdd GMP returned an invalid row (a generator violates it)")
         tight = frozenset(j for j, x in enumerate(vals) if x == 0)
-        if exact_rank([gens[j] for j in tight]) == dim - len(lin) - 1:
+        if exact_rank([gens[j] for j in tight]) == dim - 1:
             seen.add(tight)
     return len(seen)
 
@@ -184,9 +178,7 @@ def check_segment(seg, gmp_canonicalize_max):
     except RuntimeError as e:  # cddlib float: "numerical inconsistency"
         r.update(float_raw=-1, float_irr=-1, eq_float_raw=False, eq_float_irr=False,
                  float_error=str(e)[:60], float_dropped_ours=0)
-    t0 = time.perf_counter()
     hg = cdd_gmp(vq)
-    r["gmp_once_ms"] = 1e3 * (time.perf_counter() - t0)
     gu, r["gmp_eq"] = unit_outward(hg)
     r["gmp_raw"] = len(gu)
     r["gmp_irr"] = exact_facets(hg, vq)
@@ -195,14 +187,14 @@ def check_segment(seg, gmp_canonicalize_max):
         t0 = time.perf_counter()
         cdd.gmp.matrix_canonicalize(hg)
         r["gmp_canon"] = len(hg.array) - len(hg.lin_set)
-        r["gmp_canon_ms"] = 1e3 * (time.perf_counter() - t0)
+        r["gmp_canon_s"] = time.perf_counter() - t0
     r["eq_gmp"] = same_rows(u, gu)
     d = nearest(u, gu)
     r["ours_in_gmp"] = int(np.sum(d < ROW_TOL))
     r["gen_out"], r["ray_out"] = cone_gap(v, u, gu)
     # The verdict: ours is the answer of cdd float or cdd GMP, or every one of our rows is an
     # exact facet and our cone is within GAP_TOL of the exact one (GMP's extra rows: slivers).
-    gap_ok = max(r["gen_out"], r["ray_out"]) < GAP_TOL
+    gap_ok = r["gen_out"] < GAP_TOL and r["ray_out"] < GAP_TOL  # NaN: not ok
     r["ok"] = (r["eq_float_irr"] or r["eq_gmp"]
                or (r["ours_in_gmp"] == len(u) and gap_ok))
     parts = []
@@ -225,29 +217,26 @@ def check_segment(seg, gmp_canonicalize_max):
 
 
 def time_segment(seg, reps, gmp_reps):
+    """Samples (s) of cddlib float's conversion (matrix, conversion, copy of the inequalities),
+    of its redundancy removal of that output, and of the GMP conversion."""
     v = np.array(seg["generators"])
     vq = [[Fraction(0)] + [Fraction(float(x)) for x in r] for r in v]
-    out = {}
+    out = {"float": [], "canon": [], "gmp": []}
     try:
-        conv, canon = [], []
         for _ in range(reps):
             t0 = time.perf_counter()
             h = cdd_float(v)
             t1 = time.perf_counter()
             cdd.matrix_canonicalize(h)
             t2 = time.perf_counter()
-            conv.append(t1 - t0)
-            canon.append(t2 - t1)
-        out["float_ms"] = 1e3 * statistics.median(conv)
-        out["canon_ms"] = 1e3 * statistics.median(canon)
+            out["float"].append(t1 - t0)
+            out["canon"].append(t2 - t1)
     except RuntimeError:
-        out["float_ms"] = out["canon_ms"] = float("nan")
-    gmp = []
+        out["float"], out["canon"] = [float("nan")], [float("nan")]
     for _ in range(gmp_reps):
         t0 = time.perf_counter()
         cdd_gmp(vq)
-        gmp.append(time.perf_counter() - t0)
-    out["gmp_ms"] = 1e3 * statistics.median(gmp)
+        out["gmp"].append(time.perf_counter() - t0)
     return out
 
 
@@ -271,14 +260,14 @@ class CanonicalRows(tc.LinearConstraint):
             self.a, self.b, self.c, self.F, self.g, None, None, gridpoints, identical=True)
 
 
-def toppra_rows(k):
-    """Our rows padded to the largest count with inactive rows (0, 0, -1); upper bounds on x as
-    rows (0, 1, -hi). Returns s, a, b, c and the number of real rows."""
+def toppra_rows(k, widen=1):
+    """Our rows padded to the largest count (times `widen`) with inactive rows (0, 0, -1); upper
+    bounds on x as rows (0, 1, -hi). Returns s, a, b, c and the number of real rows."""
     s = np.array(k["s"])
     if k["discretization"] != "interpolation":
         sys.exit(f"unexpected discretization {k['discretization']}")
     n = len(s)
-    width = max(len(k["a"][i]) + (k["x_bounds"][i][1] != -1) for i in range(n))
+    width = widen * max(len(k["a"][i]) + (k["x_bounds"][i][1] != -1) for i in range(n))
     a, b, c = np.zeros((n, width)), np.zeros((n, width)), -np.ones((n, width))
     real = 0
     for i in range(n):
@@ -299,12 +288,32 @@ def toppra_solve(s, a, b, c):
     return algo.TOPPRA([CanonicalRows(a, b, c)], path, gridpoints=s, solver_wrapper="seidel")
 
 
+def profile_violation(k):
+    """Largest row value a u + b x + c of our profile on the interpolation rows (rows of grid
+    points i and i + 1 with u = (x_{i+1} - x_i) / (2 (s_{i+1} - s_i))) and the bounds on x."""
+    s, x = np.array(k["s"]), np.array(k["sd"]) ** 2
+    worst = -np.inf
+    for i in range(len(s) - 1):
+        u = (x[i + 1] - x[i]) / (2 * (s[i + 1] - s[i]))
+        for j in (i, i + 1):
+            v = np.array(k["a"][j]) * u + np.array(k["b"][j]) * x[j] + np.array(k["c"][j])
+            worst = max(worst, float(v.max()))
+    for j, (lo, hi) in enumerate(k["x_bounds"]):
+        worst = max(worst, lo - x[j], x[j] - hi if hi != -1 else -np.inf)
+    return worst
+
+
 def check_topp(k):
     s, a, b, c, real = toppra_rows(k)
-    _, sd, _, _ = toppra_solve(s, a, b, c).compute_parameterization(0.0, 0.0, return_data=True)
-    r = {"points": len(s), "width": a.shape[1], "real_rows": real}
+    solver = toppra_solve(s, a, b, c)
+    _, sd, _, K = solver.compute_parameterization(0.0, 0.0, return_data=True)
+    r = {"points": len(s), "width": a.shape[1], "real_rows": real, "ours_max_row": profile_violation(k)}
     if sd is None:
-        r.update(ok=False, why="toppra finds no profile")
+        bad = np.where(np.isnan(K).any(axis=1))[0]
+        where = (f"its controllable set at grid point {bad.max()} of {len(s)} is NaN (toppra: "
+                 f"\"a numerical error occurs\")" if len(bad) else "")
+        r.update(ok=False, why=f"toppra finds no profile; {where}; ours: duration "
+                 f"{k['duration']:.6f} s, largest row value of our profile {r['ours_max_row']:.1e} N")
         return r
     sd = np.asarray(sd)
     ours = np.array(k["sd"])
@@ -320,18 +329,49 @@ def check_topp(k):
 
 
 def time_topp(k, reps):
+    """Samples (s) of toppra's setup and solve, and of the solve with twice the padding (for an
+    estimate of what the padding rows cost it), in alternation."""
     s, a, b, c, _ = toppra_rows(k)
-    setup_t, solve_t = [], []
+    s2, a2, b2, c2, _ = toppra_rows(k, widen=2)
+    out = {"setup": [], "solve": [], "solve_2x": []}
     for _ in range(reps):
         t0 = time.perf_counter()
         solver = toppra_solve(s, a, b, c)
         t1 = time.perf_counter()
         solver.compute_parameterization(0.0, 0.0)
         t2 = time.perf_counter()
-        setup_t.append(t1 - t0)
-        solve_t.append(t2 - t1)
-    return {"setup_us": 1e6 * statistics.median(setup_t), "solve_us": 1e6 * statistics.median(solve_t),
-            "solve_min_us": 1e6 * min(solve_t)}
+        out["setup"].append(t1 - t0)
+        out["solve"].append(t2 - t1)
+        solver = toppra_solve(s2, a2, b2, c2)
+        t0 = time.perf_counter()
+        solver.compute_parameterization(0.0, 0.0)
+        out["solve_2x"].append(time.perf_counter() - t0)
+    return out
+
+
+def merge_rust(runs):
+    """The Rust runs of the rounds as one: each timing is the median of the runs' medians (the
+    solve's minimum: the minimum); the answers are the first run's (the others must be equal)."""
+    first = runs[0]
+    for r in runs[1:]:
+        if r["duration"] != first["duration"] or [len(x["u"]) for x in r["segments"]] != \
+                [len(x["u"]) for x in first["segments"]]:
+            sys.exit("the Rust runs of the rounds give different answers (durations or rows)")
+    med = statistics.median
+    out = dict(first)
+    out["timings"] = {key: (med([r["timings"][key] for r in runs])
+                            if isinstance(first["timings"][key], float) else first["timings"][key])
+                      for key in first["timings"]}
+    # the force check runs in the first repeat of each run: median over the rounds too
+    out["segments"] = [dict(seg, **{key: med([r["segments"][i][key] for r in runs])
+                                    for key in ("t_ik_ms", "t_u_ms", "t_abc_ms", "t_topp_ms")})
+                       for i, seg in enumerate(first["segments"])]
+    k = dict(first["constraints"])
+    k["solve_us_median"] = med([r["constraints"]["solve_us_median"] for r in runs])
+    k["solve_us_min"] = min(r["constraints"]["solve_us_min"] for r in runs)
+    k["solve_us_rounds"] = [r["constraints"]["solve_us_median"] for r in runs]
+    out["constraints"] = k
+    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -349,53 +389,52 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer repetitions, no exact redundancy "
                     "removal by cddlib")
     ap.add_argument("--motions", nargs="+", default=MOTIONS, help="built-in motion names")
-    ap.add_argument("--repeat", type=int, help="Rust runs of each motion (default 20, quick 5)")
-    ap.add_argument("--cdd-repeats", type=int, help="pycddlib float runs (default 30, quick 5)")
-    ap.add_argument("--gmp-repeats", type=int, help="pycddlib GMP runs (default 3, quick 1)")
-    ap.add_argument("--toppra-repeats", type=int, help="toppra solves (default 20, quick 5)")
+    ap.add_argument("--rounds", type=int, help="rounds of timing, Rust and peers in alternation "
+                    "(default 3, quick 1)")
+    ap.add_argument("--repeat", type=int, help="Rust runs of each motion per round (default 20, "
+                    "quick 5)")
+    ap.add_argument("--cdd-repeats", type=int, help="pycddlib float runs per round (default 10, "
+                    "quick 5)")
+    ap.add_argument("--gmp-repeats", type=int, help="pycddlib GMP runs, first round only "
+                    "(default 3, quick 1)")
+    ap.add_argument("--toppra-repeats", type=int, help="toppra solves per round (default 10, "
+                    "quick 5)")
     ap.add_argument("--gmp-canonicalize-max", type=int,
                     help="run cddlib's exact redundancy removal when GMP returns at most this many "
                          "rows (default 60, quick 0; 52 rows take several seconds)")
     args = ap.parse_args()
     q = args.quick
+    rounds = args.rounds or (1 if q else 3)
     repeat = args.repeat or (5 if q else 20)
-    cdd_reps = args.cdd_repeats or (5 if q else 30)
+    cdd_reps = args.cdd_repeats or (5 if q else 10)
     gmp_reps = args.gmp_repeats or (1 if q else 3)
-    topp_reps = args.toppra_repeats or (5 if q else 20)
+    topp_reps = args.toppra_repeats or (5 if q else 10)
     gmp_canon_max = args.gmp_canonicalize_max if args.gmp_canonicalize_max is not None else (0 if q else 60)
 
     started = datetime.datetime.now(datetime.timezone.utc)
     load_start = loadavg()
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "stance", "--example", "bench_motion"],
                    cwd=ROOT, check=True)
-    try:
-        import jvrc_description
-        urdf = jvrc_description.urdf_path
-    except ImportError:
-        urdf = None
-
-    print(f"# Whole-body motions: the pipeline against pycddlib and toppra\n")
+    print("# Whole-body motions: the pipeline against pycddlib and toppra\n")
     print(f"date (UTC): {started:%Y-%m-%d %H:%M}; machine: {platform.machine()}, {os.cpu_count()} "
           f"CPUs, shared with other jobs")
     print(f"Python {platform.python_version()}, pycddlib {importlib.metadata.version('pycddlib')}, "
           f"toppra {importlib.metadata.version('toppra')}, NumPy {np.__version__}")
     print('command (from the project root): "${STANCE_VENV:-.venv}/bin/python" bench/peers/motion.py'
           + "".join(" " + a for a in sys.argv[1:]))
-    print(f"repeats: Rust {repeat}, cdd float {cdd_reps}, cdd GMP {gmp_reps}, toppra {topp_reps}; "
-          f"cddlib exact redundancy removal when GMP returns <= {gmp_canon_max} rows")
+    print(f"{rounds} round(s) of: Rust runner ({repeat} runs of the motion), cdd float ({cdd_reps} "
+          f"conversions per segment), toppra ({topp_reps} solves); cdd GMP {gmp_reps} conversions "
+          f"per segment in the first round; cddlib's exact redundancy removal when GMP returns <= "
+          f"{gmp_canon_max} rows")
     print(f"load average (1, 5, 15 min) at start: {load_start}")
 
     failed = []
     for name in args.motions:
-        # 1. the Rust runner: as `stance motion` runs it, then with the URDF's path given
+        # 1. the Rust runner
         rust = run_rust(name, repeat)
-        rust_b = run_rust(name, repeat, urdf) if urdf else None
         load_rust = loadavg()
         if rust["status"] != "optimal":
             sys.exit(f"{name}: the pipeline returned {rust['status']}")
-        if rust_b and rust_b["duration"] != rust["duration"]:
-            sys.exit(f"{name}: the two Rust runs give different durations "
-                     f"({rust['duration']!r} and {rust_b['duration']!r})")
         k = rust["constraints"]
 
         # 2. answers first
@@ -412,36 +451,64 @@ def main():
               "GMP irredundant | answer | gap: generators | gap: our rays |")
         print("|---|---|---|---|---|---|---|---|---|---|")
         for i, r in enumerate(checks):
-            canon = "" if r["gmp_canon"] is None else f" [{r['gmp_canon']}]"
+            canon = ("" if r["gmp_canon"] is None
+                     else f" [{r['gmp_canon']}, in {r['gmp_canon_s']:.1f} s]")
             print(f"| {i + 1}. {r['name']} | {r['generators']} | {r['ours']} | {r['float_raw']} | "
                   f"{r['float_irr']} | {r['gmp_raw']} | {r['gmp_irr']}{canon} | "
                   f"{r['answer']}{'' if r['ok'] else ' DISAGREE'} | {r['gen_out']:.1e} | "
                   f"{r['ray_out']:.1e} |")
-        print(f"\n### TOPP against toppra, whole motion (answers, checked first)\n")
+        print("\n### TOPP against toppra, whole motion (answers, checked first)\n")
         if "duration" in tcheck:
             print(f"{tcheck['points']} grid points, rows per point padded to {tcheck['width']} "
                   f"({tcheck['real_rows']} real rows of {tcheck['points'] * tcheck['width']}); "
                   f"duration ours {k['duration']:.9f} s, toppra {tcheck['duration']:.9f} s, "
                   f"relative difference {tcheck['rel']:+.1e}; x = sd^2 toppra / ours in "
                   f"[{tcheck['x_ratio'][0]:.9f}, {tcheck['x_ratio'][1]:.9f}]; "
-                  f"toppra's end speeds {tcheck['ends'][0]:g}, {tcheck['ends'][1]:g}")
+                  f"toppra's end speeds {tcheck['ends'][0]:g}, {tcheck['ends'][1]:g}; largest row "
+                  f"value of our profile on the interpolation rows {tcheck['ours_max_row']:.1e} N")
         bad = [f"segment {i + 1} ({r['name']}): ours {r['ours']} rows, {r['answer']}, gap "
                f"{r['gen_out']:.1e} / {r['ray_out']:.1e}" for i, r in enumerate(checks) if not r["ok"]]
         if not tcheck["ok"]:
             bad.append(f"TOPP: {tcheck['why']}")
+        if not bad:
+            print(f"\nanswers agree: U_stance on all {len(checks)} segments (unit rows within "
+                  f"{ROW_TOL:g}; cone gap to cddlib's exact cone below {GAP_TOL:g}), TOPP duration "
+                  f"within {TOPP_TOL:g} relative")
         if bad:
             failed.append(name)
             print(f"\n{name}: ANSWERS DISAGREE, nothing timed:\n  " + "\n  ".join(bad),
                   file=sys.stderr)
             continue
 
-        # 3. timings
-        times = [time_segment(seg, cdd_reps, gmp_reps) for seg in rust["segments"]]
-        ttopp = time_topp(k, topp_reps)
+        # 3. timings: rounds of Rust runner, cddlib, toppra (the first Rust run is round 1's)
+        runs, seg_samples, topp_samples = [rust], [], []
+        for rnd in range(rounds):
+            if rnd > 0:
+                runs.append(run_rust(name, repeat))
+            seg_samples.append([time_segment(seg, cdd_reps, gmp_reps if rnd == 0 else 0)
+                                for seg in rust["segments"]])
+            topp_samples.append(time_topp(k, topp_reps))
         load_end = loadavg()
+        rust = merge_rust(runs)
+        k = rust["constraints"]
+        med = statistics.median
+        times = []
+        for i in range(len(rust["segments"])):
+            pool = {key: [x for rnd in seg_samples for x in rnd[i][key]]
+                    for key in ("float", "canon", "gmp")}
+            times.append({f"{key}_ms": 1e3 * med(v) for key, v in pool.items()})
+        pool = {key: [x for rnd in topp_samples for x in rnd[key]]
+                for key in ("setup", "solve", "solve_2x")}
+        ttopp = {"setup_us": 1e6 * med(pool["setup"]), "solve_us": 1e6 * med(pool["solve"]),
+                 "solve_min_us": 1e6 * min(pool["solve"]), "solve_2x_us": 1e6 * med(pool["solve_2x"])}
+        # padding estimate: the 2x solve has one more padded block of the same size (linear model)
+        total = tcheck["points"] * tcheck["width"]
+        per_row = (ttopp["solve_2x_us"] - ttopp["solve_us"]) / total
+        ttopp["solve_unpadded_us"] = ttopp["solve_us"] - per_row * (total - tcheck["real_rows"])
+        round_x = [med(t["solve"]) * 1e6 / o for t, o in zip(topp_samples, k["solve_us_rounds"])]
 
-        print("\n### Per segment (ms; ours: medians over the Rust runs of the call in the pipeline; "
-              "cdd: medians over repeated calls; x = cdd / ours)\n")
+        print("\n### Per segment (ms; ours: the call in the pipeline, median over the Rust runs "
+              "(median of the rounds' medians); cdd: median of all its calls; x = cdd / ours)\n")
         print("| segment | rows ours / cdd float / cdd irredundant | T_U ours | cdd float | x | "
               "cdd float + redundancy removal | x | cdd GMP | x | T_abc | T_TOPP (pipeline) | "
               "T_IK | IK steps | grid points | duration (s) |")
@@ -461,23 +528,31 @@ def main():
         print(f"| all segments | | {su:.3f} | {sf:.3f} | {sf / su:.1f} | {sc:.3f} | {sc / su:.1f} | "
               f"{sg:.1f} | {sg / su:.0f} | | | | | | |")
 
-        tm, tb = rust["timings"], rust_b["timings"] if rust_b else None
+        tm = rust["timings"]
         print("\n### Whole motion: TOPP ours against toppra (same rows, grid, interpolation, rest to "
               "rest)\n")
+        print("Ours: the solve alone, 200 times per Rust run (median of the rounds' medians, "
+              "minimum); toppra: `compute_parameterization(0, 0)`, median and minimum of all its "
+              "solves; x per round: toppra's median over ours in each round.\n")
         print("| duration ours (s) | duration toppra (s) | rel diff | ours solve median / min (us) | "
-              "toppra solve median / min (us) | toppra setup (us) | x (median) | x (min) |")
-        print("|---|---|---|---|---|---|---|---|")
+              "toppra solve median / min (us) | toppra setup (us) | x (median) | x (min) | "
+              "x per round | toppra, twice the padding (us) | toppra without padding, estimate (us) "
+              "| x |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
         print(f"| {k['duration']:.9f} | {tcheck['duration']:.9f} | {tcheck['rel']:+.1e} | "
               f"{k['solve_us_median']:.0f} / {k['solve_us_min']:.0f} | {ttopp['solve_us']:.0f} / "
               f"{ttopp['solve_min_us']:.0f} | {ttopp['setup_us']:.0f} | "
               f"{ttopp['solve_us'] / k['solve_us_median']:.0f} | "
-              f"{ttopp['solve_min_us'] / k['solve_us_min']:.0f} |")
+              f"{ttopp['solve_min_us'] / k['solve_us_min']:.0f} | "
+              f"{', '.join(f'{x:.0f}' for x in round_x)} | {ttopp['solve_2x_us']:.0f} | "
+              f"{ttopp['solve_unpadded_us']:.0f} | "
+              f"{ttopp['solve_unpadded_us'] / k['solve_us_median']:.0f} |")
 
         def met(x, target):
             return "yes" if x <= target else "**no**"
 
-        print("\n### Totals against the targets (medians over the Rust runs; A: as `stance motion` "
-              "runs, URDF located through the virtualenv's Python; B: URDF path given)\n")
+        print("\n### Totals against the targets (medians over the Rust runs: median of the "
+              "rounds' medians)\n")
         print("| quantity | measured | target | met |")
         print("|---|---|---|---|")
         print(f"| U_stance + rows + TOPP (t_u_abc_topp_ms) | {tm['t_u_abc_topp_ms']:.2f} ms "
@@ -485,24 +560,22 @@ def main():
               f"<= {TARGETS['u_abc_topp_ms']:g} ms | {met(tm['t_u_abc_topp_ms'], TARGETS['u_abc_topp_ms'])} |")
         print(f"| refinement between grid points (t_refine_ms), apart | {tm['t_refine_ms']:.2f} ms | - | - |")
         both = tm['t_u_abc_topp_ms'] + tm['t_refine_ms']
-        print(f"| U_stance + rows + TOPP + refinement | {both:.2f} ms | (<= {TARGETS['u_abc_topp_ms']:g} ms) "
-              f"| {met(both, TARGETS['u_abc_topp_ms'])} |")
+        print(f"| U_stance + rows + TOPP + refinement, for reference | {both:.2f} ms | - | - |")
         print(f"| one IK step (t_ik_step_us) | {tm['t_ik_step_us']:.1f} us ({tm['ik_steps']} steps, "
               f"{tm['t_ik_ms']:.1f} ms) | <= {TARGETS['ik_step_us']:g} us | "
               f"{met(tm['t_ik_step_us'], TARGETS['ik_step_us'])} |")
-        for label, t in (("A", tm), ("B", tb)):
-            if t is None:
-                continue
-            print(f"| {label}: whole pipeline, IK included (t_pipeline_ms) | {t['t_pipeline_ms']:.1f} ms "
-                  f"(plan {t['t_plan_ms']:.1f}, IK {t['t_ik_ms']:.1f}) | <= {TARGETS['pipeline_ms']:g} ms "
-                  f"| {met(t['t_pipeline_ms'], TARGETS['pipeline_ms'])} |")
-            print(f"| {label}: wall time of a run, trajectory included, checks not (t_wall_ms) | "
-                  f"{t['t_wall_ms']:.1f} ms | <= {TARGETS['pipeline_ms']:g} ms | "
-                  f"{met(t['t_wall_ms'], TARGETS['pipeline_ms'])} |")
-        print(f"| force check, on its own (t_checks_ms, first run) | {tm['t_checks_ms']:.1f} ms: "
+        print(f"| whole pipeline, IK included (t_pipeline_ms) | {tm['t_pipeline_ms']:.1f} ms "
+              f"(plan {tm['t_plan_ms']:.1f}, IK {tm['t_ik_ms']:.1f}) | <= {TARGETS['pipeline_ms']:g} ms "
+              f"| {met(tm['t_pipeline_ms'], TARGETS['pipeline_ms'])} |")
+        print(f"| wall time of a run, trajectory included, checks not (t_wall_ms) | "
+              f"{tm['t_wall_ms']:.1f} ms | <= {TARGETS['pipeline_ms']:g} ms | "
+              f"{met(tm['t_wall_ms'], TARGETS['pipeline_ms'])} |")
+        print(f"| force check, on its own (t_checks_ms: first run of each round) | "
+              f"{tm['t_checks_ms']:.1f} ms: "
               f"{tm['t_check_per_sample_us']:.0f} us per sample, {tm['check_samples']} samples, "
               f"{tm['samples_without_forces']} without forces | - | - |")
-        print(f"\nload average (1, 5, 15 min): after the Rust runs {load_rust}, at the end {load_end}")
+        print(f"\nload average (1, 5, 15 min): after the first Rust run {load_rust}, after the "
+              f"timings {load_end}")
 
     if failed:
         sys.exit(f"answers disagree on {', '.join(failed)}: timings not comparable")
