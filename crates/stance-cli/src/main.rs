@@ -37,6 +37,8 @@ enum Command {
     /// A whole-body motion across stances: IK, GIWC, chained retiming, checks (the paper's
     /// stair and box climbing are built in).
     Motion(cmd::motion::MotionArgs),
+    /// A motion retimed, then executed in MuJoCo under PD control: does it hold?
+    Simulate(cmd::simulate::SimulateArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
@@ -71,6 +73,7 @@ fn main() -> ExitCode {
         Command::Demo(a) => cmd::demo::run(a),
         Command::Retime(a) => cmd::retime::run(a),
         Command::Motion(a) => cmd::motion::run_cmd(a),
+        Command::Simulate(a) => cmd::simulate::run(a),
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
         Command::Giwc(a) => cmd::contact::run_giwc(a),

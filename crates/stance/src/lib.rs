@@ -69,6 +69,7 @@ pub mod error;
 pub mod motion;
 mod name_or;
 pub mod retime;
+pub mod sim;
 pub mod tol;
 
 pub use error::StanceError;

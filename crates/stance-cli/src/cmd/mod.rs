@@ -9,4 +9,5 @@ pub mod motion;
 pub mod plot;
 pub mod retime;
 pub mod robot;
+pub mod simulate;
 pub mod topp;

@@ -88,6 +88,29 @@ pub fn w_gi_of(
     Ok([f[0], f[1], f[2], t[0], t[1], t[2]])
 }
 
+/// The supporting forces of every sample (in parallel): the contact forces of the planned
+/// stance (vertices of the planned polygons, planned friction) that hold the centroidal
+/// dynamics of the model at `(q, v, a)`, or the solver's closest attempt where none exist (its
+/// outcome says which).
+pub fn supporting_forces_at(
+    plan: &MotionPlan,
+    rows: &[SegmentRows],
+    samples: &[TrajectorySample],
+) -> Result<Vec<stance_contact::SupportingForces>, StanceError> {
+    let m = &plan.robot.model;
+    let tol = stance_contact::tol::ContactTolerances::default();
+    samples
+        .par_iter()
+        .map_init(
+            || Data::new(m),
+            |data, smp| {
+                let w = w_gi_of(m, data, &smp.q, &smp.v, &smp.a, plan.gravity)?;
+                Ok(supporting_forces(&rows[smp.segment].stance, &w, &tol)?)
+            },
+        )
+        .collect()
+}
+
 /// The force check and the kinematic checks at every sample (in parallel).
 pub fn check_samples(
     plan: &MotionPlan,

@@ -1,0 +1,53 @@
+//! `stance simulate FILE|NAME`: the motion retimed, then executed in MuJoCo by a simulated robot
+//! under joint-space PD control with inverse-dynamics feedforward (the paper's check "in a
+//! physics simulator with simulated PID torque control"); prints the report JSON (`held`,
+//! `reason`, `max_slip_m`, `contact_losses`, `fell`, `max_base_error_m`, `max_friction_usage`,
+//! per-contact measurements, wall time). MuJoCo comes from PyPI into the project virtualenv
+//! (`scripts/setup-venv.sh`); see `stance::sim` for the model, the control and the measurements.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+use stance::sim::{simulate, SimOptions};
+
+use super::io::{write_output, Common};
+
+#[derive(clap::Args)]
+pub struct SimulateArgs {
+    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway.
+    pub motion: String,
+    /// Play the retimed motion K times faster (K < 1: slower).
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    pub time_scale: Option<f64>,
+    /// Simulate only segments FIRST..LAST (1-based, inclusive), e.g. 1..1.
+    #[arg(long, value_name = "FIRST..LAST")]
+    pub segments: Option<String>,
+    /// Keep the MuJoCo model and the harness's input in this folder.
+    #[arg(long, value_name = "DIR")]
+    pub keep: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+pub fn run(args: SimulateArgs) -> Result<()> {
+    let (spec, base_dir) = super::motion::load(&args.motion)?;
+    let segments = match &args.segments {
+        None => None,
+        Some(text) => {
+            let parse = |x: &str| x.trim().parse::<usize>().ok().filter(|&v| v >= 1);
+            match text.split_once("..").map(|(a, b)| (parse(a), parse(b))) {
+                Some((Some(a), Some(b))) if a <= b => Some([a - 1, b - 1]),
+                _ => bail!("--segments {text}: give FIRST..LAST, 1-based, e.g. 1..2"),
+            }
+        }
+    };
+    let options = SimOptions {
+        time_scale: args.time_scale,
+        segments,
+        base_dir,
+        keep: args.keep.clone(),
+        ..Default::default()
+    };
+    let (_, report) = simulate(spec, &options)?;
+    write_output(&args.common, &report)
+}
