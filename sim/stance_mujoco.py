@@ -3,10 +3,13 @@
 robot and measures whether its contacts hold.
 
 Usage: stance_mujoco.py INPUT.json REPORT.json [TRACE.csv]
+       stance_mujoco.py --describe MODEL.xml QPOS.json OUT.json
 
 (TRACE: per step, the time, the base height and its reference, the trunk's angle from its
 reference, and the normal load and largest slip so far of every planned contact of the current
-segment: for diagnosis.)
+segment: for diagnosis. --describe: the model's bodies (mass, principal inertia), joints
+(range) and box geoms (world corners of their face z = -size_z at the configuration QPOS), as
+MuJoCo compiled them: for the tests that compare the model with the project's.)
 
 INPUT is written by `stance simulate` (the Rust side, `stance::sim`): the MJCF model written from
 the project's data, the reference trajectory in MuJoCo's coordinates at the simulation's time
@@ -38,6 +41,32 @@ def quat_angle(a, b):
     """Angle (rad) between two unit quaternions (w, x, y, z)."""
     d = abs(float(np.dot(a, b)))
     return 2.0 * math.acos(min(1.0, d))
+
+
+def describe(model_path, qpos_path, out_path):
+    model = mujoco.MjModel.from_xml_path(model_path)
+    data = mujoco.MjData(model)
+    with open(qpos_path) as f:
+        data.qpos[:] = json.load(f)
+    mujoco.mj_forward(model, data)
+    bodies = [{"name": model.body(i).name, "mass": float(model.body_mass[i]),
+               "inertia": sorted(float(x) for x in model.body_inertia[i])}
+              for i in range(1, model.nbody)]
+    joints = [{"name": model.joint(i).name, "range": [float(x) for x in model.jnt_range[i]],
+               "limited": bool(model.jnt_limited[i])} for i in range(model.njnt)]
+    geoms = []
+    for i in range(model.ngeom):
+        if model.geom_type[i] != mujoco.mjtGeom.mjGEOM_BOX:
+            continue
+        size = model.geom_size[i]
+        r = data.geom_xmat[i].reshape(3, 3)
+        p = data.geom_xpos[i]
+        corners = [(p + r @ np.array([sx * size[0], sy * size[1], -size[2]])).tolist()
+                   for sx, sy in [(1, 1), (-1, 1), (-1, -1), (1, -1)]]
+        geoms.append({"name": model.geom(i).name, "corners": corners})
+    with open(out_path, "w") as f:
+        json.dump({"bodies": bodies, "joints": joints, "geoms": geoms,
+                   "total_mass": float(sum(model.body_mass))}, f)
 
 
 def main(input_path, report_path, trace_path=None):
@@ -88,7 +117,11 @@ def main(input_path, report_path, trace_path=None):
     segments = inp["segments"]
     t_end = float(t_ref[-1])
     settle = th["settle"]
-    preroll = 0.2
+    # a reference that starts at rest is first held for a while (the contacts settle, and the
+    # weight they carry is measured); one that starts in motion starts at once, at its speed
+    at_rest = float(np.max(np.abs(qvel[0]))) < 1e-9
+    preroll = 0.3 if at_rest else 0.0
+    disturbance = inp.get("disturbance")
 
     def reference_at(t):
         """Linear interpolation of the reference at motion time t (clamped to its ends)."""
@@ -115,8 +148,9 @@ def main(input_path, report_path, trace_path=None):
         return False
 
     data.qpos[:] = qpos[0]
-    data.qvel[:] = 0.0
+    data.qvel[:] = qvel[0]
     mujoco.mj_forward(model, data)
+    standing = []
 
     # per planned contact (segment, surface): measurements
     per = {}
@@ -148,8 +182,21 @@ def main(input_path, report_path, trace_path=None):
             # before and after the motion, which starts and ends at rest: hold its end sample
             tau_ff = ff[0] if t < 0 else ff[-1]
         data.ctrl[:] = q_star[act_q] + (kv / kp) * v_star[act_v] + tau_ff[act_v] / kp
+        data.xfrc_applied[:] = 0.0
+        if disturbance and disturbance["t_start"] <= t < disturbance["t_end"]:
+            b = model.geom_bodyid[geom_id[disturbance["geom"]]]
+            data.xfrc_applied[b, :3] = disturbance["force"]
         mujoco.mj_step(model, data)
         if t < 0:
+            if t >= -0.1:
+                # the weight the contacts carry while the robot stands still
+                fz = 0.0
+                for c in range(data.ncon):
+                    con = data.contact[c]
+                    mujoco.mj_contactForce(model, data, c, force6)
+                    f_world = con.frame.reshape(3, 3).T @ force6[:3]
+                    fz += abs(float(np.dot(f_world, np.array(inp["gravity"]) / -np.linalg.norm(inp["gravity"]))))
+                standing.append(fz)
             continue
         # measurements
         s_now = segment_at(tm)
@@ -265,12 +312,17 @@ def main(input_path, report_path, trace_path=None):
         "max_feedforward_residual": ff_residual, "contacts": contacts,
         "sim_time_s": sim_time, "wall_s": wall, "wall_per_sim_s": wall / max(sim_time, 1e-9),
         "time_scale": inp["time_scale"], "mujoco_version": mujoco.__version__,
+        "standing_load_ratio": (float(np.mean(standing)) / weight) if standing else None,
     }
     with open(report_path, "w") as f:
         json.dump(report, f, indent=1)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) not in (3, 4):
-        sys.exit("usage: stance_mujoco.py INPUT.json REPORT.json [TRACE.csv]")
-    main(*sys.argv[1:])
+    if len(sys.argv) == 5 and sys.argv[1] == "--describe":
+        describe(*sys.argv[2:])
+    elif len(sys.argv) in (3, 4):
+        main(*sys.argv[1:])
+    else:
+        sys.exit("usage: stance_mujoco.py INPUT.json REPORT.json [TRACE.csv]\n"
+                 "       stance_mujoco.py --describe MODEL.xml QPOS.json OUT.json")

@@ -17,6 +17,8 @@
 //!   acceleration-level IK, `U_stance` per stance, eq. 14 with the real body's angular momentum,
 //!   one chained retiming of all segments, the trajectory and its independent force check; the
 //!   paper's stair- and box-climbing experiments on JVRC-1 by name.
+//! - [`sim`]: the physics validation: a retimed motion executed in MuJoCo (PD control with
+//!   inverse-dynamics feedforward) and measured (slip, contact losses, falls).
 //!
 //! # The pipeline in one call
 //!
@@ -58,7 +60,12 @@
 //!   there the profile may reach the solver's box (`s'^2 = 1e8`), which costs no time. No
 //!   collision checking (a swing foot may graze a step edge: choose via-points that clear
 //!   it), no joint velocity or torque limits in the retiming, planar convex environment
-//!   surfaces only; the MuJoCo validation is not built yet.
+//!   surfaces only.
+//! - [`sim`]: MuJoCo runs in Python (the project virtualenv's `mujoco` from PyPI): the
+//!   simulator is not linked into the crate. The model's collision geometry is primitive
+//!   (contact boxes, link capsules of one radius), JVRC-1's Collada meshes are not used; the
+//!   controller tracks joints only (no balance feedback), so the verdict is about the plan
+//!   played open loop, as in the paper; its gains (kp 10 000, kv 200) are the project's choice.
 
 pub use polycone;
 pub use stance_contact;

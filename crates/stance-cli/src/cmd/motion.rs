@@ -47,6 +47,10 @@ pub struct MotionArgs {
     /// somewhere if the retiming was tight).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub time_scale: Option<f64>,
+    /// Run the force check with each contact's full area and a circular friction cone of radius
+    /// MU (an inner 8-sided pyramid), e.g. a simulator's, instead of the planned contacts.
+    #[arg(long, value_name = "MU", allow_hyphen_values = true)]
+    pub check_friction: Option<f64>,
     /// Print the per-segment table to standard error.
     #[arg(long)]
     pub table: bool,
@@ -87,6 +91,7 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         base_dir,
         skip_checks: args.no_checks,
         time_scale: args.time_scale,
+        check_friction: args.check_friction,
     };
     let mut out = run(spec.clone(), &options)?;
     for _ in 1..args.common.repeat {

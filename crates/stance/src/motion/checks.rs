@@ -111,11 +111,12 @@ pub fn supporting_forces_at(
         .collect()
 }
 
-/// The force check and the kinematic checks at every sample (in parallel).
+/// The force check and the kinematic checks at every sample (in parallel), with the contacts of
+/// `stances` (one per segment: the planned ones, or others, e.g. a simulator's friction).
 pub fn check_samples(
     plan: &MotionPlan,
     paths: &[SegmentPath],
-    rows: &[SegmentRows],
+    stances: &[&stance_contact::Stance],
     samples: &[TrajectorySample],
 ) -> Result<Vec<SampleCheck>, StanceError> {
     let m = &plan.robot.model;
@@ -126,7 +127,7 @@ pub fn check_samples(
             || Data::new(m),
             |data, smp| {
                 let w = w_gi_of(m, data, &smp.q, &smp.v, &smp.a, plan.gravity)?;
-                let stance = &rows[smp.segment].stance;
+                let stance = stances[smp.segment];
                 let f = supporting_forces(stance, &w, &tol)?;
                 // below this a contact force is zero (round-off of the QP)
                 let zero =

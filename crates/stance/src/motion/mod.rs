@@ -69,6 +69,10 @@ pub struct RunOptions {
     /// Time-scale the retimed trajectory before the checks (`k > 1` plays it `k` times faster;
     /// for showing that the check has teeth). Default 1.
     pub time_scale: Option<f64>,
+    /// Run the force check with other contacts than the planned ones: each contact's full area
+    /// and a circular friction cone of this radius, approximated from inside by an 8-sided
+    /// pyramid (e.g. a simulator's friction; default: the planned contacts).
+    pub check_friction: Option<f64>,
 }
 
 /// Everything the pipeline computed, for callers that need more than the result (the tests,
@@ -191,7 +195,26 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         }
         if !options.skip_checks {
             let t0 = Instant::now();
-            let c = checks::check_samples(&plan, &paths, &rows, &samples)?;
+            let stances: Vec<stance_contact::Stance> = match options.check_friction {
+                None => rows.iter().map(|r| r.stance.clone()).collect(),
+                Some(mu) => paths
+                    .iter()
+                    .map(|p| {
+                        rows::stance_of(
+                            &plan,
+                            p,
+                            1.0,
+                            Some(mu),
+                            stance_contact::FrictionModel {
+                                sides: 8,
+                                approximation: stance_contact::Approximation::Inner,
+                            },
+                        )
+                    })
+                    .collect::<Result<_, _>>()?,
+            };
+            let refs: Vec<&stance_contact::Stance> = stances.iter().collect();
+            let c = checks::check_samples(&plan, &paths, &refs, &samples)?;
             let (between, _at) = checks::between_violation(&paths, &rows, r);
             let t = t0.elapsed();
             let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();

@@ -157,7 +157,24 @@ impl SegmentRows {
 /// ```
 pub fn planned_stance(plan: &MotionPlan, path: &SegmentPath) -> Result<Stance, StanceError> {
     let p = &plan.spec.planning;
-    let k = p.area_scale.sqrt();
+    stance_of(
+        plan,
+        path,
+        p.area_scale.sqrt(),
+        p.friction,
+        p.friction_model,
+    )
+}
+
+/// A segment's contacts as a stance: polygons scaled by `k`, friction `friction` (else each
+/// environment surface's), friction model `model`.
+pub fn stance_of(
+    plan: &MotionPlan,
+    path: &SegmentPath,
+    k: f64,
+    friction: Option<f64>,
+    model: stance_contact::FrictionModel,
+) -> Result<Stance, StanceError> {
     let contacts = path
         .contacts
         .iter()
@@ -175,12 +192,12 @@ pub fn planned_stance(plan: &MotionPlan, path: &SegmentPath) -> Result<Stance, S
                 c.pose.translation.into(),
                 rotation,
                 surf.shape.shape(k),
-                p.friction.unwrap_or(env.friction),
+                friction.unwrap_or(env.friction),
                 &Default::default(),
             )
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(Stance::new(contacts, p.friction_model)?)
+    Ok(Stance::new(contacts, model)?)
 }
 
 /// The three vectors of eq. 14 of an IK sample's right limit (`left = false`) or left limit.

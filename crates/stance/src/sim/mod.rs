@@ -63,6 +63,27 @@ pub struct SimOptions {
     pub base_dir: Option<PathBuf>,
     /// Keep the harness's input files in this folder (default: a temporary folder, removed).
     pub keep: Option<PathBuf>,
+    /// A force pushing a robot surface's body during the simulation (for tests of the
+    /// measurements).
+    pub disturbance: Option<Disturbance>,
+}
+
+/// An external force on the body of a robot surface, in world axes, over a time window.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Disturbance {
+    /// The robot surface whose body is pushed.
+    #[serde(rename = "geom", serialize_with = "surface_geom_name")]
+    pub surface: String,
+    /// The force (N, world axes).
+    pub force: [f64; 3],
+    /// Start of the window (s, motion time).
+    pub t_start: f64,
+    /// End of the window (s).
+    pub t_end: f64,
+}
+
+fn surface_geom_name<S: serde::Serializer>(name: &str, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&mjcf::surface_geom(name))
 }
 
 /// One planned contact's measurements.
@@ -124,6 +145,10 @@ pub struct SimReport {
     pub time_scale: f64,
     /// MuJoCo's version.
     pub mujoco_version: String,
+    /// While the robot stands still before a motion that starts at rest: the weight its contacts
+    /// carry, over `m |g|` (mean over the last 100 ms of the hold; 1 when the contacts carry the
+    /// robot's weight).
+    pub standing_load_ratio: Option<f64>,
 }
 
 /// The harness's input (see `sim/stance_mujoco.py`).
@@ -143,6 +168,7 @@ struct HarnessInput {
     segments: Vec<HarnessSegment>,
     reference: HarnessReference,
     thresholds: Thresholds,
+    disturbance: Option<Disturbance>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -182,6 +208,14 @@ struct Thresholds {
     fall_height: f64,
     fall_tilt: f64,
     settle: f64,
+}
+
+/// A fresh folder in the system's temporary folder (one per call: simulations may run in
+/// parallel in one process).
+fn unique_temp_dir(prefix: &str) -> PathBuf {
+    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("{prefix}-{}-{n}", std::process::id()))
 }
 
 /// The project's root (where `sim/` and `scripts/` are).
@@ -264,6 +298,7 @@ pub fn simulate(
             base_dir: options.base_dir.clone(),
             skip_checks: true,
             time_scale: options.time_scale,
+            check_friction: None,
         },
     )?;
     if run.samples.is_empty() {
@@ -378,9 +413,103 @@ pub fn simulate(
             fall_tilt: crate::tol::SIM_FALL_TILT,
             settle: crate::tol::SIM_SETTLE,
         },
+        disturbance: options.disturbance.clone(),
     };
     let report = run_harness(&xml, input, options.keep.as_deref())?;
     Ok((run, report))
+}
+
+/// What MuJoCo compiled from a model: body masses and principal inertias, joint ranges, and the
+/// world corners of the box geoms' faces `z = -size_z` at a configuration (the harness's
+/// `--describe` mode), for comparing the model with the project's.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct ModelDescription {
+    /// Bodies but the world.
+    pub bodies: Vec<BodyDescription>,
+    /// Joints.
+    pub joints: Vec<JointDescription>,
+    /// Box geoms.
+    pub geoms: Vec<GeomDescription>,
+    /// Total mass (kg).
+    pub total_mass: f64,
+}
+
+/// A body as MuJoCo compiled it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct BodyDescription {
+    /// Name.
+    pub name: String,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Principal moments of inertia, increasing (kg m^2).
+    pub inertia: Vec<f64>,
+}
+
+/// A joint as MuJoCo compiled it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct JointDescription {
+    /// Name.
+    pub name: String,
+    /// Range.
+    pub range: [f64; 2],
+    /// Whether the range is enforced.
+    pub limited: bool,
+}
+
+/// A box geom's face `z = -size_z` in world coordinates.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct GeomDescription {
+    /// Name.
+    pub name: String,
+    /// Its four corners (world).
+    pub corners: Vec<[f64; 3]>,
+}
+
+/// Compiles `xml` with MuJoCo (the harness's `--describe` mode) and describes it at the
+/// configuration `q` (Pinocchio's conventions, of `model`).
+///
+/// # Errors
+///
+/// The virtualenv or MuJoCo missing, or MuJoCo rejecting the model.
+pub fn describe(
+    xml: &str,
+    model: &stance_robot::Model,
+    q: &[f64],
+) -> Result<ModelDescription, StanceError> {
+    let python = venv_python();
+    let dir = unique_temp_dir("stance-describe");
+    let io = |e: std::io::Error| StanceError::BadMotion(format!("{}: {e}", dir.display()));
+    std::fs::create_dir_all(&dir).map_err(io)?;
+    let (xml_path, q_path, out_path) = (
+        dir.join("model.xml"),
+        dir.join("qpos.json"),
+        dir.join("out.json"),
+    );
+    std::fs::write(&xml_path, xml).map_err(io)?;
+    std::fs::write(
+        &q_path,
+        serde_json::to_string(&mujoco_qpos(model, q))
+            .map_err(|e| StanceError::BadMotion(e.to_string()))?,
+    )
+    .map_err(io)?;
+    let out = std::process::Command::new(&python)
+        .arg(project_root().join("sim").join("stance_mujoco.py"))
+        .arg("--describe")
+        .args([&xml_path, &q_path, &out_path])
+        .output()
+        .map_err(|e| StanceError::BadMotion(format!("cannot run {}: {e}", python.display())))?;
+    if !out.status.success() {
+        return Err(StanceError::BadMotion(format!(
+            "MuJoCo could not describe the model: {}",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+        )));
+    }
+    let text = std::fs::read_to_string(&out_path).map_err(io)?;
+    let _ = std::fs::remove_dir_all(&dir);
+    serde_json::from_str(&text).map_err(|e| StanceError::BadMotion(e.to_string()))
 }
 
 fn run_harness(
@@ -400,7 +529,7 @@ fn run_harness(
     }
     let dir = match keep {
         Some(d) => d.to_path_buf(),
-        None => std::env::temp_dir().join(format!("stance-sim-{}", std::process::id())),
+        None => unique_temp_dir("stance-sim"),
     };
     std::fs::create_dir_all(&dir)
         .map_err(|e| io(e, &format!("cannot create {}", dir.display())))?;
