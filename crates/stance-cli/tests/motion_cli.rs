@@ -139,3 +139,51 @@ fn bad_motion_input_is_one_line_and_exit_code_2() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn simulate_without_mujoco_says_how_to_install_it() {
+    let out = stance()
+        .args(["simulate", "small-sway"])
+        .env("STANCE_VENV", tmp("no-such-venv"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("scripts/setup-venv.sh"), "{err}");
+}
+
+#[test]
+fn simulate_reports_the_contract_fields() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let has_mujoco = std::process::Command::new(root.join(".venv/bin/python"))
+        .args(["-c", "import mujoco"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if std::env::var_os("STANCE_VENV").is_none() && !has_mujoco {
+        eprintln!("SKIPPED simulate_reports_the_contract_fields: no MuJoCo in .venv");
+        return;
+    }
+    let v = json(&["simulate", "small-sway", "--segments", "1..1"]);
+    for key in [
+        "held",
+        "reason",
+        "max_slip_m",
+        "contact_losses",
+        "fell",
+        "max_base_error_m",
+        "max_friction_usage",
+        "wall_per_sim_s",
+    ] {
+        assert!(!v[key].is_null(), "{key} in {v}");
+    }
+    assert_eq!(v["held"], true, "{}", v["reason"]);
+    let out = stance()
+        .args(["simulate", "small-sway", "--segments", "2..1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8(out.stderr)
+        .unwrap()
+        .contains("FIRST..LAST"));
+}
