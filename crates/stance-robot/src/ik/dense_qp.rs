@@ -240,9 +240,14 @@ impl DenseQpWorkspace {
                 continue;
             }
             // Multipliers of the held coordinates: release the worst wrong-signed one.
-            let gscale = (p.amax() * self.x.iter().fold(0.0f64, |s, v| s.max(v.abs())))
-                .max(c.amax())
-                .max(1.0);
+            let any_held = self.held.iter().any(|h| *h != Held::Free);
+            let gscale = if any_held {
+                (p.amax() * self.x.iter().fold(0.0f64, |s, v| s.max(v.abs())))
+                    .max(c.amax())
+                    .max(1.0)
+            } else {
+                1.0
+            };
             let mut worst: Option<(usize, f64)> = None;
             let mut active = 0;
             for i in 0..n {
@@ -265,10 +270,18 @@ impl DenseQpWorkspace {
             report.bound_violation = (0..n).fold(0.0f64, |v, i| {
                 v.max(lo[i] - self.x[i]).max(self.x[i] - hi[i])
             });
-            report.equality_residual = (0..m).fold(0.0f64, |v, k| {
-                let ax: f64 = (0..n).map(|i| a[(k, i)] * self.x[i]).sum();
-                v.max((ax - b[k]).abs())
-            });
+            // A x column by column (A is column-major), into the scratch `r`
+            let ax = &mut self.r[..m];
+            ax.iter_mut().for_each(|v| *v = 0.0);
+            for (i, xi) in self.x.iter().enumerate() {
+                for (v, aki) in ax.iter_mut().zip(a.column(i).iter()) {
+                    *v += aki * xi;
+                }
+            }
+            report.equality_residual = ax
+                .iter()
+                .zip(b.iter())
+                .fold(0.0f64, |v, (ax, b)| v.max((ax - b).abs()));
             let bound_ok = (0..n).all(|i| {
                 self.x[i] >= lo[i] - opts.primal_tol * lo[i].abs().max(1.0)
                     && self.x[i] <= hi[i] + opts.primal_tol * hi[i].abs().max(1.0)

@@ -482,7 +482,8 @@ fn rotation_error(target: &nalgebra::Matrix3<f64>, r: &nalgebra::Matrix3<f64>) -
     crate::spatial::rotation_log(&(target * r.transpose()))
 }
 
-/// Adds `w |J x - r|^2` to `x^T P x / 2 + c^T x`, in place.
+/// Adds `w |J x - r|^2` to `x^T P x / 2 + c^T x`, in place: `P += 2 w J^T J`,
+/// `c -= 2 w J^T r` (a symmetric rank-3 update, both triangles).
 fn add_task<S>(
     p: &mut DMatrix<f64>,
     c: &mut DVector<f64>,
@@ -495,8 +496,19 @@ fn add_task<S>(
     if w == 0.0 {
         return;
     }
-    p.gemm_tr(2.0 * w, j, j, 1.0);
-    c.gemv_tr(-2.0 * w, j, r, 1.0);
+    let n = p.nrows();
+    let w2 = 2.0 * w;
+    let data = p.as_mut_slice();
+    for b in 0..n {
+        let (x, y, z) = (w2 * j[(0, b)], w2 * j[(1, b)], w2 * j[(2, b)]);
+        c[b] -= x * r[0] + y * r[1] + z * r[2];
+        if x == 0.0 && y == 0.0 && z == 0.0 {
+            continue;
+        }
+        for (a, v) in data[b * n..(b + 1) * n].iter_mut().enumerate() {
+            *v += x * j[(0, a)] + y * j[(1, a)] + z * j[(2, a)];
+        }
+    }
 }
 
 fn velocity_holds(contacts: &[usize]) -> Vec<ContactHold> {
