@@ -78,7 +78,7 @@ pub enum ContactError {
     BadShape(String),
     /// The cone conversion failed (reported by polycone).
     #[error("cone conversion failed: {0}")]
-    Cone(String),
+    Cone(polycone::ConeError),
     /// A polytope routine rejected its input (a bug here if it happens; please report).
     #[error("polytope routine failed: {0}")]
     Polytope(#[from] polycone::polytope::PolytopeError),

@@ -117,7 +117,7 @@ impl Stance {
         let span = span_at(&self.giwc_span(), c);
         let out = ws
             .span_to_face(&span, &opts.dd)
-            .map_err(|e| ContactError::Cone(e.to_string()))?;
+            .map_err(ContactError::Cone)?;
         Ok(giwc_at_origin(&out, c))
     }
 }

@@ -66,7 +66,7 @@ impl GiwcBuilder {
     pub fn new(stance: &Stance, opts: &GiwcOptions) -> Result<Self, ContactError> {
         let point = conversion_point(stance);
         let cont = polycone::Continuation::new(&span_at(&stance.giwc_span(), point), &opts.dd)
-            .map_err(|e| ContactError::Cone(e.to_string()))?;
+            .map_err(ContactError::Cone)?;
         Ok(Self {
             stance: stance.clone(),
             giwc: giwc_at_origin(cont.result(), point),
@@ -101,7 +101,7 @@ impl GiwcBuilder {
         let out = self
             .cont
             .add_generators(&span_at(&new, self.point))
-            .map_err(|e| ContactError::Cone(e.to_string()))?;
+            .map_err(ContactError::Cone)?;
         self.giwc = giwc_at_origin(out, self.point);
         self.stance = stance;
         Ok(&self.giwc)

@@ -17,7 +17,10 @@ pub enum StanceError {
     /// The robot model is invalid (the inner error is in the message, not a `source`).
     #[error("robot model: {0}")]
     Robot(stance_robot::RobotError),
-    /// A named example does not exist.
+    /// An input file that cannot be read or parsed (the path and the parser's message).
+    #[error("{0}")]
+    File(String),
+    /// An unknown built-in example or motion name.
     #[error("unknown example {name:?}: use one of {known}")]
     UnknownExample {
         /// The name asked for.

@@ -73,6 +73,7 @@ pub use stance_robot;
 pub use stance_topp;
 
 pub mod error;
+pub mod input;
 pub mod motion;
 mod name_or;
 pub mod retime;

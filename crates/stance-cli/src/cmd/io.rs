@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -21,19 +21,7 @@ pub struct Common {
 /// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`. Unknown keys are
 /// rejected by the `T` types themselves (`#[serde(deny_unknown_fields)]`).
 pub fn read_input<T: DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read input file {}", path.display()))?;
-    if text.trim().is_empty() {
-        bail!("input file {} is empty", path.display());
-    }
-    let is_toml = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    if is_toml {
-        toml::from_str(&text).with_context(|| format!("invalid TOML in {}", path.display()))
-    } else {
-        serde_json::from_str(&text).with_context(|| format!("invalid JSON in {}", path.display()))
-    }
+    Ok(stance::input::read_file(path)?)
 }
 
 /// Writes `value` as pretty JSON to the output file of `common`, or to standard output.

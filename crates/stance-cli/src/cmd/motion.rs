@@ -12,12 +12,12 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use stance::motion::result::MotionResult;
 use stance::motion::spec::MotionSpec;
-use stance::motion::{experiments, plan, run, RunOptions};
+use stance::motion::{plan, run, RunOptions};
 
-use super::io::{read_input, write_output, Common};
+use super::io::{write_output, Common};
 use super::plot::{phase_plane, PhasePlane};
 
 #[derive(clap::Args)]
@@ -60,19 +60,7 @@ pub struct MotionArgs {
 
 /// A motion file's spec and folder, or a built-in motion by name.
 pub fn load(motion: &str) -> Result<(MotionSpec, Option<PathBuf>)> {
-    let path = Path::new(motion);
-    if path.is_file() {
-        let spec: MotionSpec = read_input(path)?;
-        let dir = path.parent().map(Path::to_path_buf);
-        return Ok((spec, dir));
-    }
-    if let Ok(spec) = experiments::by_name(motion) {
-        return Ok((spec, None));
-    }
-    bail!(
-        "{motion} is neither a motion file nor a built-in motion ({})",
-        experiments::NAMES.join(", ")
-    )
+    Ok(stance::input::motion(motion)?)
 }
 
 pub fn run_cmd(args: MotionArgs) -> Result<()> {

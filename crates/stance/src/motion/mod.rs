@@ -55,7 +55,7 @@ use result::{
     Timings, TrajectoryInfo,
 };
 use rows::{segment_rows, SegmentRows};
-use spec::MotionSpec;
+pub use spec::MotionSpec;
 
 use crate::StanceError;
 

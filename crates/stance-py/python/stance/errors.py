@@ -1,0 +1,29 @@
+"""The exceptions of stance.
+
+Bad input raises :class:`InputError` (also a :class:`ValueError`) with the Rust message naming
+what to fix. Negative outcomes (an unstable CoM, an infeasible retiming, an empty polygon) are
+values, not exceptions.
+"""
+
+
+class StanceError(Exception):
+    """Root of every exception raised by stance."""
+
+
+class InputError(StanceError, ValueError):
+    """Bad input: a wrong shape, a non-finite number, an invalid contact or file."""
+
+
+class UncertifiedError(StanceError, ArithmeticError):
+    """A cone conversion whose certificate failed, also in exact arithmetic.
+
+    The engine refuses to return an answer it cannot prove; retry with ``exact=True`` or check
+    the input for structure degenerate at the scale of the tolerances.
+    """
+
+
+class NotInstalledError(StanceError, ImportError):
+    """An optional resource is missing (JVRC-1's URDF: ``pip install jvrc-description``)."""
+
+
+__all__ = ["StanceError", "InputError", "UncertifiedError", "NotInstalledError"]

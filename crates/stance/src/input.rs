@@ -1,0 +1,93 @@
+//! Reading input files (scenes, retimings, motions): JSON, or TOML when the extension is
+//! `.toml`, strictly (unknown keys are rejected by the types themselves). One reader for the
+//! command line, the Python package and the facade's loaders, so that a file means the same
+//! everywhere.
+
+use std::path::{Path, PathBuf};
+
+use serde::de::DeserializeOwned;
+
+use crate::StanceError;
+
+/// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`.
+///
+/// ```
+/// let dir = std::env::temp_dir().join(format!("stance-input-doc-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = dir.join("scene.toml");
+/// std::fs::write(&path, "mass = 40\n[[contacts]]\nname = \"LF\"\nposition = [0, 0, 0]\n\
+///     friction = 0.7\nshape = { rectangle = { half_length = 0.11, half_width = 0.065 } }\n").unwrap();
+/// let scene: stance::stance_contact::Scene = stance::input::read_file(&path).unwrap();
+/// assert_eq!(scene.contacts.len(), 1);
+/// let err = stance::input::read_file::<stance::stance_contact::Scene>(&dir.join("none.json"));
+/// assert!(err.unwrap_err().to_string().contains("cannot read input file"));
+/// ```
+pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        StanceError::File(format!("cannot read input file {}: {e}", path.display()))
+    })?;
+    if text.trim().is_empty() {
+        return Err(StanceError::File(format!(
+            "input file {} is empty",
+            path.display()
+        )));
+    }
+    let is_toml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    if is_toml {
+        toml::from_str(&text)
+            .map_err(|e| StanceError::File(format!("invalid TOML in {}: {e}", path.display())))
+    } else {
+        serde_json::from_str(&text)
+            .map_err(|e| StanceError::File(format!("invalid JSON in {}: {e}", path.display())))
+    }
+}
+
+/// A scene from a file (JSON or TOML) or a built-in example by name
+/// ([`stance_contact::examples::NAMES`]); a path that exists wins over a name.
+///
+/// ```
+/// assert_eq!(stance::input::scene("stairs").unwrap().contacts.len(), 2);
+/// assert!(stance::input::scene("moon").unwrap_err().to_string().contains("stairs"));
+/// ```
+pub fn scene(source: &str) -> Result<stance_contact::Scene, StanceError> {
+    let path = Path::new(source);
+    if path.is_file() {
+        return read_file(path);
+    }
+    stance_contact::examples::by_name(source).ok_or_else(|| StanceError::UnknownExample {
+        name: source.into(),
+        known: format!(
+            "{} (or the path of a scene file)",
+            stance_contact::examples::NAMES.join(", ")
+        ),
+    })
+}
+
+/// A motion from a file (JSON or TOML; with its folder, against which relative paths in it are
+/// resolved) or a built-in motion by name ([`crate::motion::experiments::NAMES`]); a path that
+/// exists wins over a name.
+///
+/// ```
+/// let (spec, dir) = stance::input::motion("small-sway").unwrap();
+/// assert!(dir.is_none());
+/// assert!(stance::input::motion("moonwalk").unwrap_err().to_string().contains("small-sway"));
+/// ```
+pub fn motion(
+    source: &str,
+) -> Result<(crate::motion::spec::MotionSpec, Option<PathBuf>), StanceError> {
+    use crate::motion::experiments;
+    let path = Path::new(source);
+    if path.is_file() {
+        let spec = read_file(path)?;
+        return Ok((spec, path.parent().map(Path::to_path_buf)));
+    }
+    if experiments::NAMES.contains(&source) {
+        return Ok((experiments::by_name(source)?, None));
+    }
+    Err(StanceError::File(format!(
+        "{source} is neither a motion file nor a built-in motion ({})",
+        experiments::NAMES.join(", ")
+    )))
+}
