@@ -200,6 +200,30 @@ pub fn vec3(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<[f64; 3]
     Ok([v[0], v[1], v[2]])
 }
 
+/// A C-contiguous float64 array of 3 finite numbers, read directly (the fast path of one
+/// CoM); None for anything else (which then takes the general path and its messages).
+pub fn as_vec3(a: &Bound<'_, PyArray1<f64>>) -> Option<[f64; 3]> {
+    if !a.is_c_contiguous() {
+        return None;
+    }
+    // SAFETY: read with the GIL held, as in `flat`.
+    let s = unsafe { a.as_slice() }.ok()?;
+    match s {
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Some([*x, *y, *z]),
+        _ => None,
+    }
+}
+
+/// Runs `f` with the GIL released when `big` (releasing and taking it back costs about
+/// 0.2 us: not worth it for tiny problems, which then block other threads for as little).
+pub fn detach_if<T: Send>(py: Python<'_>, big: bool, f: impl FnOnce() -> T + Send) -> T {
+    if big {
+        py.detach(f)
+    } else {
+        f()
+    }
+}
+
 /// A `(3, 3)` matrix as rows, finite.
 pub fn mat3(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<[[f64; 3]; 3]> {
     let m = matrix(obj, name, Some(3), what)?;

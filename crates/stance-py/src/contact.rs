@@ -519,8 +519,7 @@ fn batch<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     // One CoM: no borrow, no allocation, no thread.
     if let Ok(a) = coms.cast::<numpy::PyArray1<f64>>() {
-        if numpy::PyUntypedArrayMethods::len(a) == 3 {
-            let p = arrays::vec3(coms, "coms", "a CoM, m")?;
+        if let Some(p) = arrays::as_vec3(a) {
             let mut out = [false];
             test(&[p], &mut out).map_err(errors::contact)?;
             return Ok(pyo3::types::PyBool::new(py, out[0]).to_owned().into_any());

@@ -203,10 +203,11 @@ pub fn topp(
     let opts = SolveOptions::new(disc)
         .with_start(sd_start)
         .with_end(sd_end);
-    let k = CanonicalConstraints::new(grid.clone(), offsets, rows).map_err(errors::topp)?;
-    let sol = py
-        .detach(|| solve_with(&k, &opts, &mut Workspace::new()))
-        .map_err(errors::topp)?;
+    let k = CanonicalConstraints::new(grid, offsets, rows).map_err(errors::topp)?;
+    let sol = arrays::detach_if(py, k.rows().len() > 64, || {
+        solve_with(&k, &opts, &mut Workspace::new())
+    })
+    .map_err(errors::topp)?;
     let controllable: Vec<[f64; 2]> = sol
         .controllable
         .iter()
@@ -219,7 +220,7 @@ pub fn topp(
         index: sol.status.grid_index(),
         discretization: disc.name(),
         duration: profile.map(|p| p.duration()).filter(|d| d.is_finite()),
-        s: one(&grid),
+        s: one(k.grid()),
         sd: profile.map(|p| one(&p.sd())),
         sdd: profile.map(|p| one(p.u())),
         t: profile
