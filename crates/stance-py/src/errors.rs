@@ -65,9 +65,10 @@ pub fn facade(e: StanceError) -> PyErr {
         StanceError::Contact(ContactError::Cone(ConeError::Uncertified(_))) => {
             uncertified(e.to_string())
         }
-        StanceError::BadMotion(ref m) if m.contains("needs JVRC-1's URDF") => {
-            not_installed(e.to_string())
-        }
+        StanceError::NotInstalled(_) => not_installed(
+            "JVRC-1's URDF is not installed: pip install jvrc-description==1.1.1 in this \
+             environment (or set STANCE_JVRC1_URDF to the file)",
+        ),
         _ => input(e.to_string()),
     }
 }

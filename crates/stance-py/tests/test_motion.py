@@ -57,3 +57,11 @@ def test_paper_experiment_on_jvrc1() -> None:
     r = stance.motion("stair-climbing", checks=False)
     assert r.status == "optimal"
     assert 4.0 < r.duration < 6.0
+
+
+def test_missing_jvrc1_is_a_not_installed_error(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    monkeypatch.setenv("STANCE_JVRC1_URDF", "/no/such/jvrc1.urdf")
+    with pytest.raises(stance.NotInstalledError, match="pip install jvrc-description"):
+        stance.motion("stair-climbing")
+    with pytest.raises(ImportError):  # NotInstalledError is an ImportError too
+        stance.motion("box-climbing")

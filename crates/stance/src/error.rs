@@ -17,6 +17,9 @@ pub enum StanceError {
     /// The robot model is invalid (the inner error is in the message, not a `source`).
     #[error("robot model: {0}")]
     Robot(stance_robot::RobotError),
+    /// An optional resource is not installed (JVRC-1's URDF): what to install.
+    #[error("{0}")]
+    NotInstalled(String),
     /// An input file that cannot be read or parsed (the path and the parser's message).
     #[error("{0}")]
     File(String),

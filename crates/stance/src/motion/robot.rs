@@ -152,7 +152,7 @@ fn small_humanoid() -> Result<MotionRobot, StanceError> {
 fn jvrc1() -> Result<MotionRobot, StanceError> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let urdf = stance_robot::jvrc1::locate_urdf(Some(&root)).map_err(|why| {
-        StanceError::BadMotion(format!(
+        StanceError::NotInstalled(format!(
             "the robot jvrc1 needs JVRC-1's URDF from PyPI (jvrc-description 1.1.1): {why}; \
              run `bash scripts/setup-venv.sh` from the project root, or set STANCE_JVRC1_URDF"
         ))
