@@ -30,8 +30,9 @@
 //!   `|V' E^T|_F <= rank sigma_1(V)` and `sigma_r(V) > rank sqrt(sigma_1(V)^2 + |V'|_F^2)`
 //!   ([`crate::tol::Tolerances::rank`]), a conversion from scratch finds rank `r` as well;
 //!   otherwise the continuation starts over (the span grows, or the decision is close);
-//! - **zero and duplicate generators**: the same rules as [`crate::precondition`] (relative
-//!   to the largest norm of all generators; duplicates compared in the frame);
+//! - **zero and duplicate generators**: the same rules as [`crate::precondition`] (the rows
+//!   are scaled by powers of two first, so only a zero row is a zero generator; duplicates
+//!   compared in the frame);
 //! - **conditioning**: the frame is whitened for `V` (`Y^T Y = I` over its generators), so for
 //!   all the generators `G = Y^T Y = I + sum y y^T` over the added ones (`y` not normalized),
 //!   and the map from the frame to a fresh whitening has condition number
@@ -84,7 +85,6 @@
 //! - the new generators may raise the dimension of the linear span (the cone was
 //!   lower-dimensional: its equations change and the polar gains dimensions), or the rank
 //!   decision is within the bounds above;
-//! - a generator kept before is now a zero generator relative to the larger new ones;
 //! - exact arithmetic ([`crate::Arithmetic::Exact`]): the exact engine does not keep a state;
 //! - the previous result came from the exact fallback (no floating-point state to resume);
 //! - the resumed double description fails, or the certificate of the continued result fails
@@ -97,7 +97,7 @@ use nalgebra::DMatrix;
 
 use crate::convert::{exact_polar, Polar, SpanToFace, Workspace};
 use crate::linalg::normalize;
-use crate::precondition::{whiten, Whitened};
+use crate::precondition::{scale_rows_pow2, whiten, Whitened};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm};
 
 /// Why a [`Continuation`] converted from scratch instead of continuing.
@@ -115,9 +115,6 @@ pub enum Restart {
     /// The new generators are within the rank tolerance of leaving the linear span (the
     /// bounds of the module docs cannot decide the rank); from scratch found it unchanged.
     RankUndecided,
-    /// A generator kept before is now negligible next to the new ones
-    /// ([`crate::tol::Tolerances::zero_generator`]).
-    ZeroGeneratorsChanged,
     /// Exact arithmetic was asked for: every step is an exact conversion from scratch.
     ExactArithmetic,
     /// The previous result did not leave a floating-point state to resume (it came from the
@@ -159,8 +156,6 @@ pub enum Step {
 struct Track {
     /// Largest generator norm so far.
     maxn: f64,
-    /// Smallest norm of a kept generator.
-    min_kept_norm: f64,
     /// Largest `|e . v|` over equations `e` of the frame and kept generators `v`.
     max_eq_abs: f64,
     /// Over the generators added since the frame: `sum |y|^2` (frame coordinates, not
@@ -198,6 +193,9 @@ pub struct Continuation {
     opts: DdOptions,
     /// Every generator so far, in the order given (input rows).
     generators: DMatrix<f64>,
+    /// The same rows scaled by powers of two ([`scale_rows_pow2`]): what every decision is
+    /// made on, so that none depends on the scale of a generator.
+    scaled: DMatrix<f64>,
     /// Buffers; `ws.core` holds the double description state when `resumable`.
     ws: Workspace,
     /// The whitening of the last conversion from scratch: the coordinates of the state.
@@ -324,9 +322,7 @@ fn polar_into_result(p: Polar, d: usize) -> SpanToFace {
 }
 
 fn check_generators(v: &DMatrix<f64>, d: Option<usize>) -> Result<(), ConeError> {
-    if v.ncols() == 0 {
-        return Err(ConeError::ZeroDimension);
-    }
+    crate::forms::check_dimension(v.ncols())?;
     if let Some(d) = d {
         if v.ncols() != d {
             return Err(ConeError::DimensionMismatch {
@@ -391,11 +387,6 @@ fn track_of(v: &DMatrix<f64>, wh: &Whitened) -> Track {
     let maxn = norms.iter().copied().fold(0.0, f64::max);
     Track {
         maxn,
-        min_kept_norm: wh
-            .kept
-            .iter()
-            .map(|&i| norms[i])
-            .fold(f64::INFINITY, f64::min),
         max_eq_abs: wh.equation_residual * maxn,
         sum_y2: 0.0,
         sum_out2: 0.0,
@@ -449,13 +440,16 @@ impl Continuation {
                  the reference point near the contacts yourself",
             ));
         }
-        let (result, frame, resumable) = from_scratch(&mut ws, generators, opts)?;
+        let mut scaled = generators.clone();
+        scale_rows_pow2(&mut scaled);
+        let (result, frame, resumable) = from_scratch(&mut ws, &scaled, opts)?;
         let dd_rows = dd_rows_of(&frame);
         Ok(Self {
             opts: opts.clone(),
             generators: generators.clone(),
+            track: track_of(&scaled, &frame),
+            scaled,
             ws,
-            track: track_of(generators, &frame),
             current: frame.clone(),
             frame,
             resumable,
@@ -572,11 +566,14 @@ impl Continuation {
         let d = self.generators.ncols();
         check_generators(new, Some(d))?;
         let n_old = self.generators.nrows();
-        let mut all = self
-            .generators
-            .clone()
-            .resize_vertically(n_old + new.nrows(), 0.0);
-        all.rows_mut(n_old, new.nrows()).copy_from(new);
+        let stack = |old: &DMatrix<f64>, new: &DMatrix<f64>| {
+            let mut all = old.clone().resize_vertically(n_old + new.nrows(), 0.0);
+            all.rows_mut(n_old, new.nrows()).copy_from(new);
+            all
+        };
+        let mut new_scaled = new.clone();
+        scale_rows_pow2(&mut new_scaled);
+        let all = stack(&self.scaled, &new_scaled);
         let outcome = match self.continue_with(&all, n_old) {
             Ok((result, wh, track, step)) => {
                 if matches!(step, Step::Reframed { .. }) {
@@ -600,7 +597,8 @@ impl Continuation {
         };
         match outcome {
             Ok((result, step)) => {
-                self.generators = all;
+                self.generators = stack(&self.generators, new);
+                self.scaled = all;
                 self.result = result;
                 self.step = step;
                 Ok(&self.result)
@@ -649,16 +647,15 @@ impl Continuation {
         let mut t = self.track.clone();
         let norms: Vec<f64> = (n_old..all.nrows()).map(|i| all.row(i).norm()).collect();
         t.maxn = norms.iter().copied().fold(t.maxn, f64::max);
-        if !self.current.kept.is_empty() && t.min_kept_norm <= tol.zero_generator * t.maxn {
-            return Err(Stop::Restart(Restart::ZeroGeneratorsChanged));
-        }
         // Singular values in input units.
         let sv_in: Vec<f64> = frame.sv.iter().map(|s| s / frame.scale).collect();
         let mut wh = self.current.clone();
         let first_new_distinct = wh.distinct.len();
         let mut y = vec![0.0; r];
         for (t_new, &norm) in norms.iter().enumerate() {
-            if !(norm > 0.0 && norm > tol.zero_generator * t.maxn) {
+            // Rows are scaled by powers of two (the largest entry in [0.5, 1)): only a zero
+            // row is a zero generator, whatever the other rows' sizes.
+            if norm == 0.0 {
                 continue;
             }
             let i = n_old + t_new;
@@ -710,7 +707,9 @@ impl Continuation {
                 return Err(Stop::Span);
             }
             if fresh.kept != wh.kept {
-                return Err(Stop::Restart(Restart::ZeroGeneratorsChanged));
+                // (Both keep exactly the nonzero rows; should that ever differ, starting over
+                // is the safe answer.)
+                return Err(Stop::Span);
             }
             let mut u = vec![0.0; d];
             let n = self.ws.core.n;

@@ -19,8 +19,9 @@ use nalgebra::DMatrix;
 use crate::certificate::{certify_whitened, CertScratch, Certificate};
 use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
+use crate::forms::check_dimension;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
-use crate::precondition::{whiten, whiten_into, WhitenScratch, Whitened};
+use crate::precondition::{scale_rows_pow2, whiten, whiten_into, WhitenScratch, Whitened};
 use crate::wrench::{check_options as check_wrench_options, WrenchFrame};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
@@ -70,6 +71,8 @@ pub struct Workspace {
     /// The whitening of the last conversion.
     pub(crate) wh: Whitened,
     wh_scratch: WhitenScratch,
+    /// The input rows scaled by powers of two ([`scale_rows_pow2`]).
+    scaled: Vec<f64>,
 }
 
 fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
@@ -128,24 +131,37 @@ impl Workspace {
         opts: &DdOptions,
     ) -> Result<SpanToFace, ConeError> {
         let d = generators.ncols();
-        if d == 0 {
-            return Err(ConeError::ZeroDimension);
-        }
+        check_dimension(d)?;
         check_finite("generators", generators)?;
-        if opts.wrench {
-            return self.span_to_face_wrench(generators, opts);
-        }
-        let p = self.polar(generators, opts)?;
-        Ok(SpanToFace {
-            face: FaceForm {
-                dim: d,
-                facets: p.facets,
-                equations: p.equations,
-            },
-            lineality: p.lineality,
-            extreme_generators: p.extreme,
-            certificate: p.certificate,
-        })
+        // Every decision below is independent of a positive scaling of any generator.
+        let scaled = self.rows_scaled(generators);
+        let result = if opts.wrench {
+            self.span_to_face_wrench(&scaled, opts)
+        } else {
+            self.polar(&scaled, opts).map(|p| SpanToFace {
+                face: FaceForm {
+                    dim: d,
+                    facets: p.facets,
+                    equations: p.equations,
+                },
+                lineality: p.lineality,
+                extreme_generators: p.extreme,
+                certificate: p.certificate,
+            })
+        };
+        self.scaled = scaled.data.into();
+        result
+    }
+
+    /// `m` with each row scaled by a power of two ([`scale_rows_pow2`]), in this workspace's
+    /// buffer (give it back with `self.scaled = m.data.into()`).
+    fn rows_scaled(&mut self, m: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut buf = std::mem::take(&mut self.scaled);
+        buf.clear();
+        buf.extend_from_slice(m.as_slice());
+        let mut scaled = DMatrix::from_vec(m.nrows(), m.ncols(), buf);
+        scale_rows_pow2(&mut scaled);
+        scaled
     }
 
     /// [`face_to_span`] with this workspace's buffers.
@@ -177,6 +193,8 @@ impl Workspace {
             g.view_mut((nu + ne, 0), (ne, d))
                 .copy_from(&(-&face.equations));
         }
+        // Every decision below is independent of a positive scaling of any facet or equation.
+        scale_rows_pow2(&mut g);
         if opts.wrench {
             return self.face_to_span_wrench(&g, nu, opts);
         }
@@ -476,9 +494,7 @@ pub fn certify_span_to_face(
     opts: &DdOptions,
 ) -> Result<Certificate, ConeError> {
     let d = generators.ncols();
-    if d == 0 {
-        return Err(ConeError::ZeroDimension);
-    }
+    check_dimension(d)?;
     check_finite("generators", generators)?;
     face.validate()?;
     if face.dim != d {
@@ -497,6 +513,10 @@ pub fn certify_span_to_face(
     }
     check_finite("lineality", lineality)?;
     opts.tol.validate()?;
+    // The same normalization as the conversions: no decision depends on a row's scale.
+    let mut generators = generators.clone();
+    scale_rows_pow2(&mut generators);
+    let generators = &generators;
     if opts.wrench {
         // Certify the re-centred problem: generators by `M`, facets and equations by `M^{-T}`,
         // lineality by `M`.
@@ -573,9 +593,12 @@ pub fn certify_span_to_face(
     for b in 0..lineality.nrows() {
         let x = lineality.row(b).transpose();
         let n = x.norm();
-        let bad_f = (0..nf).any(|f| (face.facets.row(f) * &x)[0].abs() > tol.certificate * n);
-        let bad_e = (0..face.equations.nrows())
-            .any(|e| (face.equations.row(e) * &x)[0].abs() > tol.certificate * n);
+        // Cosines: the facet and equation rows may have any positive scale.
+        let off = |row: nalgebra::RowDVector<f64>| {
+            (&row * &x)[0].abs() > tol.certificate * n * row.norm()
+        };
+        let bad_f = (0..nf).any(|f| off(face.facets.row(f).into_owned()));
+        let bad_e = (0..face.equations.nrows()).any(|e| off(face.equations.row(e).into_owned()));
         if n == 0.0 || bad_f || bad_e {
             lin_ok = false;
         }

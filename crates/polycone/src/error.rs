@@ -47,6 +47,14 @@ pub enum ConeError {
     /// Two options that cannot be used together.
     #[error("incompatible options: {0}")]
     IncompatibleOptions(&'static str),
+    /// The ambient dimension exceeds [`crate::tol::MAX_DIMENSION`].
+    #[error("the ambient dimension is {got}, above the limit of {max}: cones of larger dimension are not supported (check \"dim\" or the row length)")]
+    DimensionTooLarge {
+        /// The dimension given.
+        got: usize,
+        /// [`crate::tol::MAX_DIMENSION`].
+        max: usize,
+    },
     /// The input is beyond what the engine supports (dimension too large for the bitsets, ...).
     #[error("unsupported input: {0}")]
     Unsupported(String),

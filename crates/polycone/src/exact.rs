@@ -338,13 +338,22 @@ fn null_space(rows: &[Vec<BigInt>], d: usize) -> Vec<Vec<BigInt>> {
     out
 }
 
-/// `f64` approximation of an integer vector's direction (scaled to avoid overflow).
+/// `f64` approximation of an integer vector's direction: each entry `x` as `x / 2^bits` with
+/// `bits` those of the largest (so the largest is in `[0.5, 1)` and the norm cannot overflow
+/// however wide the integers are), from its leading 64 bits, then normalized. Entries more than
+/// `2^1074` times smaller than the largest become 0.
 fn to_f64_dir(v: &[BigInt]) -> Vec<f64> {
-    let bits = v.iter().map(|x| x.bits()).max().unwrap_or(0);
-    let shift = bits.saturating_sub(900) as usize;
+    let bits = v.iter().map(|x| x.bits()).max().unwrap_or(0) as i64;
     let mut out: Vec<f64> = v
         .iter()
-        .map(|x| (x >> shift).to_f64().unwrap_or(0.0))
+        .map(|x| {
+            let b = x.bits() as i64;
+            let drop = (b - 64).max(0);
+            let lead = (x >> drop as usize).to_f64().unwrap_or(0.0);
+            // x ~ lead 2^drop, divided by 2^bits: two exact steps of the power of two.
+            let e = (drop - bits).clamp(-2200, 0) as i32;
+            lead * 2f64.powi(e / 2) * 2f64.powi(e - e / 2)
+        })
         .collect();
     crate::linalg::normalize(&mut out);
     out

@@ -82,9 +82,7 @@ impl FaceForm {
     /// assert!(f.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<(), ConeError> {
-        if self.dim == 0 {
-            return Err(ConeError::ZeroDimension);
-        }
+        check_dimension(self.dim)?;
         for (what, m) in [("facets", &self.facets), ("equations", &self.equations)] {
             if m.nrows() > 0 && m.ncols() != self.dim {
                 return Err(ConeError::DimensionMismatch {
@@ -117,5 +115,19 @@ impl FaceForm {
             row.transpose().dot(x).abs() <= eps * n * row.norm()
         });
         fr && er
+    }
+}
+
+/// The ambient dimension `d` is at least 1 and at most [`crate::tol::MAX_DIMENSION`].
+pub(crate) fn check_dimension(d: usize) -> Result<(), ConeError> {
+    if d == 0 {
+        Err(ConeError::ZeroDimension)
+    } else if d > crate::tol::MAX_DIMENSION {
+        Err(ConeError::DimensionTooLarge {
+            got: d,
+            max: crate::tol::MAX_DIMENSION,
+        })
+    } else {
+        Ok(())
     }
 }

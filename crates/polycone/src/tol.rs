@@ -9,10 +9,14 @@
 /// field.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
-    /// A generator whose Euclidean norm is at most `zero_generator` times the largest generator
-    /// norm of the input is treated as the zero vector and ignored (it adds nothing to a cone).
-    /// Unit: relative norm. Default `1e-14`: a few units in the last place of `f64`, so only
-    /// vectors that are zero up to rounding are dropped.
+    /// The wrench preconditioning ([`crate::DdOptions::wrench`]) treats a row whose force part
+    /// has norm at most `zero_generator` times the row's norm as a pure moment. Unit: relative
+    /// norm within one row. Default `1e-14`: a few units in the last place of `f64`.
+    ///
+    /// No generator is negligible next to another: a cone does not change when one of its
+    /// generators is multiplied by a positive number, so every row is scaled by a power of two
+    /// (its largest entry into `[0.5, 1)`) before any decision, and only a row of zeros is a
+    /// zero generator.
     pub zero_generator: f64,
     /// Rank decisions (the dimension of `span(V)`, hence the equations; the lineality space) treat
     /// a singular value at most `rank` times the largest one as zero. Unit: relative singular
@@ -177,3 +181,10 @@ pub(crate) const BASIS_TIE: f64 = 1e-9;
 /// benchmark cones (callgrind, 2026-11-22) 1.8-9 % fewer instructions per conversion on
 /// twelve, 30 % on the whole-space cone, 0.5 % and 2.3 % more on two generic ones.
 pub(crate) const BASIS_CLEAR: f64 = 0.7;
+
+/// Largest ambient dimension the conversions accept. Unit: coordinates. Value `1024`: the
+/// zero cone of that dimension already has a `1024 x 1024` equation matrix (8 MB), and the
+/// double description's zero sets and pair tests grow with it; cones of the field are 3-D to
+/// 6-D (forces, wrenches), a few tens for whole-body or multi-contact stacks. Beyond it a
+/// clear error, instead of an allocation that overflows or exhausts memory.
+pub const MAX_DIMENSION: usize = 1024;

@@ -128,3 +128,8 @@ pub const IK_DENSE_DUAL_TOL: f64 = 1e-9;
 /// one rigid body, or more held joints than the equations allow), the multipliers are not
 /// determined to better than `1e-6` relative, and the step goes to the interior-point solver.
 pub const IK_DENSE_PIVOT: f64 = 1e-12;
+
+/// Deepest nesting of XML elements a URDF may have. Unit: levels. Value `64`: a URDF needs about
+/// six (`robot`, `link`, `visual`, `geometry`, `mesh`; xacro output is no deeper), and the XML
+/// parsers recurse once per level: a file nested tens of thousands deep overflowed the stack.
+pub const MAX_URDF_DEPTH: usize = 64;

@@ -334,3 +334,26 @@ fn a_workspace_of_another_model_is_an_error_not_a_panic() {
     let mut jac = nalgebra::Matrix6xX::zeros(m.nv);
     assert!(frame_jacobian(&m, &wrong, 1, ReferenceFrame::World, &mut jac).is_err());
 }
+
+/// 20,000 nested elements overflowed the stack of the XML parsers (a crash): now an error that
+/// names the depth and the line, before any parser runs. Comments, CDATA, declarations,
+/// self-closing tags and `>` inside attribute values do not count as levels.
+#[test]
+fn deep_nesting_is_an_error_not_a_crash() {
+    let deep = format!(
+        r#"<?xml version="1.0"?><robot name="r">{}{}{}</robot>"#,
+        link("a"),
+        "<x>\n".repeat(20_000),
+        "</x>".repeat(20_000)
+    );
+    let RobotError::Urdf(msg) = err(&deep) else {
+        panic!("not a URDF error")
+    };
+    assert!(msg.contains("nested 65 deep at line 64"), "{msg}");
+    // Shallow files with the constructs that do not nest still load.
+    let fine = robot(&format!(
+        r#"<!-- <a><b><c> -->{}<![CDATA[<d><e>]]><?pi <f>?>"#,
+        link(r#"a" note="x > y"#)
+    ));
+    build(&fine).unwrap();
+}

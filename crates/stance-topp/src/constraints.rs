@@ -13,6 +13,13 @@
 //! plus optional bounds `x_lo_i <= x <= x_hi_i` and `u_lo_i <= u <= u_hi_i`. This module stores
 //! the rows of all grid points in one flat buffer with per-point offsets (`rows_at(i)` is a
 //! slice), validated once: finite coefficients, matching shapes, a strictly increasing grid.
+//!
+//! **Scale.** A row and its multiple by a positive factor are the same constraint, and the
+//! solver's answer does not depend on such a factor (its tests are relative within a row). Rows
+//! whose largest coefficient is below `2^-100` or above `2^100` are stored multiplied by the power
+//! of two that brings it into `[0.5, 1)` (exact), so [`CanonicalConstraints::rows`] may return
+//! such rows rescaled. The path parameter's unit and origin do not matter either: the solver
+//! works on `s~ = (s - s_0) / L` with `L` a power of two (see [`crate::solver`]).
 
 use crate::error::ToppError;
 
@@ -52,6 +59,36 @@ pub struct CanonicalConstraints {
     rows: Vec<Row>,
     x_bounds: Option<Vec<[f64; 2]>>,
     u_bounds: Option<Vec<[f64; 2]>>,
+}
+
+/// Rows whose largest coefficient is outside `[2^-ROW_WINDOW, 2^ROW_WINDOW]` are multiplied
+/// by the power of two that brings it into `[0.5, 1)`.
+const ROW_WINDOW: i32 = 100;
+
+/// Brings a row's coefficients into the window of [`ROW_WINDOW`] by a power of two (exact; the
+/// half-plane is the same). The solver's tests are relative within a row, so this changes no
+/// decision; it keeps the products of two rows' squared norms in the kernel (up to `2^400`)
+/// from overflowing or flushing to zero, so that a row scaled by any power of two gives the same
+/// answer bit for bit.
+pub(crate) fn into_window(r: &mut Row) {
+    let m = r.a.abs().max(r.b.abs()).max(r.c.abs());
+    let (lo, hi) = (2f64.powi(-ROW_WINDOW), 2f64.powi(ROW_WINDOW));
+    if m == 0.0 || (lo..=hi).contains(&m) {
+        return;
+    }
+    let pow = |e: i32| 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
+    // `m 2^-e` in [0.5, 1); `log2` may round across a power of two: corrected once.
+    let mut e = m.log2().floor() as i32 + 1;
+    if m * pow(-e) >= 1.0 {
+        e += 1;
+    } else if m * pow(-e) < 0.5 {
+        e -= 1;
+    }
+    // Two exact steps: `2^-e` alone may not be representable.
+    let (f1, f2) = (pow(-e / 2), pow(-(e - e / 2)));
+    for c in [&mut r.a, &mut r.b, &mut r.c] {
+        *c = *c * f1 * f2;
+    }
 }
 
 pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
@@ -142,7 +179,7 @@ impl CanonicalConstraints {
     /// assert_eq!(k.rows_at(1), &[r]);
     /// assert!(CanonicalConstraints::new(vec![0.0, 0.0], vec![0, 1, 2], vec![r, r]).is_err());
     /// ```
-    pub fn new(s: Vec<f64>, offsets: Vec<usize>, rows: Vec<Row>) -> Result<Self, ToppError> {
+    pub fn new(s: Vec<f64>, offsets: Vec<usize>, mut rows: Vec<Row>) -> Result<Self, ToppError> {
         check_grid(&s)?;
         if offsets.len() != s.len() + 1 {
             return Err(ToppError::Shape {
@@ -188,6 +225,7 @@ impl CanonicalConstraints {
                 }
             }
         }
+        rows.iter_mut().for_each(into_window);
         Ok(Self {
             s,
             offsets,
@@ -287,6 +325,83 @@ impl CanonicalConstraints {
         check_bounds("u bounds", &bounds, self.s.len(), true)?;
         self.u_bounds = Some(bounds);
         Ok(self)
+    }
+
+    /// The power of two `L = 2^e` with `(s_N - s_0) / L` in `(0.5, 1]`: the unit of the path
+    /// parameter the solver works in ([`Self::on_unit_grid`]).
+    pub(crate) fn grid_unit(&self) -> f64 {
+        let len = self.s[self.s.len() - 1] - self.s[0];
+        let pow = |e: i32| 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
+        let mut e = len.log2().ceil() as i32;
+        if len / pow(e) > 1.0 {
+            e += 1;
+        } else if len / pow(e) <= 0.5 {
+            e -= 1;
+        }
+        pow(e)
+    }
+
+    /// The same constraints on the path parameter `s~ = (s - s_0) / L` (with `L` from
+    /// [`Self::grid_unit`]): `s' = L s~'`, so `x = L^2 x~`, `u = L u~`, and a row
+    /// `a u + b x + c <= 0` is `(a L) u~ + (b L^2) x~ + c <= 0` (exact: `L` is a power of two;
+    /// only `s - s_0` rounds). `None` when the grid is already `[0, ...]` with `L = 1`.
+    ///
+    /// The solver decides everything on this grid, so that its answer does not depend on the
+    /// unit or the origin of the path parameter: the tolerances and the bounding box are
+    /// relative to `(u~, x~)`, whatever the range of `s`.
+    pub(crate) fn on_unit_grid(&self) -> Result<Option<(Self, f64)>, ToppError> {
+        let l = self.grid_unit();
+        let s0 = self.s[0];
+        if s0 == 0.0 && l == 1.0 {
+            return Ok(None);
+        }
+        let inv = 1.0 / l;
+        let s: Vec<f64> = self.s.iter().map(|&si| (si - s0) * inv).collect();
+        if check_grid(&s).is_err() {
+            return Err(ToppError::InvalidValue {
+                what: "s",
+                detail: format!(
+                    "grid points closer together than the rounding of s - s_0 (s_0 = {s0:e}); \
+                     shift the path parameter so that it starts near 0"
+                ),
+            });
+        }
+        let (l2, inv2) = (l * l, inv * inv);
+        let mut rows = self.rows.clone();
+        for (j, r) in rows.iter_mut().enumerate() {
+            r.a *= l;
+            r.b *= l2;
+            into_window(r);
+            for (what, v) in [("a", r.a), ("b", r.b)] {
+                if !v.is_finite() || v.abs() > crate::tol::MAX_ABS_COEFFICIENT {
+                    let i = self.offsets.partition_point(|&o| o <= j) - 1;
+                    return Err(ToppError::InvalidValue {
+                        what,
+                        detail: format!(
+                            "{v:e} at grid point {i} once the path parameter's range \
+                             ({:e}) is brought to 1 exceeds {:e}; use a path parameter \
+                             closer to unit range",
+                            self.s[self.s.len() - 1] - s0,
+                            crate::tol::MAX_ABS_COEFFICIENT
+                        ),
+                    });
+                }
+            }
+        }
+        let scale = |b: &Option<Vec<[f64; 2]>>, f: f64| {
+            b.as_ref()
+                .map(|v| v.iter().map(|&[lo, hi]| [lo * f, hi * f]).collect())
+        };
+        Ok(Some((
+            Self {
+                s,
+                offsets: self.offsets.clone(),
+                rows,
+                x_bounds: scale(&self.x_bounds, inv2),
+                u_bounds: scale(&self.u_bounds, inv),
+            },
+            l,
+        )))
     }
 
     /// The grid `s_0 < ... < s_N`.

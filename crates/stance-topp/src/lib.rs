@@ -100,9 +100,9 @@
 //!   keeps 8 rotated copies of `U` (8x its size) built once per factored form.
 //! - Row coefficients (and the products of the factored form) are limited to
 //!   [`tol::MAX_ABS_COEFFICIENT`] (1e100) and the LP box to [`tol::MAX_BOX`]: the kernel squares
-//!   them. The zero-row test (`tol.zero_row`) is relative to `max(1, |c|)`, hence absolute for
-//!   small rows: a row whose coefficients are all below about 1e-12 is treated as a constant
-//!   row, whatever it means after rescaling; keep rows in natural units (newtons for the GIWC).
+//!   them. Every row test is relative within the row (`tol.zero_row`, `tol.feasibility`), so a
+//!   row multiplied by a positive factor gives the same answer: a row of round-off, all of
+//!   whose coefficients are noise, is then a real constraint; drop such rows before solving.
 //! - The greedy forward pass is time-optimal for the continuous problem as the grid is refined,
 //!   not exactly for the discretized one: when rows couple `u` and `x` (`b != 0`), a lower `x_i`
 //!   can allow a larger `u_i`. Measured against a one-shot LP (clarabel, maximizing

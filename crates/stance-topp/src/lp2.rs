@@ -25,10 +25,12 @@
 //! `O(m^2)` worst case; a warm start puts the lines that were active at the previous grid point
 //! first, after which most lines cost one multiply-add test.
 //!
-//! Rows are used as given (not normalized): a row is violated when its value exceeds
-//! `tol.feasibility * max(1, |(a, b)|) * max(1, |(u, x)|)`, tested on squares so that no square root or division is spent
-//! on the lines that do not move the optimum. A row with `(a, b) = 0` (to within
-//! `tol.zero_row * max(1, |c|)`) is the constant constraint `c <= 0`. No allocation.
+//! Rows are used as given (not normalized), and every test is **invariant to a positive scaling
+//! of a row** (which does not change its half-plane): a row is violated when its value exceeds
+//! `tol.feasibility * |(a, b)| * max(1, |(u, x)|)` (a distance of `tol.feasibility` in the
+//! `(u, x)` plane, relative to the size of the point), tested on squares so that no square
+//! root or division is spent on the lines that do not move the optimum. A row with
+//! `|(a, b)| <= tol.zero_row * |c|` is the constant constraint `c <= 0`. No allocation.
 
 use crate::constraints::Row;
 use crate::tol::Tolerances;
@@ -191,7 +193,7 @@ pub(crate) fn first_violated(
         let v = r.a * u + r.b * xe + r.c;
         if v > 0.0 {
             let a = r.a + td * r.b;
-            if v * v > feas2 * scale2 * (a * a + r.b * r.b).max(1.0) {
+            if v * v > feas2 * scale2 * (a * a + r.b * r.b) {
                 return Some(q);
             }
         }
@@ -290,9 +292,7 @@ pub fn solve(
     for (q, &j) in warm.iter().enumerate() {
         let r = lines.get(j);
         let val = r.a * v.u + r.b * v.x + r.c;
-        if val > 0.0
-            && val * val > feas2 * point_scale2(v.u, v.x) * (r.a * r.a + r.b * r.b).max(1.0)
-        {
+        if val > 0.0 && val * val > feas2 * point_scale2(v.u, v.x) * (r.a * r.a + r.b * r.b) {
             stats.moves += 1;
             if !ctx.move_onto(j, &warm[..q], None, &mut v, stats) {
                 return Lp2::Infeasible;
@@ -391,8 +391,7 @@ pub fn solve_pair(
             let r = lines.get(j);
             let val = r.a * v[p].u + r.b * v[p].x + r.c;
             if val > 0.0
-                && val * val
-                    > feas2 * point_scale2(v[p].u, v[p].x) * (r.a * r.a + r.b * r.b).max(1.0)
+                && val * val > feas2 * point_scale2(v[p].u, v[p].x) * (r.a * r.a + r.b * r.b)
             {
                 stats.moves += 1;
                 if !ctx[p].move_onto(j, &warm_p[..q], None, &mut v[p], stats) {
@@ -437,7 +436,7 @@ fn first_violated2(
     let (s0, s1) = (point_scale2(u0, x0), point_scale2(u1, x1));
     let precise = |r: &Row| -> bool {
         let a = r.a + td * r.b;
-        let nn = (a * a + r.b * r.b).max(1.0);
+        let nn = a * a + r.b * r.b;
         let v0 = r.a * u0 + r.b * x0 + r.c;
         let v1 = r.a * u1 + r.b * x1 + r.c;
         (v0 > 0.0 && v0 * v0 > feas2 * s0 * nn) || (v1 > 0.0 && v1 * v1 > feas2 * s1 * nn)
@@ -519,7 +518,7 @@ impl Ctx<'_, '_> {
         let par2 = tol.parallel * tol.parallel;
         let lk = self.lines.get(jk);
         let nn = lk.a * lk.a + lk.b * lk.b;
-        if nn <= tol.zero_row * tol.zero_row * (lk.c * lk.c).max(1.0) {
+        if nn <= tol.zero_row * tol.zero_row * lk.c * lk.c {
             // A violated constant row: c > 0.
             return false;
         }
@@ -560,7 +559,7 @@ impl Ctx<'_, '_> {
             let rj = -r.c - (a * p0u + r.b * p0x);
             let nj = a * a + r.b * r.b;
             if sj * sj <= par2 * nj * nn {
-                return !(rj < 0.0 && rj * rj > feas2 * nj.max(1.0));
+                return !(rj < 0.0 && rj * rj > feas2 * nj);
             }
             iv.clip(sj, rj, Some(j));
             true

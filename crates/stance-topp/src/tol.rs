@@ -9,13 +9,15 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
     /// A row `a u + b x + c <= 0` whose coefficient norm `|(a, b)|` is at most
-    /// `zero_row * max(1, |c|)` is treated as the constant constraint `c <= 0`.
-    /// Unit: dimensionless (relative). Default `1e-12`: coefficients below that are round-off of
-    /// exact zeros (for example a row of a cone that is orthogonal to the path tangent).
+    /// `zero_row * |c|` is treated as the constant constraint `c <= 0` (relative within the
+    /// row: multiplying a row by a positive factor changes no decision). Unit: dimensionless
+    /// (relative). Default `1e-12`: coefficients below that are round-off of exact zeros (for
+    /// example a row of a cone that is orthogonal to the path tangent).
     pub zero_row: f64,
     /// Slack allowed on a row when a point `(u, x)` is tested against it in the 2-variable LP:
-    /// the row value may exceed 0 by `feasibility * max(1, |(a, b)|) * max(1, |(u, x)|)`, i.e.
-    /// a distance of `feasibility` in the `(u, x)` plane, relative to the size of the point.
+    /// the row value may exceed 0 by `feasibility * |(a, b)| * max(1, |(u, x)|)`, i.e. a
+    /// distance of `feasibility` in the `(u, x)` plane, relative to the size of the point (and
+    /// independent of the row's scale).
     /// Unit: dimensionless (relative). Default `1e-10`: well above the round-off of the
     /// products involved (about 1e-16 relative per operation, with speeds up to `max_x` where
     /// rows leave them unbounded) and far below any physically meaningful margin.

@@ -18,9 +18,18 @@
 //! not depend on where the world origin is or on the units. A facet `u_w . y <= 0` in whitened
 //! coordinates is `u . x <= 0` with `u = Q^T S^{-1} u_w` (then normalized).
 //!
-//! Zero generators (norm at most [`crate::tol::Tolerances::zero_generator`] times the largest) are
-//! dropped; whitened generators are normalized to unit rows, and positively parallel duplicates
-//! (distance at most [`crate::tol::Tolerances::duplicate`]) are merged.
+//! **Row scaling first.** The conversions and the certificate scale every input row (generator,
+//! facet or equation) by a power of two so that its largest entry is in `[0.5, 1)`
+//! (`scale_rows_pow2`, exact) before calling the whitening: a cone does not change when one
+//! row is multiplied by a positive number, and after this no decision (rank, zero generators,
+//! duplicates, the certificate's tolerances) can depend on such a factor. So `[[1e-11, 0, 0],
+//! [0, 1, 0], [0, 0, 1]]` is the orthant, as `[[1, 0, 0], [0, 1, 0], [0, 0, 1]]` is.
+//!
+//! Zero generators (rows of zeros after that scaling; the relative test against
+//! [`crate::tol::Tolerances::zero_generator`] times the largest norm below can only drop a
+//! row of zeros then) are dropped; whitened generators are normalized to unit rows, and
+//! positively parallel duplicates (distance at most [`crate::tol::Tolerances::duplicate`]) are
+//! merged.
 //!
 //! # How the SVD is computed (`d <= 8`)
 //!
@@ -51,6 +60,47 @@ use nalgebra::DMatrix;
 
 use crate::linalg::{dot, normalize, numerical_rank, qr_jacobi_svd, sorted_svd_general};
 use crate::tol::{Tolerances, JACOBI_MAX_SWEEPS, JACOBI_NOISE, JACOBI_ORTHOGONALITY};
+
+/// The power of two `2^-e` that brings the largest `|entry|` of `row` into `[0.5, 1)`; 1 for a
+/// zero row. Multiplying by it is exact (no rounding unless the row has entries more than
+/// `2^1074` times smaller than its largest, which become subnormal as they were).
+#[inline]
+pub(crate) fn row_scale(row: impl Iterator<Item = f64>) -> (f64, f64) {
+    let amax = row.fold(0.0f64, |m, x| m.max(x.abs()));
+    if amax == 0.0 || (0.5..1.0).contains(&amax) {
+        return (1.0, 1.0);
+    }
+    // `amax 2^-e` in [0.5, 1); `log2` may round across a power of two: corrected once.
+    let factors = |e: i32| (2f64.powi(-(e / 2)), 2f64.powi(-(e - e / 2)));
+    let mut e = amax.log2().floor() as i32 + 1;
+    let (f1, f2) = factors(e);
+    let scaled = amax * f1 * f2;
+    if scaled >= 1.0 {
+        e += 1;
+    } else if scaled < 0.5 {
+        e -= 1;
+    }
+    factors(e)
+}
+
+/// Multiplies every row of `m` by the power of two of [`row_scale`], in place: **the
+/// normalization that makes every decision independent of a positive scaling of any single
+/// row** (a generator, a facet, an equation). A cone does not change when one of its
+/// generators or facet rows is multiplied by a positive number, so nothing downstream may
+/// depend on the rows' norms: after this, every nonzero row has its largest entry in
+/// `[0.5, 1)`, whatever it was (from `1e-300` to `1e300`). Exact (powers of two), and a row
+/// keeps its direction bit for bit.
+pub(crate) fn scale_rows_pow2(m: &mut DMatrix<f64>) {
+    let (n, d) = m.shape();
+    for i in 0..n {
+        let (f1, f2) = row_scale((0..d).map(|j| m[(i, j)]));
+        if f1 != 1.0 || f2 != 1.0 {
+            for j in 0..d {
+                m[(i, j)] = m[(i, j)] * f1 * f2;
+            }
+        }
+    }
+}
 
 /// A span-form problem in whitened coordinates.
 #[derive(Clone, Debug, Default)]

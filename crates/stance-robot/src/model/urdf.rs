@@ -51,10 +51,76 @@ impl Model {
     /// assert!((m2.total_mass() - m.total_mass()).abs() < 1e-12);
     /// ```
     pub fn from_urdf_str(text: &str, options: &UrdfOptions) -> Result<Model, RobotError> {
+        check_nesting(text)?;
         let robot = urdf_rs::read_from_string(text)
             .map_err(|e| RobotError::Urdf(e.to_string().replace('\n', " ")))?;
         build(&robot, options)
     }
+}
+
+/// Refuses XML nested deeper than [`crate::tol::MAX_URDF_DEPTH`] before the XML parsers see it:
+/// they recurse once per level, and a file of tens of thousands of nested elements overflowed
+/// the stack (a crash, not an error). A scan of the tags: `</...>` closes a level, `<.../>`,
+/// `<?...?>`, `<!...>` (comments, CDATA, declarations) do not open one; quoted attribute
+/// values may contain `>`.
+fn check_nesting(text: &str) -> Result<(), RobotError> {
+    let b = text.as_bytes();
+    let (mut depth, mut i, mut line) = (0usize, 0usize, 1usize);
+    while i < b.len() {
+        match b[i] {
+            b'\n' => line += 1,
+            b'<' => {
+                let rest = &text[i..];
+                // Skip constructs that do not nest, to their end (comments may hold `<`).
+                let skip_to = |end: &str| rest.find(end).map(|k| k + end.len());
+                let skip = if rest.starts_with("<!--") {
+                    skip_to("-->")
+                } else if rest.starts_with("<![CDATA[") {
+                    skip_to("]]>")
+                } else if rest.starts_with("<?") {
+                    skip_to("?>")
+                } else {
+                    None
+                };
+                if let Some(k) = skip {
+                    line += rest[..k].matches('\n').count();
+                    i += k;
+                    continue;
+                }
+                // The end of the tag, outside quotes.
+                let (mut j, mut quote) = (i + 1, None);
+                while j < b.len() {
+                    match (b[j], quote) {
+                        (b'"' | b'\'', None) => quote = Some(b[j]),
+                        (q, Some(open)) if q == open => quote = None,
+                        (b'>', None) => break,
+                        _ => {}
+                    }
+                    j += 1;
+                }
+                let tag = &b[i..j.min(b.len())];
+                if tag.starts_with(b"</") {
+                    depth = depth.saturating_sub(1);
+                } else if !tag.starts_with(b"<!") && !tag.ends_with(b"/") {
+                    depth += 1;
+                    if depth > crate::tol::MAX_URDF_DEPTH {
+                        return Err(RobotError::Urdf(format!(
+                            "elements nested {depth} deep at line {line}, more than the {} a \
+                             URDF can need (robot, link, visual, geometry, ...): check the file \
+                             for unclosed or runaway elements",
+                            crate::tol::MAX_URDF_DEPTH
+                        )));
+                    }
+                }
+                line += tag.iter().filter(|&&c| c == b'\n').count();
+                i = j + 1;
+                continue;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    Ok(())
 }
 
 fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotError> {

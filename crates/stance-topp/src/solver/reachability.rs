@@ -124,10 +124,49 @@ pub fn solve_with(
     ws: &mut Workspace,
 ) -> Result<Solution, ToppError> {
     opts.validate()?;
+    let _ = ws;
+    // Solved on s~ = (s - s_0) / L (L a power of two, s~_N in (0.5, 1]): the answer does not
+    // depend on the unit or the origin of the path parameter.
+    let Some((k_unit, l)) = k.on_unit_grid()? else {
+        return solve_unit(k, opts);
+    };
+    let unit_opts = SolveOptions {
+        sd_start: opts.sd_start / l,
+        sd_end: [opts.sd_end[0] / l, opts.sd_end[1] / l],
+        ..*opts
+    };
+    let sol = solve_unit(&k_unit, &unit_opts)?;
+    let l2 = l * l;
+    let status = match sol.status {
+        Status::StartOutsideControllable { x_start, lo, hi } => Status::StartOutsideControllable {
+            x_start: x_start * l2,
+            lo: lo * l2,
+            hi: hi * l2,
+        },
+        other => other,
+    };
+    let profile = sol.profile.map(|p| {
+        let x = p.x().iter().map(|x| x * l2).collect();
+        let u = p.u().iter().map(|u| u * l).collect();
+        Profile::from_valid_states(k.grid().to_vec(), x, u)
+    });
+    Ok(Solution {
+        status,
+        controllable: sol
+            .controllable
+            .iter()
+            .map(|c| c.map(|[lo, hi]| [lo * l2, hi * l2]))
+            .collect(),
+        profile,
+        ..sol
+    })
+}
+
+/// [`solve_with`] on a grid the solver works on as it is (`s_0 = 0`, `s_N` in `(0.5, 1]`).
+fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
-    let _ = ws;
     let mut stats = SolveStats::default();
     let mut hit_box = false;
     let mut controllable: Vec<Option<[f64; 2]>> = vec![None; n];
@@ -238,7 +277,7 @@ fn forward_step(
             true
         } else {
             let scale2 = (*u * *u + xi * xi).max(1.0);
-            val * val <= tol.state * tol.state * scale2 * nn.max(1.0)
+            val * val <= tol.state * tol.state * scale2 * nn
         }
     };
     if let Some(j) = warm.filter(|&j| j < lines.len()) {
@@ -435,6 +474,23 @@ pub fn end_speed_range(
     opts: &SolveOptions,
 ) -> Result<Option<[f64; 2]>, ToppError> {
     opts.validate()?;
+    // On the unit grid, as in `solve_with`: speeds s' = L s~'.
+    let Some((k_unit, l)) = k.on_unit_grid()? else {
+        return end_speed_range_unit(k, opts);
+    };
+    let unit_opts = SolveOptions {
+        sd_start: opts.sd_start / l,
+        sd_end: [opts.sd_end[0] / l, opts.sd_end[1] / l],
+        ..*opts
+    };
+    Ok(end_speed_range_unit(&k_unit, &unit_opts)?.map(|[lo, hi]| [lo * l, hi * l]))
+}
+
+/// [`end_speed_range`] on a grid the solver works on as it is.
+fn end_speed_range_unit(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+) -> Result<Option<[f64; 2]>, ToppError> {
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();

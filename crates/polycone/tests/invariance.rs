@@ -1,0 +1,202 @@
+//! Invariance as a contract: a cone does not change when one of its generators, facet rows or
+//! equation rows is multiplied by a positive number, so neither may the answer.
+//!
+//! - factors `2^k` (any `k` that keeps the row finite and its entries from underflowing): the
+//!   answer is **bit for bit** the same (every row is scaled to its largest entry in
+//!   `[0.5, 1)` by a power of two before any decision);
+//! - any positive factor from `1e-200` to `1e200`: the same cone up to the rounding of the
+//!   scaled row (same extreme generators, equations, lineality; facets within `1e-9` rad);
+//! - the inputs of the robustness sweep that used to give certified wrong answers
+//!   (relative scales `1e-10` and below).
+
+mod common;
+
+use common::*;
+use polycone::nalgebra::DMatrix;
+use polycone::{
+    certify_span_to_face, face_to_span, span_to_face, Arithmetic, Continuation, DdOptions, FaceForm,
+};
+use proptest::prelude::*;
+
+/// Random generators (`n x d`, possibly in a subspace and with a line), as in `properties.rs`.
+fn cone_strategy() -> impl Strategy<Value = DMatrix<f64>> {
+    (
+        2usize..=6,
+        1usize..=12,
+        0usize..=2,
+        any::<bool>(),
+        any::<u64>(),
+    )
+        .prop_map(|(d, n, drop, line, seed)| {
+            let mut next = xorshift(seed);
+            let k = d.saturating_sub(drop).max(1);
+            let basis = DMatrix::from_fn(k, d, |_, _| next());
+            let mut v = DMatrix::from_fn(n, k, |_, _| next()) * &basis;
+            if line {
+                let l = DMatrix::from_fn(1, k, |_, _| next()) * &basis;
+                v = v.resize_vertically(n + 2, 0.0);
+                v.row_mut(n).copy_from(&l.row(0));
+                v.row_mut(n + 1).copy_from(&(-l.row(0)));
+            }
+            v
+        })
+}
+
+fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+    let mut rng = seed | 1;
+    move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// Row `i` of `v` multiplied by `factor(i)`.
+fn scale_rows(v: &DMatrix<f64>, factor: impl Fn(usize) -> f64) -> DMatrix<f64> {
+    DMatrix::from_fn(v.nrows(), v.ncols(), |i, j| v[(i, j)] * factor(i))
+}
+
+/// Per-row exponents in `[-lo, hi]` drawn from `seed`.
+fn exponents(n: usize, seed: u64, range: i32) -> Vec<i32> {
+    let mut next = xorshift(seed);
+    (0..n)
+        .map(|_| (next() * range as f64).round() as i32)
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, .. ProptestConfig::default() })]
+
+    /// Powers of two from 2^-900 to 2^900 per generator: the same answer, bit for bit.
+    #[test]
+    fn generator_scaling_by_powers_of_two_changes_nothing(v in cone_strategy(), seed in any::<u64>()) {
+        let opts = DdOptions::default();
+        let e = exponents(v.nrows(), seed, 900);
+        let scaled = scale_rows(&v, |i| 2f64.powi(e[i]));
+        let r = span_to_face(&v, &opts).unwrap();
+        let r2 = span_to_face(&scaled, &opts).unwrap();
+        prop_assert_eq!(&r, &r2);
+        // The certificate of the answer does not depend on the scales either.
+        let c = certify_span_to_face(&scaled, &r.face, &r.lineality, &opts).unwrap();
+        prop_assert!(c.certified);
+    }
+
+    /// Powers of two per facet and equation row: face -> span gives the same answer, bit for
+    /// bit.
+    #[test]
+    fn facet_scaling_by_powers_of_two_changes_nothing(v in cone_strategy(), seed in any::<u64>()) {
+        let opts = DdOptions::default();
+        let face = span_to_face(&v, &opts).unwrap().face;
+        let ef = exponents(face.facets.nrows(), seed, 900);
+        let ee = exponents(face.equations.nrows(), seed ^ 0x5555, 900);
+        let scaled = FaceForm::new(
+            scale_rows(&face.facets, |i| 2f64.powi(ef[i])),
+            scale_rows(&face.equations, |i| 2f64.powi(ee[i])),
+        ).unwrap();
+        let s = face_to_span(&face, &opts).unwrap();
+        let s2 = face_to_span(&scaled, &opts).unwrap();
+        prop_assert_eq!(s, s2);
+    }
+
+    /// Any positive factor from 1e-200 to 1e200 per generator: the same cone (the scaled row
+    /// is rounded, so facets agree to rounding, not bit for bit).
+    #[test]
+    fn generator_scaling_by_any_factor_keeps_the_cone(v in cone_strategy(), seed in any::<u64>()) {
+        let opts = DdOptions::default();
+        let mut next = xorshift(seed);
+        let f: Vec<f64> = (0..v.nrows()).map(|_| 10f64.powf(200.0 * next()) * (1.5 + next())).collect();
+        let r = span_to_face(&v, &opts).unwrap();
+        let r2 = span_to_face(&scale_rows(&v, |i| f[i]), &opts).unwrap();
+        prop_assert!(r2.certificate.certified);
+        prop_assert_eq!(&r.extreme_generators, &r2.extreme_generators);
+        prop_assert_eq!(r.lineality.nrows(), r2.lineality.nrows());
+        prop_assert!(same_span(&r.face.equations, &r2.face.equations, 1e-9));
+        prop_assert!(
+            same_rows_up_to_scaling(&r.face.facets, &r2.face.facets, 1e-9).is_some(),
+            "{} facets against {}", r.face.facets.nrows(), r2.face.facets.nrows()
+        );
+    }
+
+    /// A continuation fed the generators at other scales (powers of two), in two batches,
+    /// gives the answer of the unscaled continuation, bit for bit.
+    #[test]
+    fn continuation_is_scale_invariant(v in cone_strategy(), seed in any::<u64>()) {
+        prop_assume!(v.nrows() >= 2);
+        let opts = DdOptions::default();
+        let e = exponents(v.nrows(), seed, 600);
+        let scaled = scale_rows(&v, |i| 2f64.powi(e[i]));
+        let k = v.nrows() / 2;
+        let run = |m: &DMatrix<f64>| {
+            let mut c = Continuation::new(&m.rows(0, k).into_owned(), &opts).unwrap();
+            c.add_generators(&m.rows(k, m.nrows() - k).into_owned()).unwrap().clone()
+        };
+        prop_assert_eq!(run(&v), run(&scaled));
+    }
+}
+
+/// The positive orthant with one generator at relative scale 1e-11 to 1e-300: still the
+/// orthant (it was two facets and the equation x = 0, certified).
+#[test]
+fn a_tiny_generator_is_a_generator() {
+    for s in [1e-10, 1e-11, 1e-20, 1e-100, 1e-300, 5e-324] {
+        let v = DMatrix::from_row_slice(3, 3, &[s, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        for arithmetic in [Arithmetic::Tolerance, Arithmetic::Exact] {
+            let opts = DdOptions {
+                arithmetic,
+                ..DdOptions::default()
+            };
+            let r = span_to_face(&v, &opts).unwrap();
+            assert_eq!(r.face.facets.nrows(), 3, "{s:e} {arithmetic:?}: {r:?}");
+            assert_eq!(r.face.equations.nrows(), 0, "{s:e} {arithmetic:?}");
+            assert_eq!(r.extreme_generators, vec![0, 1, 2]);
+            let expected = -DMatrix::<f64>::identity(3, 3);
+            assert!(same_rows_up_to_scaling(&r.face.facets, &expected, 1e-15).is_some());
+        }
+    }
+}
+
+/// `{x : 1e-11 x <= 0, -y <= 0}` is `x <= 0, y >= 0` (it lost `x <= 0`): generators `-e_x`
+/// and `e_y`, lineality `e_z`.
+#[test]
+fn a_tiny_facet_row_is_a_facet() {
+    for s in [1e-11, 1e-100, 1e-300] {
+        let face = FaceForm::new(
+            DMatrix::from_row_slice(2, 3, &[s, 0.0, 0.0, 0.0, -1.0, 0.0]),
+            DMatrix::zeros(0, 3),
+        )
+        .unwrap();
+        let r = face_to_span(&face, &DdOptions::default()).unwrap();
+        let expected = DMatrix::from_row_slice(2, 3, &[-1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+        assert!(
+            same_rows_up_to_scaling(&r.span.generators, &expected, 1e-15).is_some(),
+            "{s:e}: {r:?}"
+        );
+        assert_eq!(r.span.lineality.nrows(), 1);
+        assert_eq!(r.irredundant_facets, vec![0, 1]);
+    }
+}
+
+/// Exact mode with entries down to the subnormals in mixed rows: unit facet rows (they were
+/// all zero: the integer facets' norm overflowed when converted back to `f64`).
+#[test]
+fn exact_answers_with_tiny_entries_are_unit_rows() {
+    for e in [1e-100, 1e-200, 1e-310] {
+        let v =
+            DMatrix::from_row_slice(4, 3, &[e, 2e-100, 0.0, 0.0, e, 1.0, 3.0, 0.0, e, e, e, -e]);
+        let opts = DdOptions {
+            arithmetic: Arithmetic::Exact,
+            ..DdOptions::default()
+        };
+        let r = span_to_face(&v, &opts).unwrap();
+        let float = span_to_face(&v, &DdOptions::default()).unwrap();
+        assert_eq!(r.face.facets.nrows(), 4, "{e:e}");
+        for i in 0..r.face.facets.nrows() {
+            assert!(
+                (r.face.facets.row(i).norm() - 1.0).abs() < 1e-15,
+                "{e:e}: {r:?}"
+            );
+        }
+        assert!(same_rows_up_to_scaling(&r.face.facets, &float.face.facets, 1e-12).is_some());
+    }
+}
