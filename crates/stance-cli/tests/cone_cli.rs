@@ -252,3 +252,69 @@ fn wrench_flag_far_from_the_origin() {
         "6 columns",
     );
 }
+
+/// Inputs of the robustness sweep that were silently wrong, panicked or were unclear.
+#[test]
+fn hostile_inputs_from_the_sweep() {
+    // A generator 1e-11 times the others is a generator: the orthant, not two facets and x = 0.
+    let f = temp_file(
+        "tiny_generator.json",
+        r#"{"generators": [[1e-11, 0, 0], [0, 1, 0], [0, 0, 1]]}"#,
+    );
+    let out = json(&stance(&["cone", "span-to-face", f.to_str().unwrap()]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 3);
+    assert_eq!(out["equations"].as_array().unwrap().len(), 0);
+    // A facet row 1e-11 times the others is a facet: x <= 0 is kept.
+    let f = temp_file(
+        "tiny_facet.json",
+        r#"{"facets": [[1e-11, 0, 0], [0, -1, 0]]}"#,
+    );
+    let out = json(&stance(&["cone", "face-to-span", f.to_str().unwrap()]));
+    assert_eq!(out["generators"].as_array().unwrap().len(), 2);
+    assert_eq!(out["lineality"].as_array().unwrap().len(), 1);
+    // Exact mode with tiny entries: unit rows, not all-zero ones.
+    let f = temp_file(
+        "tiny_exact.json",
+        r#"{"generators": [[1e-310, 2e-100, 0], [0, 1e-310, 1], [3, 0, 1e-310], [1e-310, 1e-310, -1e-310]]}"#,
+    );
+    let out = json(&stance(&[
+        "cone",
+        "span-to-face",
+        "--exact",
+        f.to_str().unwrap(),
+    ]));
+    for row in out["facets"].as_array().unwrap() {
+        let n: f64 = row
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap().powi(2))
+            .sum();
+        assert!((n - 1.0).abs() < 1e-12, "{row}");
+    }
+    // Dimensions that overflowed or exhausted memory: an error naming the limit.
+    for dim in ["4294967296", "100000"] {
+        let f = temp_file(
+            "huge_dim.json",
+            &format!(r#"{{"generators": [], "dim": {dim}}}"#),
+        );
+        assert_bad_input(
+            &stance(&["cone", "span-to-face", f.to_str().unwrap()]),
+            "limit of 1024",
+        );
+        let f = temp_file(
+            "huge_dim_face.json",
+            &format!(r#"{{"facets": [], "dim": {dim}}}"#),
+        );
+        assert_bad_input(
+            &stance(&["cone", "face-to-span", f.to_str().unwrap()]),
+            "limit of 1024",
+        );
+    }
+    // --repeat out of range names the range (it suggested `-- -1`).
+    let f = temp_file("repeat.json", r#"{"generators": [[1, 0]]}"#);
+    for n in ["-1", "0", "1000001"] {
+        let out = stance(&["cone", "span-to-face", "--repeat", n, f.to_str().unwrap()]);
+        assert_bad_input(&out, "1..=1000000");
+    }
+}

@@ -382,3 +382,50 @@ fn scene_refs_read_by_name_or_in_full_with_the_scenes_own_errors() {
         .to_string();
     assert!(e.contains("example name"), "{e}");
 }
+
+/// The retiming does not depend on the path parameter's unit or origin (knots `[0, 1e6]` gave
+/// 102 s and `[0, 1e-6]` 0.50 s where `[0, 1]` gives 0.77 s) nor on the robot's mass (1e-9 kg
+/// failed, 1e-12 kg gave 0.0002 s): the same duration to 1e-9, from 1e-12 kg to 1e9 kg and
+/// knots from `[0, 1e-6]` to `[1e6, 2e6]`.
+#[test]
+fn retiming_is_invariant_to_knots_and_mass() {
+    let text = |mass: f64, knots: [f64; 2]| {
+        format!(
+            r#"{{"scene": {{"mass": {mass:e}, "contacts": [
+                {{"name": "l", "position": [0, 0.1, 0], "shape": {{"rectangle": {{"half_length": 0.1, "half_width": 0.05}}}}, "friction": 0.7}},
+                {{"name": "r", "position": [0, -0.1, 0], "shape": {{"rectangle": {{"half_length": 0.1, "half_width": 0.05}}}}, "friction": 0.7}}]}},
+              "path": {{"waypoints": [[0, 0, 0.8], [0.05, 0.02, 0.8], [0.08, -0.01, 0.78]], "knots": [{:e}, {:e}, {:e}]}}}}"#,
+            knots[0],
+            (knots[0] + knots[1]) / 2.0,
+            knots[1]
+        )
+    };
+    let duration = |mass: f64, knots: [f64; 2]| {
+        let spec: MotionSpec = serde_json::from_str(&text(mass, knots)).unwrap();
+        let r = retime(&spec).unwrap();
+        assert_eq!(r.status, "optimal", "mass {mass:e}, knots {knots:?}");
+        r.duration.unwrap()
+    };
+    let reference = duration(60.0, [0.0, 1.0]);
+    for mass in [1e-12, 1e-9, 1e-3, 1.0, 1e3, 1e9] {
+        let d = duration(mass, [0.0, 1.0]);
+        assert!(
+            (d - reference).abs() < 1e-9 * reference,
+            "mass {mass:e}: {d} against {reference}"
+        );
+    }
+    for knots in [
+        [0.0, 1e-6],
+        [0.0, 1e-3],
+        [0.0, 1e3],
+        [0.0, 1e6],
+        [5.0, 6.0],
+        [1e6, 2e6],
+    ] {
+        let d = duration(60.0, knots);
+        assert!(
+            (d - reference).abs() < 1e-9 * reference,
+            "knots {knots:?}: {d} against {reference}"
+        );
+    }
+}

@@ -13,10 +13,15 @@ pub struct Common {
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// Repeat the computation N times in the same process after reading the input (for timing
-    /// from outside); the result is still printed once.
-    #[arg(long, default_value_t = 1, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
-    pub repeat: u64,
+    /// from outside), 1 to 1000000; the result is still printed once.
+    #[arg(long, default_value_t = 1, value_name = "N", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(i64).range(1..=MAX_REPEAT))]
+    pub repeat: i64,
 }
+
+/// Largest `--repeat`: a million repetitions of the fastest command take seconds; more is a
+/// typing mistake that would keep the process busy for hours.
+pub const MAX_REPEAT: i64 = 1_000_000;
 
 /// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`. Unknown keys are
 /// rejected by the `T` types themselves (`#[serde(deny_unknown_fields)]`).
