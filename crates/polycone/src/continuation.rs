@@ -373,8 +373,9 @@ fn from_scratch(
             Ok((polar_into_result(p, d), wh, resumable))
         }
         Err(ConeError::Uncertified(reason)) if opts.exact_fallback => {
-            let p = exact_polar(v, opts)
+            let mut p = exact_polar(v, opts)
                 .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))?;
+            p.certificate.fallback = Some(reason);
             Ok((polar_into_result(p, d), Whitened::default(), false))
         }
         Err(e) => Err(e),

@@ -282,8 +282,11 @@ impl Workspace {
         match self.polar_tolerance(v, opts) {
             Err(ConeError::Uncertified(reason)) if opts.exact_fallback => {
                 // Repair: the exact answer for the input as given.
-                exact_polar(v, opts)
-                    .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))
+                let mut p = exact_polar(v, opts).map_err(|e| {
+                    ConeError::Uncertified(format!("{reason}; exact fallback: {e}"))
+                })?;
+                p.certificate.fallback = Some(reason);
+                Ok(p)
             }
             other => other,
         }

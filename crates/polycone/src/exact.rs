@@ -841,6 +841,7 @@ pub(crate) fn exact_span_to_face(
         lineality: lineality_ok,
         completeness,
         open_ridges: open,
+        fallback: None,
     };
     Ok(ExactResult {
         facets: facets_m,

@@ -318,3 +318,52 @@ fn hostile_inputs_from_the_sweep() {
         assert_bad_input(&out, "1..=1000000");
     }
 }
+
+/// The output says which arithmetic gave the answer: a contact wrench cone 1e6 m from the
+/// origin (no --wrench) is degenerate at the tolerance scale; the floating-point answer fails
+/// its certificate, the exact fallback gives the cone, and the JSON says so and why.
+#[test]
+fn the_output_names_the_arithmetic() {
+    let mut rows = Vec::new();
+    for (sx, sy) in [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)] {
+        let r = [1e6 + 0.1 * sx, 0.05 * sy, 0.0];
+        for f in [
+            [0.7, 0.0, 1.0],
+            [-0.7, 0.0, 1.0],
+            [0.0, 0.7, 1.0],
+            [0.0, -0.7, 1.0],
+        ] {
+            let t = [
+                r[1] * f[2] - r[2] * f[1],
+                r[2] * f[0] - r[0] * f[2],
+                r[0] * f[1] - r[1] * f[0],
+            ];
+            rows.push(vec![f[0], f[1], f[2], t[0], t[1], t[2]]);
+        }
+    }
+    let f = temp_file(
+        "far_cwc.json",
+        &serde_json::json!({ "generators": rows }).to_string(),
+    );
+    let out = json(&stance(&["cone", "span-to-face", f.to_str().unwrap()]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 32);
+    assert_eq!(out["equations"].as_array().unwrap().len(), 0);
+    assert_eq!(out["arithmetic"], "exact_fallback");
+    assert!(out["fallback_reason"].as_str().unwrap().contains("ridge"));
+    let out = json(&stance(&[
+        "cone",
+        "span-to-face",
+        "--wrench",
+        f.to_str().unwrap(),
+    ]));
+    assert_eq!(out["facets"].as_array().unwrap().len(), 32);
+    assert_eq!(out["arithmetic"], "tolerance");
+    assert!(out.get("fallback_reason").is_none());
+    let out = json(&stance(&[
+        "cone",
+        "span-to-face",
+        "--exact",
+        f.to_str().unwrap(),
+    ]));
+    assert_eq!(out["arithmetic"], "exact");
+}

@@ -134,6 +134,10 @@ pub struct Certificate {
     /// impossible for the dimension, or when the check was not run:
     /// [`crate::DdOptions::check_completeness`]).
     pub open_ridges: usize,
+    /// When the answer comes from the exact fallback ([`crate::DdOptions::exact_fallback`]):
+    /// why the floating-point answer was not kept (its failed certificate). `None` when the
+    /// arithmetic of [`Self::arithmetic`] was the one asked for.
+    pub fallback: Option<String>,
 }
 
 impl Certificate {
@@ -488,6 +492,7 @@ pub(crate) fn certify_whitened(
         lineality,
         completeness,
         open_ridges,
+        fallback: None,
     };
     (cert, extreme)
 }

@@ -6,6 +6,11 @@
 //! - face-to-span: `{"facets": [[...], ...], "equations": [[...], ...], "dim": d}` (`equations`
 //!   and `dim` optional).
 //!
+//! Output: the other form, `certified`, and `arithmetic`: `"tolerance"` (the floating-point
+//! conversion and its certificate), `"exact"` (`--exact`), or `"exact_fallback"` (the
+//! floating-point answer failed its certificate, `fallback_reason` says how, and the exact
+//! conversion of the input as given replaced it). No decision depends on the scale of a row.
+//!
 //! `--wrench` (6-D wrench cones): the conversion runs on generators re-centred on their
 //! contacts and scaled by their lever arm, so that a stance written about a far reference
 //! point, or in millimetres, gets the same cone (see `polycone::wrench`).
@@ -69,6 +74,11 @@ struct SpanToFaceOutput {
     lineality: Vec<Vec<f64>>,
     extreme_generators: Vec<usize>,
     certified: bool,
+    /// `"tolerance"`, `"exact"` (asked for) or `"exact_fallback"`.
+    arithmetic: &'static str,
+    /// Why the floating-point answer was replaced by the exact one (exact fallback only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fallback_reason: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -78,6 +88,10 @@ struct FaceToSpanOutput {
     lineality: Vec<Vec<f64>>,
     irredundant_facets: Vec<usize>,
     certified: bool,
+    /// As in [`SpanToFaceOutput`].
+    arithmetic: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fallback_reason: Option<String>,
 }
 
 /// Rows -> matrix, checking the row lengths and finiteness; `dim` from the rows or the option.
@@ -146,6 +160,8 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     lineality: rows(&r.lineality),
                     extreme_generators: r.extreme_generators,
                     certified: r.certificate.certified,
+                    arithmetic: arithmetic_name(&r.certificate),
+                    fallback_reason: r.certificate.fallback.clone(),
                 },
             )
         }
@@ -176,6 +192,8 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     lineality: rows(&r.span.lineality),
                     irredundant_facets: r.irredundant_facets,
                     certified: r.certificate.certified,
+                    arithmetic: arithmetic_name(&r.certificate),
+                    fallback_reason: r.certificate.fallback.clone(),
                 },
             )
         }
@@ -184,4 +202,14 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
 
 fn polycone_error(e: polycone::ConeError) -> anyhow::Error {
     anyhow::Error::new(e)
+}
+
+/// How the answer was computed, for the output: the arithmetic, and whether the exact one was
+/// a fallback.
+fn arithmetic_name(c: &polycone::Certificate) -> &'static str {
+    match (c.arithmetic, &c.fallback) {
+        (polycone::Arithmetic::Tolerance, _) => "tolerance",
+        (polycone::Arithmetic::Exact, None) => "exact",
+        (polycone::Arithmetic::Exact, Some(_)) => "exact_fallback",
+    }
 }
