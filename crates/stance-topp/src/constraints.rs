@@ -61,6 +61,10 @@ pub struct CanonicalConstraints {
     u_bounds: Option<Vec<[f64; 2]>>,
 }
 
+/// Largest `|e|` of the path parameter's unit `L = 2^e` ([`CanonicalConstraints::grid_unit`]):
+/// the solution is mapped back with `L^2`, which must stay a normal double.
+const MAX_GRID_EXPONENT: i32 = 500;
+
 /// Rows whose largest coefficient is outside `[2^-ROW_WINDOW, 2^ROW_WINDOW]` are multiplied
 /// by the power of two that brings it into `[0.5, 1)`.
 const ROW_WINDOW: i32 = 100;
@@ -73,22 +77,40 @@ const ROW_WINDOW: i32 = 100;
 pub(crate) fn into_window(r: &mut Row) {
     let m = r.a.abs().max(r.b.abs()).max(r.c.abs());
     let (lo, hi) = (2f64.powi(-ROW_WINDOW), 2f64.powi(ROW_WINDOW));
-    if m == 0.0 || (lo..=hi).contains(&m) {
+    if m == 0.0 || !m.is_finite() || (lo..=hi).contains(&m) {
         return;
     }
-    let pow = |e: i32| 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
-    // `m 2^-e` in [0.5, 1); `log2` may round across a power of two: corrected once.
-    let mut e = m.log2().floor() as i32 + 1;
-    if m * pow(-e) >= 1.0 {
+    let k = -(exponent(m) + 1);
+    for c in [&mut r.a, &mut r.b, &mut r.c] {
+        *c = ldexp(*c, k);
+    }
+}
+
+/// `floor(log2 |x|)` for a finite nonzero `x` (subnormals included), exactly.
+pub(crate) fn exponent(x: f64) -> i32 {
+    let mut e = x.abs().log2().floor() as i32;
+    // `log2` may round across a power of two: corrected.
+    if ldexp(x.abs(), -e) >= 2.0 {
         e += 1;
-    } else if m * pow(-e) < 0.5 {
+    } else if ldexp(x.abs(), -e) < 1.0 {
         e -= 1;
     }
-    // Two exact steps: `2^-e` alone may not be representable.
-    let (f1, f2) = (pow(-e / 2), pow(-(e - e / 2)));
-    for c in [&mut r.a, &mut r.b, &mut r.c] {
-        *c = *c * f1 * f2;
+    e
+}
+
+/// `x 2^k`, in steps that neither overflow nor flush to zero before the end (exact unless the
+/// result itself overflows or is subnormal).
+pub(crate) fn ldexp(mut x: f64, mut k: i32) -> f64 {
+    const STEP: i32 = 1000;
+    while k > STEP {
+        x *= 2f64.powi(STEP);
+        k -= STEP;
     }
+    while k < -STEP {
+        x *= 2f64.powi(-STEP);
+        k += STEP;
+    }
+    x * 2f64.powi(k)
 }
 
 pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
@@ -327,18 +349,17 @@ impl CanonicalConstraints {
         Ok(self)
     }
 
-    /// The power of two `L = 2^e` with `(s_N - s_0) / L` in `(0.5, 1]`: the unit of the path
-    /// parameter the solver works in ([`Self::on_unit_grid`]).
-    pub(crate) fn grid_unit(&self) -> f64 {
+    /// The exponent `e` of the power of two `L = 2^e` with `(s_N - s_0) / L` in `(0.5, 1]`: the
+    /// unit of the path parameter the solver works in ([`Self::on_unit_grid`]).
+    pub(crate) fn grid_unit(&self) -> i32 {
         let len = self.s[self.s.len() - 1] - self.s[0];
-        let pow = |e: i32| 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
-        let mut e = len.log2().ceil() as i32;
-        if len / pow(e) > 1.0 {
-            e += 1;
-        } else if len / pow(e) <= 0.5 {
-            e -= 1;
+        // len = m 2^f with m in [1, 2): L = 2^(f + 1), or 2^f when len is a power of two.
+        let f = exponent(len);
+        if ldexp(len, -f) == 1.0 {
+            f
+        } else {
+            f + 1
         }
-        pow(e)
     }
 
     /// The same constraints on the path parameter `s~ = (s - s_0) / L` (with `L` from
@@ -350,13 +371,23 @@ impl CanonicalConstraints {
     /// unit or the origin of the path parameter: the tolerances and the bounding box are
     /// relative to `(u~, x~)`, whatever the range of `s`.
     pub(crate) fn on_unit_grid(&self) -> Result<Option<(Self, f64)>, ToppError> {
-        let l = self.grid_unit();
         let s0 = self.s[0];
-        if s0 == 0.0 && l == 1.0 {
+        let len = self.s[self.s.len() - 1] - s0;
+        if !len.is_finite() {
+            return Err(ToppError::InvalidValue {
+                what: "s",
+                detail: format!(
+                    "the grid's range s_N - s_0 overflows ({s0:e} to {:e}); use a path \
+                     parameter closer to unit range",
+                    self.s[self.s.len() - 1]
+                ),
+            });
+        }
+        let e = self.grid_unit();
+        if s0 == 0.0 && e == 0 {
             return Ok(None);
         }
-        let inv = 1.0 / l;
-        let s: Vec<f64> = self.s.iter().map(|&si| (si - s0) * inv).collect();
+        let s: Vec<f64> = self.s.iter().map(|&si| ldexp(si - s0, -e)).collect();
         if check_grid(&s).is_err() {
             return Err(ToppError::InvalidValue {
                 what: "s",
@@ -366,39 +397,53 @@ impl CanonicalConstraints {
                 ),
             });
         }
-        let (l2, inv2) = (l * l, inv * inv);
+        // (a 2^e, b 2^2e, c), then the whole row by the power of two that brings its largest
+        // coefficient into [0.5, 1): computed as one factor per coefficient, so that nothing
+        // overflows or flushes to zero on the way.
         let mut rows = self.rows.clone();
-        for (j, r) in rows.iter_mut().enumerate() {
-            r.a *= l;
-            r.b *= l2;
-            into_window(r);
-            for (what, v) in [("a", r.a), ("b", r.b)] {
-                if !v.is_finite() || v.abs() > crate::tol::MAX_ABS_COEFFICIENT {
-                    let i = self.offsets.partition_point(|&o| o <= j) - 1;
-                    return Err(ToppError::InvalidValue {
-                        what,
-                        detail: format!(
-                            "{v:e} at grid point {i} once the path parameter's range \
-                             ({:e}) is brought to 1 exceeds {:e}; use a path parameter \
-                             closer to unit range",
-                            self.s[self.s.len() - 1] - s0,
-                            crate::tol::MAX_ABS_COEFFICIENT
-                        ),
-                    });
-                }
-            }
+        for r in rows.iter_mut() {
+            let exps = [(r.a, e), (r.b, 2 * e), (r.c, 0)];
+            let Some(top) = exps
+                .iter()
+                .filter(|(x, _)| *x != 0.0)
+                .map(|&(x, k)| exponent(x) + k)
+                .max()
+            else {
+                continue;
+            };
+            let k = -(top + 1);
+            *r = Row {
+                a: ldexp(r.a, e + k),
+                b: ldexp(r.b, 2 * e + k),
+                c: ldexp(r.c, k),
+            };
         }
-        let scale = |b: &Option<Vec<[f64; 2]>>, f: f64| {
-            b.as_ref()
-                .map(|v| v.iter().map(|&[lo, hi]| [lo * f, hi * f]).collect())
+        // Speeds and accelerations are mapped back with L^2 and L: both must stay normal.
+        if e.abs() > MAX_GRID_EXPONENT {
+            return Err(ToppError::InvalidValue {
+                what: "s",
+                detail: format!(
+                    "the path parameter's range {len:e} is outside 2^-{MAX_GRID_EXPONENT} to \
+                     2^{MAX_GRID_EXPONENT} (about 1e-150 to 1e150): squared path speeds in its \
+                     unit would overflow or vanish; use a path parameter closer to unit range"
+                ),
+            });
+        }
+        let l = ldexp(1.0, e);
+        let scale = |b: &Option<Vec<[f64; 2]>>, k: i32| {
+            b.as_ref().map(|v| {
+                v.iter()
+                    .map(|&[lo, hi]| [ldexp(lo, k), ldexp(hi, k)])
+                    .collect()
+            })
         };
         Ok(Some((
             Self {
                 s,
                 offsets: self.offsets.clone(),
                 rows,
-                x_bounds: scale(&self.x_bounds, inv2),
-                u_bounds: scale(&self.u_bounds, inv),
+                x_bounds: scale(&self.x_bounds, -2 * e),
+                u_bounds: scale(&self.u_bounds, -e),
             },
             l,
         )))

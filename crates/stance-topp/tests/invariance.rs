@@ -257,3 +257,70 @@ fn a_tiny_grid_starts_at_rest() {
         );
     }
 }
+
+/// Found by the `topp` fuzz target: a grid starting at -3.1e231 with subnormal rows made the
+/// rescaling of the path parameter overflow an exponent (a panic). Now solved or refused with
+/// an error, never a panic.
+#[test]
+fn fuzz_regression_huge_grid_origin_and_subnormal_rows() {
+    let s = vec![
+        -3.1050361846125374e231,
+        4.072905671284e-312,
+        -1.004150390625,
+    ];
+    let rows = vec![
+        Row {
+            a: 3.1e-322,
+            b: 3.3156184e-316,
+            c: 2.42764e-319,
+        },
+        Row {
+            a: 4.4145465352782875e-305,
+            b: 0.0,
+            c: -1.004150390625,
+        },
+        Row {
+            a: 3.47328271065196e-310,
+            b: 0.0,
+            c: 0.0,
+        },
+    ];
+    // Not increasing: refused at construction.
+    assert!(CanonicalConstraints::new(s, vec![0, 1, 2, 3], rows.clone()).is_err());
+    // Increasing, from -3.1e231: solved on the rescaled grid or refused, without a panic.
+    let s = vec![-3.1050361846125374e231, 4.072905671284e-312, 1.004150390625];
+    let k = CanonicalConstraints::new(s, vec![0, 1, 2, 3], rows).unwrap();
+    let _ = solve(&k, &SolveOptions::default());
+    // A range that overflows is an error that says so.
+    let e = CanonicalConstraints::new(
+        vec![-1.5e308, 1.5e308],
+        vec![0, 1, 2],
+        vec![
+            Row {
+                a: 1.0,
+                b: 0.0,
+                c: -1.0
+            };
+            2
+        ],
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("overflows"), "{e}");
+    // Found by the fuzz target: a range of 6.8e303 (finite) whose squared unit overflows: the
+    // profile came back as NaN. Now an error naming the range.
+    let k = CanonicalConstraints::new(
+        vec![-5.486124068793689e303, 0.25, 1.3715310171984222e303],
+        vec![0, 1, 2, 3],
+        vec![
+            Row {
+                a: 1.0,
+                b: 0.0,
+                c: -1.0
+            };
+            3
+        ],
+    )
+    .unwrap();
+    let e = solve(&k, &SolveOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("1e-150 to 1e150"), "{e}");
+}
