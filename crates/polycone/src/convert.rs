@@ -57,7 +57,7 @@ pub struct FaceToSpan {
 /// loop: one iteration per generator, pairs of rays inside) do not allocate once they are
 /// large enough. The steps around them (certificate bookkeeping, the returned matrices) still
 /// allocate a few small buffers per conversion.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Workspace {
     /// The double description state (a [`crate::Continuation`] resumes it).
     pub(crate) core: DdCore,
@@ -73,6 +73,10 @@ pub struct Workspace {
     wh_scratch: WhitenScratch,
     /// The input rows scaled by powers of two ([`scale_rows_pow2`]).
     scaled: Vec<f64>,
+    /// Relative singular value up to which a dropped direction is rounding noise
+    /// ([`crate::tol::RANK_NOISE`], raised by the wrench preconditioning to the rounding of its
+    /// re-centring).
+    rank_noise: f64,
 }
 
 fn check_finite(what: &'static str, m: &DMatrix<f64>) -> Result<(), ConeError> {
@@ -99,6 +103,23 @@ pub(crate) struct Polar {
     pub(crate) lineality: DMatrix<f64>,
     pub(crate) extreme: Vec<usize>,
     pub(crate) certificate: Certificate,
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        Self {
+            core: DdCore::default(),
+            check: CertScratch::default(),
+            rows: Vec::new(),
+            scratch: Vec::new(),
+            keys: Vec::new(),
+            to_world: Vec::new(),
+            wh: Whitened::default(),
+            wh_scratch: WhitenScratch::default(),
+            scaled: Vec::new(),
+            rank_noise: crate::tol::RANK_NOISE,
+        }
+    }
 }
 
 impl Workspace {
@@ -226,7 +247,7 @@ impl Workspace {
             wrench: false,
             ..opts.clone()
         };
-        let p = self.polar(&v_centred, &inner)?;
+        let p = self.polar_recentred(&v_centred, &inner, &frame)?;
         let equations = frame.basis_back(&p.equations, false);
         let lineality = frame.basis_back(&p.lineality, true);
         let facets = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
@@ -259,7 +280,7 @@ impl Workspace {
             wrench: false,
             ..opts.clone()
         };
-        let p = self.polar(&g_centred, &inner)?;
+        let p = self.polar_recentred(&g_centred, &inner, &frame)?;
         let lineality = frame.basis_back(&p.equations, true);
         let generators = frame.rays_back(&p.facets, true, &[&lineality]);
         Ok(FaceToSpan {
@@ -271,6 +292,22 @@ impl Workspace {
             irredundant_facets: p.extreme.iter().copied().filter(|&i| i < nu).collect(),
             certificate: p.certificate,
         })
+    }
+
+    /// [`Self::polar`] on rows re-centred by `frame`: the re-centring `tau - o x f` rounds at
+    /// about `u |o| / L` relative (`u` the unit roundoff), so directions below that are noise.
+    fn polar_recentred(
+        &mut self,
+        v: &DMatrix<f64>,
+        opts: &DdOptions,
+        frame: &WrenchFrame,
+    ) -> Result<Polar, ConeError> {
+        let o = frame.center;
+        let reach = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt() / frame.length;
+        self.rank_noise = crate::tol::RANK_NOISE * reach.max(1.0);
+        let p = self.polar(v, opts);
+        self.rank_noise = crate::tol::RANK_NOISE;
+        p
     }
 
     /// span -> face on `v` (finite, `d >= 1` columns): the common engine of both directions.
@@ -313,6 +350,13 @@ impl Workspace {
         let tol = &opts.tol;
         whiten_into(v, tol, &mut self.wh, &mut self.wh_scratch);
         let wh = &self.wh;
+        if let Some(ratio) = wh.rank_undecided.filter(|&x| x > self.rank_noise) {
+            return Err(ConeError::RankUndecided {
+                ratio,
+                noise: self.rank_noise,
+                rank: tol.rank,
+            });
+        }
         let r = wh.r;
         // Double description on the polar, in whitened coordinates.
         self.rows.clear();

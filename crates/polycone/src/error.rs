@@ -55,6 +55,18 @@ pub enum ConeError {
         /// [`crate::tol::MAX_DIMENSION`].
         max: usize,
     },
+    /// The dimension of the cone's linear span is decided by the rank tolerance alone: a
+    /// singular value between the rounding level and [`crate::tol::Tolerances::rank`] (see
+    /// there). Neither answer can be given as certain in floating point.
+    #[error("the dimension of the cone is undecided: a singular value {ratio:.1e} times the largest is above the rounding level ({noise:.0e}) and within the rank tolerance ({rank:.0e}); dropping it would drop a direction of the cone. For a wrench cone written about a far reference point, use the wrench preconditioning (--wrench); for the cone of the input exactly as given, exact arithmetic (--exact); or rescale the coordinates that are that small")]
+    RankUndecided {
+        /// The largest dropped singular value over the largest.
+        ratio: f64,
+        /// The rounding level it was compared with.
+        noise: f64,
+        /// The rank tolerance.
+        rank: f64,
+    },
     /// The input is beyond what the engine supports (dimension too large for the bitsets, ...).
     #[error("unsupported input: {0}")]
     Unsupported(String),

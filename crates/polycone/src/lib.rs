@@ -108,17 +108,17 @@
 //!   fail certification (an error, never a wrong certified cone).
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
-//!   relative to the input as given: the whitening that makes the conversion independent of
-//!   the reference point and the units comes after the rank decision. A wrench cone written
-//!   about a point far from its contacts has its sixth direction near 1e-10 of its largest:
-//!   the stairs stance (176 facets at its contacts) written about a point 30 km away
-//!   horizontally (`(21213.2, 21213.2, 0)` m) comes back certified as a 5-D cone with 116
-//!   facets, at 100 km along `x` as a 4-D cone with 37, and at 50 km along `x` the float
-//!   answer fails its certificate and the exact fallback returns the 276 facets of the
-//!   rounded input (50 ms in a release build) - within the contract, not what a user wants. For 6-D wrench
-//!   cones, [`DdOptions::wrench`] (the [`wrench`] module) fixes this: the generators are
+//!   relative to the input as given (after each row is scaled by a power of two: no decision
+//!   depends on the scale of a row): the whitening that makes the conversion independent of the
+//!   reference point and the units comes after the rank decision. A wrench cone written about a
+//!   point far from its contacts has its sixth direction near 1e-10 of its largest: the stairs
+//!   stance (176 facets at its contacts) written about a point 30 km away horizontally came
+//!   back certified as a 5-D cone with 116 facets. A singular value that is dropped by the
+//!   tolerance but stands above the rounding level ([`tol::RANK_NOISE`]) now leaves the rank
+//!   undecided: [`ConeError::RankUndecided`], never a cone with a lost direction. For 6-D wrench
+//!   cones, [`DdOptions::wrench`] (the [`wrench`] module) decides it: the generators are
 //!   re-centred on their least-squares centre and scaled by their lever arm before the rank
-//!   decision, and all three cases give the 176 facets in floating point (pulled back to the
+//!   decision, and the far stances give the 176 facets in floating point (pulled back to the
 //!   contacts within `4e-9` rad; `tests/wrench.rs`). What stays: the input itself is rounded
 //!   in the far frame (`|s| u` of lever arm, `u` the unit roundoff), so from about 1000 km the
 //!   rounding breaks the stance's degeneracies at the scale of

@@ -23,6 +23,13 @@ pub struct Tolerances {
     /// value. Default `1e-10`: far above the `~1e-15` rounding noise of an SVD, far below the
     /// smallest relative feature of a physical stance (a 10 um contact patch 1 km from the
     /// origin is `1e-8`).
+    ///
+    /// A singular value between the rounding level [`RANK_NOISE`] and `rank` (relative) leaves
+    /// the dimension of `span(V)` undecided: dropping it is within the tolerance, but it is no
+    /// rounding error either (a contact wrench cone written about a point 1e5 m away has two
+    /// singular values near `1e-11`: it is 6-D, and dropping them lost two dimensions). The
+    /// floating-point conversion then refuses to decide, and the exact fallback
+    /// ([`crate::DdOptions::exact_fallback`]) converts the input as given.
     pub rank: f64,
     /// Two preconditioned unit generators closer than `duplicate` (Euclidean distance) are the
     /// same ray; the later one is dropped. Unit: relative distance (radians, for small angles).
@@ -188,3 +195,10 @@ pub(crate) const BASIS_CLEAR: f64 = 0.7;
 /// 6-D (forces, wrenches), a few tens for whole-body or multi-contact stacks. Beyond it a
 /// clear error, instead of an allocation that overflows or exhausts memory.
 pub const MAX_DIMENSION: usize = 1024;
+
+/// Relative singular value at or below which a direction of `span(V)` is rounding noise: the
+/// rows of `V`, computed in floating point, carry relative errors of a few units in the last
+/// place, and the SVD adds its own. Unit: relative to the largest singular value. Value
+/// `64 f64::EPSILON` (`1.4e-14`). Between it and [`Tolerances::rank`] the rank is undecided (see
+/// there).
+pub const RANK_NOISE: f64 = 64.0 * f64::EPSILON;

@@ -54,6 +54,12 @@ fn main() -> ExitCode {
             let _ = e.print();
             return ExitCode::SUCCESS;
         }
+        // A command group without its command (`stance`, `stance cone`): one line naming the
+        // commands to choose from, exit code 2.
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            eprintln!("error: {}", missing_command(&e.to_string()));
+            return ExitCode::from(2);
+        }
         // Usage errors: one line (clap's message without its usage and --help hint lines),
         // exit code 2.
         Err(e) => {
@@ -87,4 +93,30 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// From clap's help of a command group: "`stance cone` needs a command: span-to-face,
+/// face-to-span; see `stance cone --help`".
+fn missing_command(help: &str) -> String {
+    let usage = help
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("Usage: "))
+        .and_then(|u| u.split(" <COMMAND>").next())
+        .map(|u| u.trim_end_matches(" [OPTIONS]").to_string())
+        .unwrap_or_else(|| "stance".to_string());
+    let commands: Vec<String> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter_map(|l| {
+            let l = l.trim();
+            let name = l.split_whitespace().next()?;
+            (name != "help").then(|| name.to_string())
+        })
+        .collect();
+    format!(
+        "`{usage}` needs a command: {}; see `{usage} --help`",
+        commands.join(", ")
+    )
 }

@@ -192,6 +192,20 @@ impl Contact {
         self.friction
     }
 
+    /// The same contact at `position` with `shape`, its local vertices multiplied by `k`
+    /// (exact for a power of two): the contact in a length frame
+    /// (`crate::equilibrium::frame`), without re-validating what a scaling keeps valid.
+    pub(crate) fn rescaled(&self, position: [f64; 3], shape: Shape, k: f64) -> Contact {
+        Contact {
+            name: self.name.clone(),
+            position,
+            rotation: self.rotation,
+            shape,
+            friction: self.friction,
+            vertices: self.vertices.iter().map(|v| [v[0] * k, v[1] * k]).collect(),
+        }
+    }
+
     /// Vertices of the contact shape in the contact frame (`[x, y]`, z = 0), counter-clockwise;
     /// a single `[0, 0]` for a point contact.
     ///

@@ -193,6 +193,17 @@ impl Scene {
                 what: "gravity".into(),
             });
         }
+        // Names identify contacts in results and in motion files: two with one name is a
+        // mistake (a copied block), not a second contact.
+        for (i, c) in self.contacts.iter().enumerate() {
+            if let Some(j) = self.contacts[..i].iter().position(|d| d.name == c.name) {
+                return Err(ContactError::BadStance(format!(
+                    "duplicate contact name {:?} (contacts {j} and {i}): give each contact its \
+                     own name",
+                    c.name
+                )));
+            }
+        }
         let contacts = self
             .contacts
             .iter()

@@ -69,6 +69,14 @@ impl Stance {
         &self.contacts
     }
 
+    /// The same friction model with other contacts (crate-internal: no validation).
+    pub(crate) fn with_contacts(&self, contacts: Vec<Contact>) -> Stance {
+        Self {
+            contacts,
+            friction_model: self.friction_model,
+        }
+    }
+
     /// This stance with `contact` appended (same friction model).
     ///
     /// ```

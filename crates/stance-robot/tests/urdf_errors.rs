@@ -357,3 +357,30 @@ fn deep_nesting_is_an_error_not_a_crash() {
     ));
     build(&fine).unwrap();
 }
+
+/// URDF readers ignore unknown elements, so a misspelled `<origin>` or `<inertial>` silently
+/// changed the model: now an error naming the line and the element meant. Extensions
+/// (`<gazebo>` content, namespaced or unrelated names) still pass.
+#[test]
+fn misspelled_elements_are_errors() {
+    let text = robot(
+        r#"<link name="a"><inertial><orgin xyz="0 0 1"/><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>"#,
+    );
+    let RobotError::Urdf(msg) = err(&text) else {
+        panic!("not a URDF error")
+    };
+    assert!(msg.contains("<orgin>") && msg.contains("<origin>"), "{msg}");
+    let text = robot(r#"<link name="a"><inertail><mass value="1"/></inertail></link>"#);
+    let RobotError::Urdf(msg) = err(&text) else {
+        panic!("not a URDF error")
+    };
+    assert!(
+        msg.contains("<inertail>") && msg.contains("did you mean"),
+        "{msg}"
+    );
+    let fine = robot(&format!(
+        r#"{}<gazebo reference="a"><mu1>0.9</mu1><materal>x</materal></gazebo><extra_thing/>"#,
+        link("a")
+    ));
+    build(&fine).unwrap();
+}

@@ -123,6 +123,9 @@ pub(crate) struct Whitened {
     pub distinct: Vec<usize>,
     /// Largest `|E v| / max |v|` over the generators (how far they are from `span(V)`).
     pub equation_residual: f64,
+    /// `Some(s_{r+1} / s_1)` when the largest singular value taken as zero is above the rounding
+    /// level [`crate::tol::RANK_NOISE`]: the rank was decided by the tolerance alone.
+    pub rank_undecided: Option<f64>,
     /// The exact power of two the input was multiplied by before the SVD (so that `sv` are the
     /// singular values of `scale * V`); 1 when no scaling was needed.
     pub scale: f64,
@@ -333,6 +336,7 @@ fn whiten_core<const D: usize>(
     out.w.clear();
     out.distinct.clear();
     out.equation_residual = 0.0;
+    out.rank_undecided = None;
     let nk = out.kept.len();
     let mut eq = std::mem::take(&mut out.equations).data.into();
     if nk == 0 {
@@ -366,6 +370,8 @@ fn whiten_core<const D: usize>(
     }
     let r = numerical_rank(sv_all, tol.rank);
     out.r = r;
+    out.rank_undecided = (r < d && r > 0 && sv_all[r] > crate::tol::RANK_NOISE * sv_all[0])
+        .then(|| sv_all[r] / sv_all[0]);
     out.q.extend_from_slice(&vt[..r * d]);
     out.sv.extend_from_slice(&sv_all[..r]);
     set_rows(&mut eq, d - r, d, |e, j| vt[(r + e) * d + j]);

@@ -37,6 +37,7 @@ fn whiten_nalgebra_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
             w: Vec::new(),
             distinct: Vec::new(),
             equation_residual: 0.0,
+            rank_undecided: None,
             scale: 1.0,
         };
     }
@@ -96,6 +97,7 @@ fn whiten_nalgebra_scaled(v: &DMatrix<f64>, tol: &Tolerances) -> Whitened {
         w,
         distinct,
         equation_residual,
+        rank_undecided: None,
         scale: 1.0,
     }
 }

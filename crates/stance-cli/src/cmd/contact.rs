@@ -10,7 +10,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use stance::polycone::polytope::{hull2, polygon_from_halfplanes, PolytopeOptions, RegionStatus};
 use stance::stance_contact::equilibrium::{
-    PolygonRoute, PolygonWorkspace, RobustRegion, StaticEquilibrium, StaticPolygon,
+    PolygonRoute, PolygonWorkspace, RobustRegion, StaticPolygon,
 };
 use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
 
@@ -311,9 +311,8 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             let mut ws = PolygonWorkspace::new();
             for _ in 0..a.common.repeat {
                 out = Some(if a.via_u_stance {
-                    let giwc = stance.u_stance(&GiwcOptions::default())?;
-                    let eq = StaticEquilibrium::new(&giwc, g, &opts)?;
-                    (eq.polygon(a.height)?, "u_stance (requested)".to_string())
+                    let p = ws.static_polygon_via_u_stance(&stance, g, a.height, &opts)?;
+                    (p, "u_stance (requested)".to_string())
                 } else {
                     let d = ws.static_polygon(&stance, g, a.height, &opts)?;
                     let route = match d.route {
@@ -571,7 +570,7 @@ pub(crate) mod plot {
             .x_label_area_size(label_area)
             .y_label_area_size(label_area)
             .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| anyhow!("plot: {e:?}"))?;
+            .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         if text {
             chart
                 .configure_mesh()
@@ -584,7 +583,7 @@ pub(crate) mod plot {
                 .bold_line_style(grid)
                 .light_line_style(WHITE)
                 .draw()
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         }
         if !text {
             let mut lines = Vec::new();
@@ -600,7 +599,7 @@ pub(crate) mod plot {
             }
             chart
                 .draw_series(lines.into_iter().map(|l| PathElement::new(l, grid)))
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         }
         for f in feet {
             let pts: Vec<(f64, f64)> = f.iter().map(|p| (p[0], p[1])).collect();
@@ -609,18 +608,18 @@ pub(crate) mod plot {
                     pts.clone(),
                     RGBColor(150, 150, 150).mix(0.5),
                 )))
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
             let mut closed = pts;
             closed.push(closed[0]);
             chart
                 .draw_series(std::iter::once(PathElement::new(closed, BLACK)))
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         }
         if !region.is_empty() {
             let pts: Vec<(f64, f64)> = region.iter().map(|p| (p[0], p[1])).collect();
             chart
                 .draw_series(std::iter::once(Polygon::new(pts.clone(), BLUE.mix(0.35))))
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
             let mut closed = pts;
             closed.push(closed[0]);
             chart
@@ -628,7 +627,7 @@ pub(crate) mod plot {
                     closed,
                     BLUE.stroke_width(2),
                 )))
-                .map_err(|e| anyhow!("plot: {e:?}"))?;
+                .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         }
         Ok(())
     }
@@ -641,7 +640,8 @@ pub(crate) mod plot {
     where
         DB::ErrorType: 'static,
     {
-        root.fill(&WHITE).map_err(|e| anyhow!("plot: {e:?}"))?;
+        root.fill(&WHITE)
+            .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         let feet: Vec<Vec<[f64; 2]>> = footprints(stance)
             .iter()
             .map(|f| hull_of(&f.iter().map(|p| [p[0], p[1]]).collect::<Vec<_>>()))
@@ -652,7 +652,8 @@ pub(crate) mod plot {
             poly.status == RegionStatus::Unbounded,
         );
         panel(&root, &feet, &shown, true, ("x (m)", "y (m)"))?;
-        root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
+        root.present()
+            .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         Ok(())
     }
 
@@ -664,7 +665,8 @@ pub(crate) mod plot {
     where
         DB::ErrorType: 'static,
     {
-        root.fill(&WHITE).map_err(|e| anyhow!("plot: {e:?}"))?;
+        root.fill(&WHITE)
+            .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         let panels = root.split_evenly((1, 3));
         // Projections onto (x, y), (x, z), (y, z), like the paper's Fig. 3.
         let names = ["x (m)", "y (m)", "z (m)"];
@@ -686,7 +688,8 @@ pub(crate) mod plot {
             let shown = window(shadow, &feet, unbounded);
             panel(area, &feet, &shown, false, (names[i], names[j]))?;
         }
-        root.present().map_err(|e| anyhow!("plot: {e:?}"))?;
+        root.present()
+            .map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
         Ok(())
     }
 

@@ -40,12 +40,51 @@ pub fn write_output<T: Serialize>(common: &Common, value: &T) -> Result<()> {
 }
 
 /// Writes `text` to standard output. A closed pipe (`stance ... | head`) is the reader's choice,
-/// not an error: the rest is dropped silently.
+/// not an error: the rest is dropped silently. A standard output that was closed when the
+/// process started (`stance ... >&-`) is an error: the result would be lost.
 pub fn print_text(text: &str) -> Result<()> {
     use std::io::Write;
+    if stdout_closed_at_start() {
+        anyhow::bail!(
+            "standard output is closed, so the result would be lost: write it to a file with \
+             -o FILE, or redirect standard output"
+        );
+    }
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         r => r.context("cannot write the result to standard output"),
     }
+}
+
+/// Whether file descriptor 1 was closed when the process started. Rust's runtime reopens a
+/// closed standard output on `/dev/null` before `main` (so that later writes cannot land in a
+/// file opened on descriptor 1), after which a closed output cannot be told from an intended
+/// `> /dev/null`; a constructor in `.init_array`, run by the C runtime before that, records it.
+#[cfg(target_os = "linux")]
+fn stdout_closed_at_start() -> bool {
+    stdout_state::CLOSED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn stdout_closed_at_start() -> bool {
+    false
+}
+
+#[cfg(target_os = "linux")]
+mod stdout_state {
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    pub static CLOSED: AtomicBool = AtomicBool::new(false);
+
+    extern "C" fn record() {
+        // SAFETY: `fcntl(F_GETFD)` on a descriptor number only queries its flags; it fails
+        // with EBADF when the descriptor is not open.
+        let flags = unsafe { libc::fcntl(1, libc::F_GETFD) };
+        CLOSED.store(flags == -1, Ordering::Relaxed);
+    }
+
+    #[used]
+    #[link_section = ".init_array"]
+    static RECORD: extern "C" fn() = record;
 }

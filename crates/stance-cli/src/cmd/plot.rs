@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, bail, Context, Result};
 
 /// Tick labels of `f64` axes: plotters' default format, without the `-0.0` it prints for a
 /// tick that lands a rounding error below zero (e.g. `-2.8e-17`).
@@ -68,8 +68,13 @@ pub fn is_svg(path: &Path) -> Result<bool> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
     {
-        Some(e) if e == "svg" => Ok(true),
-        Some(e) if e == "png" => Ok(false),
+        Some(e) if e == "svg" || e == "png" => {
+            // Fail here, with the path, rather than in the drawing backend (whose errors name
+            // neither the file nor the cause in words).
+            std::fs::File::create(path)
+                .with_context(|| format!("cannot write plot file {}", path.display()))?;
+            Ok(e == "svg")
+        }
         _ => bail!("plot file {} must end in .svg or .png", path.display()),
     }
 }
@@ -100,7 +105,7 @@ pub fn phase_plane(path: &Path, r: &PhasePlane) -> Result<()> {
     where
         DB::ErrorType: 'static,
     {
-        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("cannot draw the plot: {e}");
         root.fill(&WHITE).map_err(e)?;
         let s0 = r.s.first().copied().unwrap_or(0.0);
         let s1 = r.s.last().copied().unwrap_or(1.0);

@@ -47,6 +47,26 @@ struct ToppInput {
     sd_end: f64,
     #[serde(default)]
     discretization: DiscretizationName,
+    /// Metadata of the project's reference instances (`testdata/topp/*.json`: where the rows
+    /// came from and the peers' answers), accepted so that those files run as they are, and
+    /// ignored by the solver. Any other key is an error.
+    #[serde(default, flatten)]
+    _reference: ReferenceMetadata,
+}
+
+/// The extra keys of `testdata/topp/*.json` (see [`ToppInput`]).
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code, non_snake_case)]
+struct ReferenceMetadata {
+    instance: Option<String>,
+    description: Option<String>,
+    constraint: Option<String>,
+    mass: Option<f64>,
+    gravity: Option<[f64; 3]>,
+    U: Option<serde_json::Value>,
+    com_path: Option<serde_json::Value>,
+    reference: Option<serde_json::Value>,
 }
 
 #[derive(Serialize)]

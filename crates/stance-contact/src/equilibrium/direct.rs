@@ -176,6 +176,57 @@ impl PolygonWorkspace {
         opts: &EquilibriumOptions,
     ) -> Result<DirectPolygon, ContactError> {
         check_inputs(gravity, height, opts)?;
+        // Computed near the origin and at unit size, mapped back (`super::frame`): the answer
+        // does not depend on the world origin or the unit of length.
+        if let Some(frame) = super::frame::LengthFrame::of(stance) {
+            let local = frame.local(stance);
+            let mut out = self.static_polygon_here(&local, gravity, frame.height(height), opts)?;
+            out.polygon = frame.polygon_to_world(out.polygon, height);
+            out.gap *= frame.length;
+            return Ok(out);
+        }
+        self.static_polygon_here(stance, gravity, height, opts)
+    }
+
+    /// The static-equilibrium polygon through `U_stance` only (the half-plane intersection of
+    /// its rows), in the same length frame as [`Self::static_polygon`].
+    ///
+    /// ```
+    /// use stance_contact::{examples, equilibrium::PolygonWorkspace};
+    /// let scene = examples::single_support_flat();
+    /// let stance = scene.stance().unwrap();
+    /// let p = PolygonWorkspace::new()
+    ///     .static_polygon_via_u_stance(&stance, scene.gravity, 0.0, &Default::default())
+    ///     .unwrap();
+    /// assert_eq!(p.vertices.len(), 4);
+    /// ```
+    pub fn static_polygon_via_u_stance(
+        &mut self,
+        stance: &Stance,
+        gravity: [f64; 3],
+        height: f64,
+        opts: &EquilibriumOptions,
+    ) -> Result<StaticPolygon, ContactError> {
+        check_inputs(gravity, height, opts)?;
+        let giwc_opts = self.giwc.clone();
+        let run = |s: &Stance, h: f64| -> Result<StaticPolygon, ContactError> {
+            let giwc = s.u_stance(&giwc_opts)?;
+            StaticEquilibrium::new(&giwc, gravity, opts)?.polygon(h)
+        };
+        match super::frame::LengthFrame::of(stance) {
+            Some(f) => Ok(f.polygon_to_world(run(&f.local(stance), f.height(height))?, height)),
+            None => run(stance, height),
+        }
+    }
+
+    /// [`Self::static_polygon`] in the stance's own coordinates.
+    fn static_polygon_here(
+        &mut self,
+        stance: &Stance,
+        gravity: [f64; 3],
+        height: f64,
+        opts: &EquilibriumOptions,
+    ) -> Result<DirectPolygon, ContactError> {
         self.lps = 0;
         self.lp.pivots = 0;
         // The polygon does not depend on |g| (no overflow for any magnitude).

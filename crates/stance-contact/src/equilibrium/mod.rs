@@ -27,6 +27,7 @@
 //! (`0 <= d`), and if violated no CoM is stable.
 
 pub mod direct;
+mod frame;
 mod halfspaces;
 mod robust;
 mod simplex;

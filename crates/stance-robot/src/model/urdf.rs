@@ -66,6 +66,8 @@ impl Model {
 fn check_nesting(text: &str) -> Result<(), RobotError> {
     let b = text.as_bytes();
     let (mut depth, mut i, mut line) = (0usize, 0usize, 1usize);
+    // Inside `<gazebo>` or `<transmission>` (from this depth on) any element may appear.
+    let mut free_from: Option<usize> = None;
     while i < b.len() {
         match b[i] {
             b'\n' => line += 1,
@@ -101,7 +103,22 @@ fn check_nesting(text: &str) -> Result<(), RobotError> {
                 let tag = &b[i..j.min(b.len())];
                 if tag.starts_with(b"</") {
                     depth = depth.saturating_sub(1);
-                } else if !tag.starts_with(b"<!") && !tag.ends_with(b"/") {
+                    if free_from.is_some_and(|d| depth < d) {
+                        free_from = None;
+                    }
+                } else if !tag.starts_with(b"<!") {
+                    let name: String = text[i + 1..j.min(b.len())]
+                        .chars()
+                        .take_while(|c| !c.is_whitespace() && *c != '/' && *c != '>')
+                        .collect();
+                    if free_from.is_none() {
+                        check_element_name(&name, line)?;
+                        if FREE_FORM_ELEMENTS.contains(&name.as_str()) && !tag.ends_with(b"/") {
+                            free_from = Some(depth + 1);
+                        }
+                    }
+                }
+                if !tag.starts_with(b"</") && !tag.starts_with(b"<!") && !tag.ends_with(b"/") {
                     depth += 1;
                     if depth > crate::tol::MAX_URDF_DEPTH {
                         return Err(RobotError::Urdf(format!(
@@ -121,6 +138,82 @@ fn check_nesting(text: &str) -> Result<(), RobotError> {
         i += 1;
     }
     Ok(())
+}
+
+/// The elements of the URDF specification (and of its common extensions) outside the
+/// free-form ones.
+const URDF_ELEMENTS: &[&str] = &[
+    "robot",
+    "link",
+    "joint",
+    "inertial",
+    "origin",
+    "mass",
+    "inertia",
+    "visual",
+    "collision",
+    "geometry",
+    "box",
+    "cylinder",
+    "sphere",
+    "capsule",
+    "mesh",
+    "material",
+    "color",
+    "texture",
+    "parent",
+    "child",
+    "axis",
+    "calibration",
+    "dynamics",
+    "limit",
+    "mimic",
+    "safety_controller",
+    "transmission",
+    "gazebo",
+    "xml",
+    "version",
+    "name",
+];
+
+/// Elements whose content is free-form (simulator and controller extensions).
+const FREE_FORM_ELEMENTS: &[&str] = &["gazebo", "transmission", "plugin", "sensor"];
+
+/// An element name one or two edits from a URDF element is a misspelling: URDF readers ignore
+/// unknown elements, so `<orgin>` would silently put a link at the origin. An error naming the
+/// line and the element meant. Other unknown names (extensions) pass.
+fn check_element_name(name: &str, line: usize) -> Result<(), RobotError> {
+    if name.len() < 4 || URDF_ELEMENTS.contains(&name) || name.contains(':') {
+        return Ok(());
+    }
+    let near = URDF_ELEMENTS
+        .iter()
+        .filter(|k| k.len() >= 4)
+        .map(|k| (edit_distance(name, k), *k))
+        .min();
+    match near {
+        Some((d, known)) if d <= 2 => Err(RobotError::Urdf(format!(
+            "unknown element <{name}> at line {line}: did you mean <{known}>? (unknown elements \
+             are ignored when the model is built, so a misspelled one changes the model)"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Levenshtein distance (insertions, deletions, substitutions; one transposition counts two).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, &cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
 }
 
 fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotError> {
