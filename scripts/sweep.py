@@ -149,17 +149,19 @@ def cone_cases():
         ("dim_100000", '{"generators": [], "dim": 100000}', ["limit", "dimension"]),
         ("dim_negative", '{"generators": [], "dim": -3}', ["dim", "invalid"]),
         ("string_entry", '{"generators": [["1", 0]]}', ["generators", "number", "invalid type"]),
-        ("bare_array", '[[1, 0], [0, 1]]', ["generators", "object", "expected"]),
+        ("bare_array", '[[1, 0], [0, 1]]', ["object"]),
         ("unknown_key", '{"generators": [[1, 0]], "generator": [[0, 1]]}', ["unknown field", "generator"]),
-        ("not_json", 'generators = 1 2 3', ["json", "expected"]),
+        ("not_json", 'generators = 1 2 3', ["invalid json"]),
         ("empty_file", '', ["empty"]),
-        ("bom", '\ufeff{"generators": [[1, 0]]}', ["byte-order", "bom", "byte order", "json"]),
-        ("null", 'null', ["generators", "object", "null", "expected"]),
+        ("null", 'null', ["object", "null"]),
         ("nested_deep", '{"generators": ' + '[' * 5000 + ']' * 5000 + '}', ["recursion", "depth", "nest", "json"]),
     ]
     for name, text, kw in bad:
         cases.append(Case("cone", f"bad_{name}", ["cone", "span-to-face", "{f}"], {"f": text},
                           expect="error", keywords=kw))
+    # A UTF-8 byte-order mark (some editors write one) is read past, not an error.
+    cases.append(Case("cone", "utf8_bom", ["cone", "span-to-face", "{f}"],
+                      {"f": '\ufeff{"generators": [[1, 0], [0, 1]]}'}, oracle=facet_count(2, 0)))
     bad_face = [
         ("nothing", '{"facets": []}', ["empty", "dim"]),
         ("ragged", '{"facets": [[1, 0], [1]]}', ["row", "entries", "dim"]),

@@ -46,7 +46,8 @@ pub fn not_installed(msg: impl Into<String>) -> PyErr {
 /// A cone conversion's error.
 pub fn cone(e: ConeError) -> PyErr {
     match e {
-        ConeError::Uncertified(_) => uncertified(e.to_string()),
+        // The engine could not decide (or certify) in floating point: not malformed input.
+        ConeError::Uncertified(_) | ConeError::RankUndecided { .. } => uncertified(e.to_string()),
         _ => input(e.to_string()),
     }
 }
@@ -62,9 +63,9 @@ pub fn contact(e: ContactError) -> PyErr {
 /// A facade error.
 pub fn facade(e: StanceError) -> PyErr {
     match e {
-        StanceError::Contact(ContactError::Cone(ConeError::Uncertified(_))) => {
-            uncertified(e.to_string())
-        }
+        StanceError::Contact(ContactError::Cone(
+            ConeError::Uncertified(_) | ConeError::RankUndecided { .. },
+        )) => uncertified(e.to_string()),
         StanceError::NotInstalled(_) => not_installed(
             "JVRC-1's URDF is not installed: pip install jvrc-description==1.1.1 in this \
              environment (or set STANCE_JVRC1_URDF to the file)",

@@ -126,3 +126,22 @@ def test_memory_layouts_do_not_change_answers() -> None:
     strided = np.zeros(2 * m.nq)
     strided[::2] = q
     assert np.array_equal(m.center_of_mass(strided[::2]), m.center_of_mass(q))
+
+
+def test_undecided_dimension_is_uncertified_not_a_lost_direction() -> None:
+    """A contact wrench cone 1e5 m from the origin: its two smallest directions are far above
+    rounding but within the rank tolerance. It was a certified cone with two directions lost;
+    now UncertifiedError, and the exact conversion gives the 6-D cone."""
+    rows = []
+    for sx in (-1.0, 1.0):
+        for sy in (-1.0, 1.0):
+            r = np.array([1e5 + 0.1 * sx, 3e4 + 0.05 * sy, 0.0])
+            for f in ([0.7, 0, 1], [-0.7, 0, 1], [0, 0.7, 1], [0, -0.7, 1]):
+                f = np.array(f, float)
+                rows.append(np.concatenate([f, np.cross(r, f)]))
+    v = np.array(rows)
+    with pytest.raises(stance.UncertifiedError, match="wrench"):
+        stance.span_to_face(v)
+    exact = stance.span_to_face(v, exact=True)
+    assert exact.facets.shape == (32, 6)
+    assert exact.equations.shape[0] == 0

@@ -26,6 +26,8 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         StanceError::File(format!("cannot read input file {}: {e}", path.display()))
     })?;
+    // A UTF-8 byte-order mark (some editors write one) is not part of the JSON or TOML.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     if text.trim().is_empty() {
         return Err(StanceError::File(format!(
             "input file {} is empty",
@@ -36,11 +38,21 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     if is_toml {
-        toml::from_str(&text)
+        toml::from_str(text)
             .map_err(|e| StanceError::File(format!("invalid TOML in {}: {e}", path.display())))
     } else {
-        serde_json::from_str(&text)
-            .map_err(|e| StanceError::File(format!("invalid JSON in {}: {e}", path.display())))
+        serde_json::from_str(text).map_err(|e| {
+            // Every input file is an object of named fields: say so when it is something else.
+            let hint = match text.trim_start().chars().next() {
+                Some('{') | None => "",
+                Some('[') => {
+                    " (the file holds a bare array: every input is an object with named \
+                              fields, such as {\"generators\": [...]})"
+                }
+                Some(_) => " (every input is a JSON object with named fields, {...})",
+            };
+            StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
+        })
     }
 }
 

@@ -15,10 +15,13 @@ class InputError(StanceError, ValueError):
 
 
 class UncertifiedError(StanceError, ArithmeticError):
-    """A cone conversion whose certificate failed, also in exact arithmetic.
+    """A cone conversion floating point cannot decide or certify.
 
-    The engine refuses to return an answer it cannot prove; retry with ``exact=True`` or check
-    the input for structure degenerate at the scale of the tolerances.
+    Its certificate failed (also in exact arithmetic), or the cone's dimension is undecided (a
+    direction within the rank tolerance but far above rounding, as a wrench cone written about a
+    point 100 km away). The engine refuses to return an answer it cannot prove; retry with
+    ``exact=True``, the wrench preconditioning for wrench cones, or check the input for structure
+    degenerate at the scale of the tolerances.
     """
 
 
