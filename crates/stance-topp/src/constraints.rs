@@ -19,7 +19,8 @@
 //! whose largest coefficient is below `2^-100` or above `2^100` are stored multiplied by the power
 //! of two that brings it into `[0.5, 1)` (exact), so [`CanonicalConstraints::rows`] may return
 //! such rows rescaled. The path parameter's unit and origin do not matter either: the solver
-//! works on `s~ = (s - s_0) / L` with `L` a power of two (see [`crate::solver`]).
+//! works on `s~ = (s - s_0) / L` with `L` a power of two when the grid's range or origin is
+//! more than a factor 16 away from unit (closer, on the grid as given).
 
 use crate::error::ToppError;
 
@@ -64,6 +65,15 @@ pub struct CanonicalConstraints {
 /// Largest `|e|` of the path parameter's unit `L = 2^e` ([`CanonicalConstraints::grid_unit`]):
 /// the solution is mapped back with `L^2`, which must stay a normal double.
 const MAX_GRID_EXPONENT: i32 = 500;
+
+/// Grids with `|e| <= NEAR_UNIT` ([`CanonicalConstraints::grid_unit`]) and `|s_0|` at most
+/// `2^NEAR_UNIT` times their range are solved as they are (see [`CanonicalConstraints::on_unit_grid`]).
+const NEAR_UNIT: i32 = 4;
+
+/// Up to this `|e|` ([`CanonicalConstraints::grid_unit`]) the rows are multiplied by `2^e` and
+/// `2^2e` directly: rows within `2^+-ROW_WINDOW` stay finite and normal (`100 + 2 * 200 < 1022`).
+/// Beyond it each coefficient gets its own power of two (slower: an exponent per coefficient).
+const FAST_GRID_EXPONENT: i32 = 200;
 
 /// Rows whose largest coefficient is outside `[2^-ROW_WINDOW, 2^ROW_WINDOW]` are multiplied
 /// by the power of two that brings it into `[0.5, 1)`.
@@ -384,7 +394,12 @@ impl CanonicalConstraints {
             });
         }
         let e = self.grid_unit();
-        if s0 == 0.0 && e == 0 {
+        // Near unit range and origin the grid is solved as it is: the solver's tolerances and
+        // box are relative to `max(1, |(u, x)|)`, so a factor of up to `2^NEAR_UNIT` changes
+        // its decisions by no more than that factor, at the tolerance level; copying and
+        // rescaling the rows would cost more than the solve (a 172-row, 101-point instance:
+        // 3x).
+        if e.abs() <= NEAR_UNIT && s0.abs() <= ldexp(len, NEAR_UNIT) {
             return Ok(None);
         }
         let s: Vec<f64> = self.s.iter().map(|&si| ldexp(si - s0, -e)).collect();
@@ -401,22 +416,17 @@ impl CanonicalConstraints {
         // coefficient into [0.5, 1): computed as one factor per coefficient, so that nothing
         // overflows or flushes to zero on the way.
         let mut rows = self.rows.clone();
-        for r in rows.iter_mut() {
-            let exps = [(r.a, e), (r.b, 2 * e), (r.c, 0)];
-            let Some(top) = exps
-                .iter()
-                .filter(|(x, _)| *x != 0.0)
-                .map(|&(x, k)| exponent(x) + k)
-                .max()
-            else {
-                continue;
-            };
-            let k = -(top + 1);
-            *r = Row {
-                a: ldexp(r.a, e + k),
-                b: ldexp(r.b, 2 * e + k),
-                c: ldexp(r.c, k),
-            };
+        if e.abs() <= FAST_GRID_EXPONENT {
+            // Rows are within 2^+-ROW_WINDOW: times 2^e and 2^2e they neither overflow nor
+            // flush to zero (exact), and only rows that leave the window are rescaled.
+            let (l, l2) = (ldexp(1.0, e), ldexp(1.0, 2 * e));
+            for r in rows.iter_mut() {
+                r.a *= l;
+                r.b *= l2;
+                into_window(r);
+            }
+        } else {
+            self.rescale_rows_far(&mut rows, e);
         }
         // Speeds and accelerations are mapped back with L^2 and L: both must stay normal.
         if e.abs() > MAX_GRID_EXPONENT {
@@ -447,6 +457,29 @@ impl CanonicalConstraints {
             },
             l,
         )))
+    }
+
+    /// The rows' rescaling of [`Self::on_unit_grid`] for a far-off unit (`|e|` above
+    /// [`FAST_GRID_EXPONENT`]): one power of two per coefficient, from their exponents, so that
+    /// nothing overflows or flushes to zero on the way.
+    fn rescale_rows_far(&self, rows: &mut [Row], e: i32) {
+        for r in rows.iter_mut() {
+            let exps = [(r.a, e), (r.b, 2 * e), (r.c, 0)];
+            let Some(top) = exps
+                .iter()
+                .filter(|(x, _)| *x != 0.0)
+                .map(|&(x, k)| exponent(x) + k)
+                .max()
+            else {
+                continue;
+            };
+            let k = -(top + 1);
+            *r = Row {
+                a: ldexp(r.a, e + k),
+                b: ldexp(r.b, 2 * e + k),
+                c: ldexp(r.c, k),
+            };
+        }
     }
 
     /// The grid `s_0 < ... < s_N`.

@@ -125,8 +125,9 @@ pub fn solve_with(
 ) -> Result<Solution, ToppError> {
     opts.validate()?;
     let _ = ws;
-    // Solved on s~ = (s - s_0) / L (L a power of two, s~_N in (0.5, 1]): the answer does not
-    // depend on the unit or the origin of the path parameter.
+    // Solved on s~ = (s - s_0) / L (L a power of two, s~_N in (0.5, 1]) when the grid is far
+    // from unit range or origin: the answer does not depend on the unit or the origin of the
+    // path parameter.
     let Some((k_unit, l)) = k.on_unit_grid()? else {
         return solve_unit(k, opts);
     };
