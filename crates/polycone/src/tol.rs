@@ -28,8 +28,8 @@ pub struct Tolerances {
     /// the dimension of `span(V)` undecided: dropping it is within the tolerance, but it is no
     /// rounding error either (a contact wrench cone written about a point 1e5 m away has two
     /// singular values near `1e-11`: it is 6-D, and dropping them lost two dimensions). The
-    /// floating-point conversion then refuses to decide, and the exact fallback
-    /// ([`crate::DdOptions::exact_fallback`]) converts the input as given.
+    /// floating-point conversion then refuses to decide: [`crate::ConeError::RankUndecided`]
+    /// (the wrench preconditioning, or exact arithmetic, decides it).
     pub rank: f64,
     /// Two preconditioned unit generators closer than `duplicate` (Euclidean distance) are the
     /// same ray; the later one is dropped. Unit: relative distance (radians, for small angles).
