@@ -57,6 +57,10 @@ impl LengthFrame {
             return None;
         }
         let length = 2f64.powi(extent.log2().ceil() as i32);
+        // (A length or inverse that is not a normal number: stay in the caller's coordinates.)
+        if !(length.is_normal() && (1.0 / length).is_normal()) {
+            return None;
+        }
         let near = o.iter().all(|x| x.abs() <= 2.0 * length) && (0.25..=4.0).contains(&length);
         (!near).then_some(Self { origin: o, length })
     }
