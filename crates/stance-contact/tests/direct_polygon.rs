@@ -8,9 +8,7 @@ mod common;
 use common::stance_strategy;
 use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
-use stance_contact::equilibrium::{
-    PolygonRoute, PolygonWorkspace, StaticEquilibrium, StaticPolygon,
-};
+use stance_contact::equilibrium::{PolygonRoute, PolygonWorkspace, StaticPolygon};
 use stance_contact::{examples, supporting_forces, w_gi_static, ForcesOutcome, Stance};
 
 /// Band (m) between the two routes: each is within its own tolerance (1e-9 m) of the truth,
@@ -59,11 +57,12 @@ fn hausdorff(a: &StaticPolygon, b: &StaticPolygon) -> f64 {
     one_way(a, b).max(one_way(b, a))
 }
 
+/// The polygon through `U_stance`, as the library's `U_stance` route computes it (in the
+/// stance's length frame, like the direct route; the QP checks below are the independent,
+/// world-frame oracle).
 fn via_u(stance: &Stance, g: [f64; 3], height: f64) -> StaticPolygon {
-    let giwc = stance.u_stance(&Default::default()).unwrap();
-    StaticEquilibrium::new(&giwc, g, &Default::default())
-        .unwrap()
-        .polygon(height)
+    PolygonWorkspace::new()
+        .static_polygon_via_u_stance(stance, g, height, &Default::default())
         .unwrap()
 }
 
