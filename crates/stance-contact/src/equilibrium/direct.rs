@@ -208,15 +208,26 @@ impl PolygonWorkspace {
         opts: &EquilibriumOptions,
     ) -> Result<StaticPolygon, ContactError> {
         check_inputs(gravity, height, opts)?;
-        let giwc_opts = self.giwc.clone();
-        let run = |s: &Stance, h: f64| -> Result<StaticPolygon, ContactError> {
-            let giwc = s.u_stance(&giwc_opts)?;
-            StaticEquilibrium::new(&giwc, gravity, opts)?.polygon(h)
-        };
         match super::frame::LengthFrame::of(stance) {
-            Some(f) => Ok(f.polygon_to_world(run(&f.local(stance), f.height(height))?, height)),
-            None => run(stance, height),
+            Some(f) => {
+                let local =
+                    self.u_stance_polygon(&f.local(stance), gravity, f.height(height), opts)?;
+                Ok(f.polygon_to_world(local, height))
+            }
+            None => self.u_stance_polygon(stance, gravity, height, opts),
         }
+    }
+
+    /// The polygon through `U_stance` in the stance's own coordinates (both public routes).
+    fn u_stance_polygon(
+        &self,
+        stance: &Stance,
+        gravity: [f64; 3],
+        height: f64,
+        opts: &EquilibriumOptions,
+    ) -> Result<StaticPolygon, ContactError> {
+        let giwc = stance.u_stance(&self.giwc)?;
+        StaticEquilibrium::new(&giwc, gravity, opts)?.polygon(height)
     }
 
     /// [`Self::static_polygon`] in the stance's own coordinates.
@@ -240,8 +251,7 @@ impl PolygonWorkspace {
                 pivots: self.lp.pivots,
             }),
             Err(why) => {
-                let giwc = stance.u_stance(&self.giwc)?;
-                let polygon = StaticEquilibrium::new(&giwc, gravity, opts)?.polygon(height)?;
+                let polygon = self.u_stance_polygon(stance, gravity, height, opts)?;
                 Ok(DirectPolygon {
                     polygon,
                     route: PolygonRoute::ViaUStance(why),
