@@ -41,6 +41,9 @@ enum Command {
     Simulate(cmd::simulate::SimulateArgs),
     /// Run the built-in examples of the paper end to end and print a summary.
     Demo(cmd::demo::DemoArgs),
+    /// One self-contained 3-D page (HTML, opens offline) of a scene, a motion or a motion's
+    /// result: contacts, friction pyramids, static polygon, robust region, the robot played back.
+    View(cmd::view::ViewArgs),
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
     #[command(subcommand)]
     Robot(cmd::robot::RobotCommand),
@@ -82,6 +85,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cmd::simulate::run(a),
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
+        Command::View(a) => cmd::view::run(a),
         Command::Giwc(a) => cmd::contact::run_giwc(a),
         Command::Equilibrium(c) => cmd::contact::run_equilibrium(c),
     };

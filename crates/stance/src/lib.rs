@@ -79,5 +79,6 @@ mod name_or;
 pub mod retime;
 pub mod sim;
 pub mod tol;
+pub mod view;
 
 pub use error::StanceError;

@@ -17,7 +17,7 @@ use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
 use super::io::{read_input, write_output, Common};
 
 /// A gravity-like vector `gx,gy,gz` (m/s^2).
-fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
         return Err(format!("expected gx,gy,gz (three numbers), got `{s}`"));

@@ -11,3 +11,4 @@ pub mod retime;
 pub mod robot;
 pub mod simulate;
 pub mod topp;
+pub mod view;

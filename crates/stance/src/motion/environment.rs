@@ -35,7 +35,7 @@ pub struct EnvSurface {
 
 /// How well a robot surface lies on an environment surface (all in metres or radians; each is
 /// the worst over the robot surface's vertices).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OnSurface {
     /// Largest distance of a vertex from the surface's plane.
     pub distance: f64,

@@ -51,8 +51,8 @@ use chain::{retime, RetimeFailure, RetimingMode};
 use ik_stage::{run_segment, IkStageWorkspace, SegmentPath};
 use plan::MotionPlan;
 use result::{
-    ChecksInfo, ContactInfo, MotionResult, MotionStatus, PhaseInfo, RobotInfo, SegmentInfo,
-    Timings, TrajectoryInfo,
+    ChecksInfo, ContactInfo, EnvironmentInfo, MotionResult, MotionStatus, PhaseInfo, RobotInfo,
+    SegmentInfo, Timings, TrajectoryInfo,
 };
 use rows::{segment_rows, SegmentRows};
 pub use spec::MotionSpec;
@@ -302,6 +302,25 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             nq: m.nq,
             nv: m.nv,
         },
+        gravity: plan.gravity,
+        environment: plan
+            .environment
+            .iter()
+            .map(|e| EnvironmentInfo {
+                name: e.name.clone(),
+                vertices: e
+                    .polygon
+                    .iter()
+                    .map(|p| {
+                        (e.pose.rotation * nalgebra::Vector3::new(p[0], p[1], 0.0)
+                            + e.pose.translation)
+                            .into()
+                    })
+                    .collect(),
+                friction: e.friction,
+            })
+            .collect(),
+        friction_model: plan.spec.planning.friction_model,
         segments,
         failure,
         landings: retimed.as_ref().map_or(Vec::new(), |r| r.landings.clone()),
@@ -378,6 +397,7 @@ fn contact_infos(
                 half_width,
                 friction: planned
                     .map_or(plan.environment[c.environment].friction, |p| p.friction()),
+                vertices: planned.map_or(Vec::new(), |p| p.vertices_local().to_vec()),
                 on_surface: c.on_surface,
             }
         })

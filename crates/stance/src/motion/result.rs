@@ -1,12 +1,13 @@
 //! What `stance motion` returns (serialized as its JSON output).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use stance_contact::FrictionModel;
 
 use super::chain::{LandingBound, Refinement, RetimeFailure, RetimingMode};
 use super::environment::OnSurface;
 
 /// The outcome of a motion: a value, never an error.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MotionStatus {
     /// Retimed: a time-optimal profile exists.
@@ -18,7 +19,7 @@ pub enum MotionStatus {
 }
 
 /// The robot.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RobotInfo {
     /// Built-in name or URDF file name.
     pub name: String,
@@ -34,8 +35,20 @@ pub struct RobotInfo {
     pub nv: usize,
 }
 
+/// An environment surface of the motion (what the viewer draws; the contacts say which one
+/// they lie on).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EnvironmentInfo {
+    /// Its name.
+    pub name: String,
+    /// Its convex polygon in world coordinates (m).
+    pub vertices: Vec<[f64; 3]>,
+    /// Friction coefficient.
+    pub friction: f64,
+}
+
 /// A contact of a segment as planned.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ContactInfo {
     /// Robot surface name.
     pub name: String,
@@ -53,12 +66,14 @@ pub struct ContactInfo {
     pub half_width: f64,
     /// Friction as planned.
     pub friction: f64,
+    /// The contact polygon as planned (contact frame, m): the GIWC's vertices.
+    pub vertices: Vec<[f64; 2]>,
     /// How well the robot surface lies on the environment surface.
     pub on_surface: OnSurface,
 }
 
 /// One segment of the result, with the paper's table columns.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SegmentInfo {
     /// Name.
     pub name: String,
@@ -127,7 +142,7 @@ pub struct ChecksInfo {
 }
 
 /// The retimed trajectory in Pinocchio's conventions.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrajectoryInfo {
     /// Times (s).
     pub t: Vec<f64>,
@@ -144,7 +159,7 @@ pub struct TrajectoryInfo {
 }
 
 /// The retiming in the phase plane, on the global grid of the path parameter.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PhaseInfo {
     /// Grid `s_i` (global path parameter).
     pub s: Vec<f64>,
@@ -196,6 +211,12 @@ pub struct MotionResult {
     pub duration: Option<f64>,
     /// The robot.
     pub robot: RobotInfo,
+    /// Gravity (m/s^2, world).
+    pub gravity: [f64; 3],
+    /// The environment surfaces.
+    pub environment: Vec<EnvironmentInfo>,
+    /// The friction pyramid of every contact's GIWC.
+    pub friction_model: FrictionModel,
     /// The segments.
     pub segments: Vec<SegmentInfo>,
     /// Where and why the IK or the retiming failed.

@@ -308,3 +308,46 @@ fn finish(
         surfaces: out,
     })
 }
+
+/// A link drawn as a capsule: from the origin of joint `parent` to the origin of its child joint
+/// `child` (both model joint indices). The one description of the robot's primitive geometry:
+/// the simulator's collision capsules ([`crate::sim`]) and the viewer's links ([`crate::view`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bone {
+    /// Joint whose body the capsule belongs to.
+    pub parent: usize,
+    /// The child joint the capsule reaches.
+    pub child: usize,
+    /// Whether the simulator gives it collision geometry (not the free-flyer's body, whose
+    /// capsules would overlap the legs at the hips, and not a bone shorter than two radii).
+    pub collides: bool,
+}
+
+/// The bones of `model` for capsules of radius `radius` (m): every joint towards each of its
+/// children, except from the universe; bones shorter than `2 radius` or from the free flyer do
+/// not collide.
+///
+/// ```
+/// use stance::motion::robot::{bones, MotionRobot};
+/// use stance::motion::spec::RobotRef;
+/// let r = MotionRobot::load(&RobotRef::Named("small-humanoid".into()), None).unwrap();
+/// let b = bones(&r.model, 0.03);
+/// assert!(b.iter().any(|b| b.collides) && b.iter().any(|b| !b.collides));
+/// assert!(b.iter().all(|b| r.model.joints[b.child].parent == b.parent));
+/// ```
+pub fn bones(model: &Model, radius: f64) -> Vec<Bone> {
+    use stance_robot::JointKind;
+    (2..model.joints.len())
+        .map(|k| {
+            let j = &model.joints[k];
+            let parent = &model.joints[j.parent];
+            let long = j.parent_from_joint.translation.norm() > 2.0 * radius;
+            Bone {
+                parent: j.parent,
+                child: k,
+                collides: long && parent.kind != JointKind::FreeFlyer,
+            }
+        })
+        .filter(|b| b.parent != 0)
+        .collect()
+}

@@ -36,6 +36,7 @@ use stance_robot::{JointKind, Pose};
 
 use super::super::motion::environment::polygon_of;
 use super::super::motion::plan::MotionPlan;
+use super::super::motion::robot::bones;
 use crate::StanceError;
 
 /// Options of the model.
@@ -337,18 +338,20 @@ fn write_body(
     let children: Vec<usize> = (i + 1..m.joints.len())
         .filter(|&k| m.joints[k].parent == i)
         .collect();
-    for &k in &children {
-        let to = m.joints[k].parent_from_joint.translation;
-        if to.norm() > 2.0 * o.capsule_radius && j.kind != JointKind::FreeFlyer {
-            let _ = writeln!(
-                x,
-                "{pad}  <geom name=\"link:{name}:{}\" type=\"capsule\" fromto=\"0 0 0 {}\" size=\"{}\" \
-                 contype=\"1\" conaffinity=\"0\" rgba=\"0.8 0.5 0.2 1\"/>",
-                xml_name(&m.joints[k].name),
-                v3(&to),
-                o.capsule_radius
-            );
+    for b in bones(m, o.capsule_radius) {
+        if b.parent != i || !b.collides {
+            continue;
         }
+        let k = b.child;
+        let to = m.joints[k].parent_from_joint.translation;
+        let _ = writeln!(
+            x,
+            "{pad}  <geom name=\"link:{name}:{}\" type=\"capsule\" fromto=\"0 0 0 {}\" size=\"{}\" \
+             contype=\"1\" conaffinity=\"0\" rgba=\"0.8 0.5 0.2 1\"/>",
+            xml_name(&m.joints[k].name),
+            v3(&to),
+            o.capsule_radius
+        );
     }
     for &k in &children {
         write_body(x, plan, o, k, depth + 1)?;
