@@ -842,6 +842,8 @@ pub(crate) fn exact_span_to_face(
         completeness,
         open_ridges: open,
         fallback: None,
+        merged_rows: 0,
+        merge_distance: 0.0,
     };
     Ok(ExactResult {
         facets: facets_m,

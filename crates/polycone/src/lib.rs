@@ -64,7 +64,12 @@
 //! against an independent oracle (non-negative least squares over the generators) outside a
 //! `1e-6` band. When the certificate fails, the conversion falls back to exact arithmetic
 //! ([`DdOptions::exact_fallback`], on by default), and returns [`ConeError::Uncertified`] if
-//! that fails too: a wrong cone is never returned as certified.
+//! that fails too: a wrong cone is never returned as certified. The exact answer of the
+//! rounded input keeps the slivers rounding split off the intended geometry; output rows
+//! closer than [`tol::Tolerances::certificate`] to a kept row are then merged into it, which
+//! enlarges the cone by at most that distance: no unit vector the answer admits violates a
+//! merged row by more than the recorded [`Certificate::merge_distance`]
+//! ([`Certificate::merged_rows`]; the tests check it against the exact answer's face -> span).
 //!
 //! # Exact semantics ([`Arithmetic::Exact`])
 //!
@@ -183,7 +188,8 @@ pub struct DdOptions {
     pub tol: tol::Tolerances,
     /// In tolerance mode, when the floating-point answer cannot be certified, compute the exact
     /// answer for the input as given instead (slower; its certificate says
-    /// [`Arithmetic::Exact`]). Default `true`.
+    /// [`Arithmetic::Exact`] and why, and how many near-parallel rows were merged). Default
+    /// `true`.
     pub exact_fallback: bool,
     /// Run the completeness check of the certificate (the ridge check, about half of the
     /// instructions of a small conversion). When `false`, soundness and support are still checked but the

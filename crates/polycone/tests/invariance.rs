@@ -200,3 +200,174 @@ fn exact_answers_with_tiny_entries_are_unit_rows() {
         assert!(same_rows_up_to_scaling(&r.face.facets, &float.face.facets, 1e-12).is_some());
     }
 }
+
+/// Half-spaces of a random convex polytope about `centre`: `n . (p - centre) <= r` for random
+/// unit `n` and `r` in [0.1, 1).
+fn random_halfspaces<const D: usize>(seed: u64, rows: usize) -> (Vec<[f64; D]>, Vec<f64>) {
+    let mut next = xorshift(seed);
+    let mut normals = Vec::new();
+    let mut offsets = Vec::new();
+    for _ in 0..rows {
+        let mut a = [0.0; D];
+        for x in &mut a {
+            *x = 2.0 * next() - 1.0;
+        }
+        let n = a.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-3);
+        for x in &mut a {
+            *x /= n;
+        }
+        normals.push(a);
+        offsets.push(0.1 + 0.9 * next());
+    }
+    (normals, offsets)
+}
+
+fn moved<const D: usize>(normals: &[[f64; D]], offsets: &[f64], t: &[f64; D]) -> Vec<f64> {
+    normals
+        .iter()
+        .zip(offsets)
+        .map(|(a, &b)| b + (0..D).map(|k| a[k] * t[k]).sum::<f64>())
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Moving a region by `t` (1 m to 1e12 m) moves its polygon or polyhedron by `t`: same
+    /// status and, bounded, the same vertices moved, within the rounding of the coordinates.
+    /// (Beyond the 1e6 m starting box, the regions were called empty.) Unbounded regions are
+    /// cut by that box about a point near them, so only their status is compared.
+    #[test]
+    fn polytopes_move_with_their_rows(
+        seed in 1u64..u64::MAX,
+        exponent in 0i32..=12,
+        dir in prop::collection::vec(-1.0..1.0f64, 3),
+        rows in 4usize..24,
+    ) {
+        use polycone::polytope::{polygon_from_halfplanes, polyhedron_from_halfspaces, PolytopeOptions};
+        let opts = PolytopeOptions::default();
+        let scale = 10f64.powi(exponent);
+        // The moved rows are rounded to eps |t| (absolute); a vertex moves by that over the
+        // sine of the angles between its planes (random rows: down to about 1e-2), in every
+        // coordinate.
+        let size = scale * dir.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let tol = |_t: f64| 1e-9 + 1e4 * f64::EPSILON * size;
+        // 2-D
+        let (n2, b2) = random_halfspaces::<2>(seed, rows);
+        let t2 = [dir[0] * scale, dir[1] * scale];
+        let here = polygon_from_halfplanes(&n2, &b2, &opts).unwrap();
+        let there = polygon_from_halfplanes(&n2, &moved(&n2, &b2, &t2), &opts).unwrap();
+        prop_assert_eq!(here.status, there.status);
+        let bounded = here.status == polycone::polytope::RegionStatus::Bounded;
+        prop_assert!(!bounded || here.vertices.len() == there.vertices.len());
+        for (p, q) in here.vertices.iter().zip(&there.vertices).filter(|_| bounded) {
+            for k in 0..2 {
+                prop_assert!((p[k] + t2[k] - q[k]).abs() <= tol(t2[k]), "{p:?} + {t2:?} vs {q:?}");
+            }
+        }
+        // 3-D
+        let (n3, b3) = random_halfspaces::<3>(seed ^ 0x5555, rows);
+        let t3 = [dir[0] * scale, dir[1] * scale, dir[2] * scale];
+        let here = polyhedron_from_halfspaces(&n3, &b3, &opts).unwrap();
+        let there = polyhedron_from_halfspaces(&n3, &moved(&n3, &b3, &t3), &opts).unwrap();
+        prop_assert_eq!(here.status, there.status);
+        if here.status != polycone::polytope::RegionStatus::Bounded {
+            return Ok(());
+        }
+        prop_assert_eq!(here.vertices.len(), there.vertices.len());
+        prop_assert_eq!(here.faces.len(), there.faces.len());
+        let mut a: Vec<[f64; 3]> = here.vertices.iter().map(|p| [p[0] + t3[0], p[1] + t3[1], p[2] + t3[2]]).collect();
+        let mut b = there.vertices.clone();
+        a.sort_by(|p, q| p.partial_cmp(q).unwrap());
+        b.sort_by(|p, q| p.partial_cmp(q).unwrap());
+        for (p, q) in a.iter().zip(&b) {
+            for k in 0..3 {
+                prop_assert!((p[k] - q[k]).abs() <= tol(t3[k]), "{p:?} vs {q:?}");
+            }
+        }
+    }
+}
+
+/// The contact wrench generators `(e, p x e)` of two flat rectangular feet (0.22 x 0.13 m,
+/// 0.2 m apart, friction pyramid of apothem 0.7) with the right one raised by `dz`.
+fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
+    let mut rows = Vec::new();
+    for (y, z) in [(0.1, 0.0), (-0.1, dz)] {
+        for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+            let p = [0.11 * sx, y + 0.065 * sy, z];
+            for (a, b) in [(0.7, 0.7), (-0.7, 0.7), (-0.7, -0.7), (0.7, -0.7)] {
+                let e = [a, b, 1.0];
+                let t = [
+                    p[1] * e[2] - p[2] * e[1],
+                    p[2] * e[0] - p[0] * e[2],
+                    p[0] * e[1] - p[1] * e[0],
+                ];
+                rows.extend_from_slice(&[e[0], e[1], e[2], t[0], t[1], t[2]]);
+            }
+        }
+    }
+    DMatrix::from_row_slice(rows.len() / 6, 6, &rows)
+}
+
+/// After an exact fallback the default mode merges the slivers of the rounded input: no two
+/// rows within the tolerance, and the certificate's bound holds. Checked against the exact
+/// answer (no merging): the merged cone contains it, and every extreme ray of the merged cone
+/// (exact face -> span) violates the exact facets by at most the stated merge distance.
+#[test]
+fn slivers_of_an_exact_fallback_are_merged_within_the_stated_bound() {
+    for dz in [1e-5, 1e-7, 1e-9] {
+        let v = two_feet_wrench_span(dz);
+        let exact_opts = DdOptions {
+            arithmetic: Arithmetic::Exact,
+            ..DdOptions::default()
+        };
+        let exact = span_to_face(&v, &exact_opts).unwrap();
+        let merged = span_to_face(&v, &DdOptions::default()).unwrap();
+        let c = &merged.certificate;
+        assert!(c.certified, "{dz}");
+        if c.fallback.is_none() {
+            continue; // the floating-point answer was certified: nothing to merge
+        }
+        let (m, n) = (merged.face.facets.nrows(), exact.face.facets.nrows());
+        eprintln!(
+            "dz = {dz}: {n} exact facets, {m} after merging {} (distance {:.1e})",
+            c.merged_rows, c.merge_distance
+        );
+        assert_eq!(m + c.merged_rows, n);
+        assert!(c.merged_rows > 0 && c.merge_distance <= DdOptions::default().tol.certificate);
+        let unit = |r: nalgebra::DMatrixView<f64>| r.clone_owned() / r.norm();
+        let f = &merged.face.facets;
+        for i in 0..m {
+            for k in 0..i {
+                let d = (unit(f.rows(i, 1)) - unit(f.rows(k, 1))).norm();
+                assert!(
+                    d > c.merge_distance,
+                    "{dz}: rows {i} and {k} are {d:.1e} apart"
+                );
+            }
+        }
+        // The merged cone contains every generator (its rows are exact facets).
+        for g in v.row_iter() {
+            for u in f.row_iter() {
+                assert!(u.dot(&g) <= 1e-12 * g.norm() * u.norm());
+            }
+        }
+        // Every extreme ray of the merged cone is within the merge distance of the exact cone.
+        let rays = face_to_span(&merged.face, &exact_opts)
+            .unwrap()
+            .span
+            .generators;
+        for r in rays.row_iter() {
+            let r = r.clone_owned() / r.norm();
+            for u in exact.face.facets.row_iter() {
+                let u = u.clone_owned() / u.norm();
+                assert!(
+                    u.dot(&r) <= c.merge_distance * (1.0 + 1e-9) + 1e-15,
+                    "{dz}: violation {:.2e} > {:.2e}",
+                    u.dot(&r),
+                    c.merge_distance
+                );
+            }
+        }
+    }
+}

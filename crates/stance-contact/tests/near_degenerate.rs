@@ -223,3 +223,63 @@ fn tiny_patches() {
     .unwrap();
     check(&s, [0.0; 3], "1 mm patches");
 }
+
+/// The robust region of a foot 3000 km from the world origin is the region of the foot at the
+/// origin, moved (it was "empty": the polytope routines started from a box of 1e6 m about the
+/// origin). One gravity: an unbounded vertical prism; four tilted gravities: a bounded solid.
+#[test]
+fn far_origin_3000_km_robust_region() {
+    use polycone::polytope::RegionStatus;
+    use stance_contact::equilibrium::RobustRegion;
+    let tilted = [
+        [0.98, 0.0, -9.81],
+        [-0.98, 0.0, -9.81],
+        [0.0, 0.98, -9.81],
+        [0.0, -0.98, -9.81],
+    ];
+    for o in [[3e6, 0.0, 0.0], [-2e6, 4e6, 1e5]] {
+        let region = |p: [f64; 3], gs: &[[f64; 3]]| {
+            let s = Stance::new(
+                vec![foot("LF", p, 0.0, (0.11, 0.065))],
+                FrictionModel::default(),
+            )
+            .unwrap();
+            let giwc = s.u_stance(&Default::default()).unwrap();
+            RobustRegion::new(&giwc, gs, &Default::default()).unwrap()
+        };
+        let here = region([0.0; 3], &[[0.0, 0.0, -9.81]]);
+        let there = region(o, &[[0.0, 0.0, -9.81]]);
+        assert_eq!(here.polyhedron.status, RegionStatus::Unbounded);
+        assert_eq!(there.polyhedron.status, RegionStatus::Unbounded, "{o:?}");
+        for (dx, inside) in [(0.0, true), (0.1, true), (0.12, false), (-0.12, false)] {
+            let p = [o[0] + dx, o[1], o[2] + 0.8];
+            assert_eq!(there.contains(p), inside, "{o:?} + {dx}");
+        }
+        let here = region([0.0; 3], &tilted);
+        let there = region(o, &tilted);
+        assert_eq!(here.polyhedron.status, RegionStatus::Bounded);
+        assert_eq!(there.polyhedron.status, RegionStatus::Bounded, "{o:?}");
+        // The two vertex sets are within 1 um of each other both ways (Hausdorff): the foot's
+        // own coordinates are rounded to 1e-16 of 4e6 m, about 1e-9 m, which the GIWC and the
+        // region's conditioning amplify, so a vertex may come as two closer than 1 um (8
+        // vertices at the origin, 11 at [-2e6, 4e6, 1e5]).
+        let moved: Vec<[f64; 3]> = here
+            .polyhedron
+            .vertices
+            .iter()
+            .map(|p| [p[0] + o[0], p[1] + o[1], p[2] + o[2]])
+            .collect();
+        let gap = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+            a.iter()
+                .map(|p| {
+                    b.iter()
+                        .map(|q| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max)
+        };
+        let far = &there.polyhedron.vertices;
+        assert!(gap(&moved, far) < 1e-6, "{o:?}: {}", gap(&moved, far));
+        assert!(gap(far, &moved) < 1e-6, "{o:?}: {}", gap(far, &moved));
+    }
+}

@@ -16,6 +16,14 @@
 //! `computeCentroidalMomentumTimeVariation` with `a = 0`): `d(Y_i V_i)/dt = Y_i A_i + V_i x* (Y_i
 //! V_i)` with `A_i` the drift acceleration, and since `h_lin = m c_dot` is parallel to
 //! `c_dot`, `dL_G/dt = dL_O/dt - c x dh_lin/dt`. This is `(dA_g/dt) v`.
+//!
+//! # Far from the origin
+//!
+//! `A_g`, `J_com` and `(dA_g/dt) v` do not change when the world origin moves (`h_G` is about
+//! the CoM, in world-aligned axes), but `L_O - c x h_lin` cancels `|c|`-sized terms. With a
+//! free-flyer base farther than [`crate::tol::FAR_BASE`] from the origin they are computed with
+//! the base translation set to zero (the same robot, the origin moved to it), and the CoM moved
+//! back; the world placements in `data` are those of `q` as given.
 
 use nalgebra::{Vector3, Vector6};
 
@@ -108,7 +116,32 @@ fn fill_centroidal(model: &Model, data: &mut Data) {
 pub fn centroidal_map(model: &Model, data: &mut Data, q: &[f64]) -> Result<(), RobotError> {
     forward_kinematics(model, data, q)?;
     fill_centroidal(model, data);
+    if let Some((t, q0)) = far_base(model, q) {
+        // The same quantities with the origin at the base; the placements stay those of `q`.
+        let (placements, s_world) = (data.world_from_joint.clone(), data.s_world.clone());
+        forward_kinematics(model, data, &q0)?;
+        fill_centroidal(model, data);
+        data.com += t;
+        data.world_from_joint = placements;
+        data.s_world = s_world;
+    }
     Ok(())
+}
+
+/// The base translation of `q` and `q` with it zeroed, when the base is a free flyer farther
+/// than [`crate::tol::FAR_BASE`] from the origin (see the module doc).
+fn far_base(model: &Model, q: &[f64]) -> Option<(Vector3<f64>, Vec<f64>)> {
+    if !model.has_free_flyer() {
+        return None;
+    }
+    let at = model.joints[1].idx_q;
+    let t = Vector3::new(q[at], q[at + 1], q[at + 2]);
+    if t.amax() <= crate::tol::FAR_BASE {
+        return None;
+    }
+    let mut q0 = q.to_vec();
+    q0[at..at + 3].fill(0.0);
+    Some((t, q0))
 }
 
 /// The CoM Jacobian (3 x nv) for `q`, in `data.com_jacobian` (computed with [`centroidal_map`],
@@ -144,6 +177,22 @@ pub fn centroidal_map_dot_v(
     q: &[f64],
     v: &[f64],
 ) -> Result<Vector6<f64>, RobotError> {
+    if let Some((t, q0)) = far_base(model, q) {
+        // Everything centroidal with the origin at the base (module doc), then the world
+        // placements and velocities of `q` as given.
+        let out = centroidal_map_dot_v(model, data, &q0, v)?;
+        let (a_g, j_com, com) = (
+            data.centroidal_map.clone(),
+            data.com_jacobian.clone(),
+            data.com + t,
+        );
+        forward_kinematics_velocity(model, data, q, v)?;
+        data.centroidal_map = a_g;
+        data.com_jacobian = j_com;
+        data.com = com;
+        data.centroidal_map_dot_v = out;
+        return Ok(out);
+    }
     forward_kinematics_velocity(model, data, q, v)?;
     fill_centroidal(model, data);
     let mut dh_lin = Vector3::zeros();

@@ -43,6 +43,16 @@ pub const INERTIA_PSD_REL_TOL: f64 = 1e-9;
 /// tolerance on input: not an option.
 pub const EXP_SERIES_ANGLE: f64 = 1e-2;
 
+/// Base translations (m, largest coordinate) beyond which `A_g`, `J_com` and `(dA_g/dt) v` are
+/// computed with the free-flyer base moved to the world origin and the CoM moved back.
+///
+/// Default 16 m. These quantities do not depend on where the world origin is, but computed
+/// about it they lose `|p| / size` digits to cancellation (`L_G = L_O - c x h`: 6e-3 wrong at
+/// 1e6 m, meaningless at 1e9 m, NaN at 1e155 m). Within 16 m the loss is at most 4 bits of a
+/// humanoid's metre-sized quantities, and the answers stay bit for bit what they were. A
+/// numerical-method switch, not a tolerance on input: not an option.
+pub const FAR_BASE: f64 = 16.0;
+
 /// The thresholds above, passed as options to [`crate::Model::from_urdf_str`] and to the
 /// configuration checks.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -384,3 +384,45 @@ fn misspelled_elements_are_errors() {
     ));
     build(&fine).unwrap();
 }
+
+#[test]
+fn unknown_elements_are_listed_once_with_their_line() {
+    let text = format!(
+        "<?xml version=\"1.0\"?>\n<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n{}\n<extra_thing/>\n<ros2_control name=\"x\">\
+         <hardware><plugin>p</plugin></hardware></ros2_control>\n<extra_thing/>\n\
+         <gazebo reference=\"a\"><mu1>0.9</mu1></gazebo>\n<xacro:property name=\"k\"/>\n</robot>",
+        link("a")
+    );
+    let m = build(&text).unwrap();
+    // The extension's content is its own; gazebo and namespaced elements are known.
+    assert_eq!(
+        m.unknown_elements,
+        vec![
+            ("extra_thing".to_string(), 4),
+            ("ros2_control".to_string(), 5)
+        ]
+    );
+    let plain = build(&robot(&link("a"))).unwrap();
+    assert!(plain.unknown_elements.is_empty());
+}
+
+#[test]
+fn a_joint_locked_twice_is_an_error() {
+    let text = robot(&format!(
+        "{}{}{}",
+        link("a"),
+        link("b"),
+        joint("j", "revolute", "a", "b")
+    ));
+    let options = UrdfOptions {
+        locked: vec![("j".into(), 0.1), ("j".into(), 0.2)],
+        ..Default::default()
+    };
+    let e = Model::from_urdf_str(&text, &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("locked twice") && e.contains("0.1") && e.contains("0.2"),
+        "{e}"
+    );
+}

@@ -38,8 +38,13 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     if is_toml {
-        toml::from_str(text)
-            .map_err(|e| StanceError::File(format!("invalid TOML in {}: {e}", path.display())))
+        toml::from_str(text).map_err(|e| {
+            StanceError::File(format!(
+                "invalid TOML in {}: {}",
+                path.display(),
+                shorten_lines(&e.to_string())
+            ))
+        })
     } else {
         serde_json::from_str(text).map_err(|e| {
             // Every input file is an object of named fields: say so when it is something else.
@@ -54,6 +59,33 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
             StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
         })
     }
+}
+
+/// Longest line of an error message quoting its input (a TOML error quotes the offending line,
+/// which may be a whole file written on one line).
+pub const MAX_QUOTED_LINE: usize = 200;
+
+/// `text` with every line longer than [`MAX_QUOTED_LINE`] characters cut, saying how much was
+/// left out.
+///
+/// ```
+/// let long = format!("at line 1\n{}\n^", "[".repeat(100_000));
+/// let short = stance::input::shorten_lines(&long);
+/// assert!(short.len() < 400 && short.contains("99800 more characters"));
+/// ```
+pub fn shorten_lines(text: &str) -> String {
+    text.lines()
+        .map(|l| {
+            let n = l.chars().count();
+            if n > MAX_QUOTED_LINE {
+                let head: String = l.chars().take(MAX_QUOTED_LINE).collect();
+                format!("{head}... ({} more characters)", n - MAX_QUOTED_LINE)
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// A scene from a file (JSON or TOML) or a built-in example by name

@@ -442,3 +442,18 @@ fn jvrc1_box_climbing_third_segment_needs_the_chained_retiming() {
     .unwrap();
     assert!(fast.checks.unwrap().samples_without_forces > 0);
 }
+
+#[test]
+fn a_name_given_twice_in_a_motion_file_is_an_error() {
+    use stance::motion::spec::SegmentSpec;
+    let e = serde_json::from_str::<SegmentSpec>(
+        r#"{"stance": {"LF": "floor", "RF": "floor", "LF": "step"}, "moves": []}"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("\"LF\" is given twice"), "{e}");
+    let ok = serde_json::from_str::<SegmentSpec>(
+        r#"{"stance": {"LF": "floor", "RF": "floor"}, "moves": []}"#,
+    );
+    assert!(ok.is_ok(), "{ok:?}");
+}

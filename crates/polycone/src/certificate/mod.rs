@@ -138,6 +138,17 @@ pub struct Certificate {
     /// why the floating-point answer was not kept (its failed certificate). `None` when the
     /// arithmetic of [`Self::arithmetic`] was the one asked for.
     pub fallback: Option<String>,
+    /// After an exact fallback in the default mode: how many output rows were merged into a
+    /// kept row closer than [`Tolerances::certificate`] (unit rows, input coordinates). The
+    /// exact answer of the rounded input keeps slivers of the intended geometry as separate,
+    /// nearly parallel rows; a merged row `u` within distance `delta` of a kept row `k` is
+    /// violated by at most `delta` by any unit vector the kept rows admit (`u . x = k . x +
+    /// (u - k) . x <= delta`): the merged answer is the exact one within the tolerance
+    /// contract. 0 when nothing was merged.
+    pub merged_rows: usize,
+    /// The largest distance between a merged row and the kept row it was merged into (the
+    /// bound above; 0 when nothing was merged).
+    pub merge_distance: f64,
 }
 
 impl Certificate {
@@ -493,6 +504,8 @@ pub(crate) fn certify_whitened(
         completeness,
         open_ridges,
         fallback: None,
+        merged_rows: 0,
+        merge_distance: 0.0,
     };
     (cert, extreme)
 }

@@ -13,13 +13,17 @@
 //!   way back.
 //!
 //! Outcomes are values: [`RegionStatus::Empty`], [`RegionStatus::Unbounded`] (the region
-//! reaches farther than `far` from the origin; the part inside the box `[-far, far]^d` is
-//! returned, box faces marked by `None`), and lower-dimensional results (`dim < d`: a segment,
-//! a point, a flat polygon in 3-D).
+//! reaches farther than `far` from the point of the region it is computed about (the origin,
+//! or the region's centroid when that is far from it); the part inside the box of half-size
+//! `far` about that point is returned, box faces marked by `None`), and
+//! lower-dimensional results (`dim < d`: a segment, a point, a flat polygon in 3-D).
 //!
 //! # Method and semantics
 //!
-//! The H -> V direction clips the box `[-far, far]^d` by each half-space in turn
+//! Translating the rows does not change the region, so when the region's centroid `c` is more
+//! than 16 units from the origin, the rows are moved to it and the region computed again
+//! about it (module `centre`; a region beyond `far` is first located by a coarse pass): a
+//! region 3000 km away is found, to the rounding of its own coordinates. The H -> V direction clips the box `[-far, far]^d` by each half-space in turn
 //! (Sutherland-Hodgman in 2-D; face-by-face clipping with a cap face in 3-D). Row normals are
 //! first normalized, so every predicate is a signed Euclidean distance compared with
 //! `dist_tol`: points within `dist_tol` of a plane count as on it. The result is exact for the
@@ -46,9 +50,10 @@
 //!
 //! - Tolerance-based predicates (no exact arithmetic): structure degenerate within `dist_tol`
 //!   is merged (a face thinner than `dist_tol` may vanish, near-coplanar faces may stay split).
-//! - Regions reaching beyond `far` are reported unbounded even when they are bounded, and a
-//!   region lying entirely beyond `far` is reported empty: keep the data within `far` of the
-//!   origin (or raise `far`).
+//! - Regions reaching farther than `far` from their centroid are reported unbounded even when
+//!   they are bounded (raise `far` for regions larger than 1e6 units). A region beyond `far`
+//!   is located at the rounding of its farthest row: rows 1e290 from the origin hide a region
+//!   smaller than 1e274 (it is reported empty).
 //! - [`hull3`] answers are exact for the input up to `dist_tol`: structure finer than that
 //!   stays. Faces bent by more than `dist_tol` (e.g. vertices computed with a relative error
 //!   of 1e-11, 3e5 m from the origin, are 2e-6 m off their face) come back as several
@@ -73,6 +78,7 @@
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 
+mod centre;
 mod hull;
 mod hull3d;
 mod polygon;

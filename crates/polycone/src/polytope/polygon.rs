@@ -110,6 +110,14 @@ pub fn polygon_from_halfplanes(
 ) -> Result<Polygon, PolytopeError> {
     opts.validate()?;
     check_rows(normals, offsets)?;
+    // Far from the origin: the same region about a point of it, moved back (`centre`).
+    Ok(super::centre::recentred(normals, offsets, opts, |b, o| {
+        about_origin(normals, b, o)
+    }))
+}
+
+/// [`polygon_from_halfplanes`] for rows near the origin.
+fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -> Polygon {
     let empty = Polygon {
         status: RegionStatus::Empty,
         dim: 0,
@@ -139,7 +147,7 @@ pub fn polygon_from_halfplanes(
     for (i, &(a, b)) in lines.iter().enumerate() {
         if a == [0.0, 0.0] {
             if b < -opts.dist_tol {
-                return Ok(empty);
+                return empty;
             }
             continue;
         }
@@ -172,10 +180,10 @@ pub fn polygon_from_halfplanes(
         }
         std::mem::swap(&mut poly, &mut next);
         if poly.is_empty() {
-            return Ok(empty);
+            return empty;
         }
     }
-    Ok(finish(poly, &lines, opts))
+    finish(poly, &lines, opts)
 }
 
 /// Merges close vertices, drops non-corners, classifies the result.
@@ -303,5 +311,20 @@ fn finish(mut poly: Vec<Vx>, lines: &[([f64; 2], f64)], opts: &PolytopeOptions) 
         dim,
         vertices,
         active,
+    }
+}
+
+impl super::centre::Region<2> for Polygon {
+    fn status(&self) -> RegionStatus {
+        self.status
+    }
+    fn vertices(&self) -> &[[f64; 2]] {
+        &self.vertices
+    }
+    fn translate(&mut self, c: &[f64; 2]) {
+        for v in &mut self.vertices {
+            v[0] += c[0];
+            v[1] += c[1];
+        }
     }
 }

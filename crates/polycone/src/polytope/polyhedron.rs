@@ -106,10 +106,18 @@ pub fn polyhedron_from_halfspaces(
 ) -> Result<Polyhedron, PolytopeError> {
     opts.validate()?;
     check_rows(normals, offsets)?;
+    // Far from the origin: the same region about a point of it, moved back (`centre`).
+    Ok(super::centre::recentred(normals, offsets, opts, |b, o| {
+        about_origin(normals, b, o)
+    }))
+}
+
+/// [`polyhedron_from_halfspaces`] for rows near the origin.
+fn about_origin(normals: &[[f64; 3]], offsets: &[f64], opts: &PolytopeOptions) -> Polyhedron {
     let far = [[-opts.far; 3], [opts.far; 3]];
     let (first, raw_bounds) = clip_box(normals, offsets, far, opts);
     if first.status != RegionStatus::Bounded || first.dim != 3 {
-        return Ok(first);
+        return first;
     }
     // Second pass from a box just around the result: the clipping interpolates along box
     // edges, so a box of the result's size keeps the rounding at the result's scale. The box
@@ -146,11 +154,11 @@ pub fn polyhedron_from_halfspaces(
             for a in second.active.iter_mut().flatten() {
                 *a = keep[*a];
             }
-            return Ok(second);
+            return second;
         }
         margin *= 4.0;
     }
-    Ok(first)
+    first
 }
 
 fn clip_box(
@@ -603,4 +611,23 @@ fn rank3(ns: &[[f64; 3]], tol: f64) -> bool {
     }
     let ab = cross(a, b);
     ns.iter().any(|&n| dot(ab, n).abs() / best > tol)
+}
+
+impl super::centre::Region<3> for Polyhedron {
+    fn status(&self) -> RegionStatus {
+        self.status
+    }
+    fn vertices(&self) -> &[[f64; 3]] {
+        &self.vertices
+    }
+    fn translate(&mut self, c: &[f64; 3]) {
+        for v in &mut self.vertices {
+            for k in 0..3 {
+                v[k] += c[k];
+            }
+        }
+        for (n, d) in &mut self.planes {
+            *d += n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
+        }
+    }
 }

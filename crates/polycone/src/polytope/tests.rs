@@ -485,20 +485,20 @@ proptest! {
     }
 }
 
-/// The documented limitation, pinned: a region entirely beyond `far` is reported empty, and
-/// raising `far` finds it.
+/// A region entirely beyond `far` from the origin is found (it was reported empty before the
+/// rows were moved to the region), with or without a larger `far`.
 #[test]
-fn region_beyond_far_needs_a_larger_far() {
+fn region_beyond_far_is_found() {
     let a = [[-1.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
     let b = [-2e6, 2e6 + 1.0, 1.0, 1.0]; // 2e6 <= x <= 2e6 + 1, |y| <= 1
     let o = PolytopeOptions::default();
-    assert_eq!(
-        polygon_from_halfplanes(&a, &b, &o).unwrap().status,
-        RegionStatus::Empty
-    );
-    let big = PolytopeOptions { far: 1e7, ..o };
-    let p = polygon_from_halfplanes(&a, &b, &big).unwrap();
-    assert_eq!((p.status, p.vertices.len()), (RegionStatus::Bounded, 4));
+    for opts in [o, PolytopeOptions { far: 1e7, ..o }] {
+        let p = polygon_from_halfplanes(&a, &b, &opts).unwrap();
+        assert_eq!((p.status, p.vertices.len()), (RegionStatus::Bounded, 4));
+        for v in &p.vertices {
+            assert!((v[0] - 2e6).abs() <= 1.0 + 1e-9 && v[1].abs() <= 1.0 + 1e-9);
+        }
+    }
 }
 
 /// Regression: through the polar around the centroid alone, needles lost thin faces; the

@@ -79,6 +79,16 @@ struct SpanToFaceOutput {
     /// Why the floating-point answer was replaced by the exact one (exact fallback only).
     #[serde(skip_serializing_if = "Option::is_none")]
     fallback_reason: Option<String>,
+    /// Exact-fallback rows merged into a kept row within `merge_distance` (unit rows): any
+    /// unit vector the output admits violates a merged row by at most that.
+    #[serde(skip_serializing_if = "is_zero")]
+    merged_rows: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    merge_distance: Option<f64>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 #[derive(Serialize)]
@@ -92,6 +102,11 @@ struct FaceToSpanOutput {
     arithmetic: &'static str,
     #[serde(skip_serializing_if = "Option::is_none")]
     fallback_reason: Option<String>,
+    /// As in [`SpanToFaceOutput`] (generators merged).
+    #[serde(skip_serializing_if = "is_zero")]
+    merged_rows: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    merge_distance: Option<f64>,
 }
 
 /// Rows -> matrix, checking the row lengths and finiteness; `dim` from the rows or the option.
@@ -162,6 +177,9 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     certified: r.certificate.certified,
                     arithmetic: arithmetic_name(&r.certificate),
                     fallback_reason: r.certificate.fallback.clone(),
+                    merged_rows: r.certificate.merged_rows,
+                    merge_distance: (r.certificate.merged_rows > 0)
+                        .then_some(r.certificate.merge_distance),
                 },
             )
         }
@@ -194,6 +212,9 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     certified: r.certificate.certified,
                     arithmetic: arithmetic_name(&r.certificate),
                     fallback_reason: r.certificate.fallback.clone(),
+                    merged_rows: r.certificate.merged_rows,
+                    merge_distance: (r.certificate.merged_rows > 0)
+                        .then_some(r.certificate.merge_distance),
                 },
             )
         }

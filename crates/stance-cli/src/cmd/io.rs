@@ -88,3 +88,19 @@ mod stdout_state {
     #[link_section = ".init_array"]
     static RECORD: extern "C" fn() = record;
 }
+
+/// One warning line naming the URDF elements the model ignored (`--quiet-urdf` silences it).
+pub fn warn_unknown_urdf_elements(urdf: &Path, unknown: &[(String, usize)]) {
+    if unknown.is_empty() {
+        return;
+    }
+    let list: Vec<String> = unknown
+        .iter()
+        .map(|(name, line)| format!("<{name}> (line {line})"))
+        .collect();
+    eprintln!(
+        "warning: {} has elements the model does not use: {}; --quiet-urdf silences this",
+        urdf.display(),
+        list.join(", ")
+    );
+}

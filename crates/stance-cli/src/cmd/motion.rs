@@ -54,6 +54,9 @@ pub struct MotionArgs {
     /// Print the per-segment table to standard error.
     #[arg(long)]
     pub table: bool,
+    /// Do not warn about URDF elements the model does not use (extensions).
+    #[arg(long)]
+    pub quiet_urdf: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -90,6 +93,15 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
     }
     if args.table {
         eprint!("{}", table(&out));
+    }
+    let unknown = &out.robot.unknown_urdf_elements;
+    if !args.quiet_urdf && !unknown.is_empty() {
+        eprintln!(
+            "warning: the URDF of {} has elements the model does not use: {}; --quiet-urdf \
+             silences this",
+            out.robot.name,
+            unknown.join(", ")
+        );
     }
     write_output(&args.common, &out)
 }

@@ -32,6 +32,9 @@ pub struct CentroidalArgs {
     /// Joints to lock (removed from q and v), at 0 or at NAME=VALUE (rad or m).
     #[arg(long, value_name = "JOINT", num_args = 1.., action = clap::ArgAction::Append)]
     pub lock: Vec<String>,
+    /// Do not warn about URDF elements the model does not use (extensions).
+    #[arg(long)]
+    pub quiet_urdf: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -94,6 +97,9 @@ fn centroidal(args: CentroidalArgs) -> Result<()> {
         ..Default::default()
     };
     let model = Model::from_urdf_file(&args.urdf, &options)?;
+    if !args.quiet_urdf {
+        super::io::warn_unknown_urdf_elements(&args.urdf, &model.unknown_elements);
+    }
     let q = parse_list("q", &args.q)?;
     let v = match &args.v {
         Some(text) => parse_list("v", text)?,

@@ -178,6 +178,11 @@ pub struct Model {
     pub subtree_end: Vec<usize>,
     /// The locked joints and their values.
     pub locked: Vec<(String, f64)>,
+    /// Elements of the URDF the model does not use (not URDF elements, outside `<gazebo>`,
+    /// `<transmission>` and namespaced extensions), each with the line of its first
+    /// occurrence: a front end shows them as a warning (a misspelled URDF element is an error
+    /// instead).
+    pub unknown_elements: Vec<(String, usize)>,
     /// Thresholds used by the configuration checks.
     pub tolerances: Tolerances,
 }

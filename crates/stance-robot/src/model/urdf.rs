@@ -51,10 +51,12 @@ impl Model {
     /// assert!((m2.total_mass() - m.total_mass()).abs() < 1e-12);
     /// ```
     pub fn from_urdf_str(text: &str, options: &UrdfOptions) -> Result<Model, RobotError> {
-        check_nesting(text)?;
+        let unknown = check_nesting(text)?;
         let robot = urdf_rs::read_from_string(text)
             .map_err(|e| RobotError::Urdf(e.to_string().replace('\n', " ")))?;
-        build(&robot, options)
+        let mut model = build(&robot, options)?;
+        model.unknown_elements = unknown;
+        Ok(model)
     }
 }
 
@@ -63,7 +65,11 @@ impl Model {
 /// the stack (a crash, not an error). A scan of the tags: `</...>` closes a level, `<.../>`,
 /// `<?...?>`, `<!...>` (comments, CDATA, declarations) do not open one; quoted attribute
 /// values may contain `>`.
-fn check_nesting(text: &str) -> Result<(), RobotError> {
+///
+/// Returns the elements it does not know (outside the free-form ones and namespaced
+/// extensions), each once with the line of its first occurrence: they do not change the model.
+fn check_nesting(text: &str) -> Result<Vec<(String, usize)>, RobotError> {
+    let mut unknown: Vec<(String, usize)> = Vec::new();
     let b = text.as_bytes();
     let (mut depth, mut i, mut line) = (0usize, 0usize, 1usize);
     // Inside `<gazebo>` or `<transmission>` (from this depth on) any element may appear.
@@ -112,8 +118,14 @@ fn check_nesting(text: &str) -> Result<(), RobotError> {
                         .take_while(|c| !c.is_whitespace() && *c != '/' && *c != '>')
                         .collect();
                     if free_from.is_none() {
-                        check_element_name(&name, line)?;
-                        if FREE_FORM_ELEMENTS.contains(&name.as_str()) && !tag.ends_with(b"/") {
+                        let known = check_element_name(&name, line)?;
+                        if !known && !unknown.iter().any(|(n, _)| *n == name) {
+                            unknown.push((name.clone(), line));
+                        }
+                        // An extension's content is its own (listed once, by the outer name).
+                        if (!known || FREE_FORM_ELEMENTS.contains(&name.as_str()))
+                            && !tag.ends_with(b"/")
+                        {
                             free_from = Some(depth + 1);
                         }
                     }
@@ -137,7 +149,7 @@ fn check_nesting(text: &str) -> Result<(), RobotError> {
         }
         i += 1;
     }
-    Ok(())
+    Ok(unknown)
 }
 
 /// The elements of the URDF specification (and of its common extensions) outside the
@@ -182,9 +194,20 @@ const FREE_FORM_ELEMENTS: &[&str] = &["gazebo", "transmission", "plugin", "senso
 /// An element name one or two edits from a URDF element is a misspelling: URDF readers ignore
 /// unknown elements, so `<orgin>` would silently put a link at the origin. An error naming the
 /// line and the element meant. Other unknown names (extensions) pass.
-fn check_element_name(name: &str, line: usize) -> Result<(), RobotError> {
-    if name.len() < 4 || URDF_ELEMENTS.contains(&name) || name.contains(':') {
-        return Ok(());
+///
+/// Returns whether the name is known (a URDF element, a free-form one, a namespaced extension
+/// or an XML construct).
+fn check_element_name(name: &str, line: usize) -> Result<bool, RobotError> {
+    if URDF_ELEMENTS.contains(&name)
+        || FREE_FORM_ELEMENTS.contains(&name)
+        || name.contains(':')
+        || name.starts_with(['?', '!'])
+        || name.is_empty()
+    {
+        return Ok(true);
+    }
+    if name.len() < 4 {
+        return Ok(false);
     }
     let near = URDF_ELEMENTS
         .iter()
@@ -196,7 +219,7 @@ fn check_element_name(name: &str, line: usize) -> Result<(), RobotError> {
             "unknown element <{name}> at line {line}: did you mean <{known}>? (unknown elements \
              are ignored when the model is built, so a misspelled one changes the model)"
         ))),
-        _ => Ok(()),
+        _ => Ok(false),
     }
 }
 
@@ -309,7 +332,14 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
                 reason: "it is a fixed joint already".into(),
             });
         }
-        locked.insert(name.as_str(), *value);
+        if let Some(first) = locked.insert(name.as_str(), *value) {
+            return Err(RobotError::CannotLock {
+                joint: name.clone(),
+                reason: format!(
+                    "it is locked twice (at {first} and at {value}): give each joint one value"
+                ),
+            });
+        }
     }
     // Link inertias, validated.
     let mut link_inertia = Vec::with_capacity(robot.links.len());
@@ -319,6 +349,7 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
 
     let mut model = Model {
         name: robot.name.clone(),
+        unknown_elements: Vec::new(),
         joints: vec![Joint {
             name: "universe".into(),
             kind: JointKind::Universe,

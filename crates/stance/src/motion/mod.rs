@@ -301,6 +301,11 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             mass: m.total_mass(),
             nq: m.nq,
             nv: m.nv,
+            unknown_urdf_elements: m
+                .unknown_elements
+                .iter()
+                .map(|(name, line)| format!("<{name}> (line {line})"))
+                .collect(),
         },
         gravity: plan.gravity,
         environment: plan

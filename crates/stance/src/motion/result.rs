@@ -33,6 +33,9 @@ pub struct RobotInfo {
     pub nq: usize,
     /// Velocity size.
     pub nv: usize,
+    /// Elements of the URDF the model does not use, as `<name> (line N)`.
+    #[serde(default)]
+    pub unknown_urdf_elements: Vec<String>,
 }
 
 /// An environment surface of the motion (what the viewer draws; the contacts say which one

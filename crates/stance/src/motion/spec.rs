@@ -61,6 +61,38 @@ impl<'de> Deserialize<'de> for RobotRef {
     }
 }
 
+/// A map whose keys are given once: a key written twice (a copied line) is an error, not the
+/// last value silently winning.
+fn unique_keys<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct Unique<V>(std::marker::PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> serde::de::Visitor<'de> for Unique<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a map of names")
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some((k, v)) = map.next_entry::<String, V>()? {
+                if out.contains_key(&k) {
+                    return Err(serde::de::Error::custom(format!(
+                        "{k:?} is given twice: give it once"
+                    )));
+                }
+                out.insert(k, v);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(Unique(std::marker::PhantomData))
+}
+
 /// A URDF robot with its contact surfaces.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -68,10 +100,10 @@ pub struct RobotSpec {
     /// Path of the URDF (relative paths: from the motion file's folder).
     pub urdf: String,
     /// Joints locked at a value (removed from `q` and `v`).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub locked: BTreeMap<String, f64>,
     /// Nominal joint values of the posture task and of the standing posture (others 0).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_keys")]
     pub posture: BTreeMap<String, f64>,
     /// Contact surfaces on the robot's links.
     pub surfaces: Vec<RobotSurfaceSpec>,
@@ -131,6 +163,7 @@ pub enum InitialSpec {
 #[serde(deny_unknown_fields)]
 pub struct StandingSpec {
     /// Robot surface -> where it is placed.
+    #[serde(deserialize_with = "unique_keys")]
     pub contacts: BTreeMap<String, Placement>,
     /// CoM height above the world origin (m).
     pub com_height: f64,
@@ -279,6 +312,7 @@ pub struct SegmentSpec {
     #[serde(default)]
     pub name: Option<String>,
     /// Robot surface -> environment surface, for every contact held during the segment.
+    #[serde(deserialize_with = "unique_keys")]
     pub stance: BTreeMap<String, String>,
     /// The moves, one after the other.
     pub moves: Vec<MoveSpec>,
