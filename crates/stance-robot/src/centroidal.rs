@@ -129,7 +129,8 @@ pub fn centroidal_map(model: &Model, data: &mut Data, q: &[f64]) -> Result<(), R
 }
 
 /// The base translation of `q` and `q` with it zeroed, when the base is a free flyer farther
-/// than [`crate::tol::FAR_BASE`] from the origin (see the module doc).
+/// than [`crate::tol::FAR_BASE`] from the origin (see the module doc). `q` must have been
+/// checked ([`crate::kinematics::check_configuration`]).
 fn far_base(model: &Model, q: &[f64]) -> Option<(Vector3<f64>, Vec<f64>)> {
     if !model.has_free_flyer() {
         return None;
@@ -177,6 +178,7 @@ pub fn centroidal_map_dot_v(
     q: &[f64],
     v: &[f64],
 ) -> Result<Vector6<f64>, RobotError> {
+    crate::kinematics::check_configuration(model, q)?;
     if let Some((t, q0)) = far_base(model, q) {
         // Everything centroidal with the origin at the base (module doc), then the world
         // placements and velocities of `q` as given.

@@ -426,3 +426,16 @@ fn a_joint_locked_twice_is_an_error() {
         "{e}"
     );
 }
+
+#[test]
+fn centroidal_quantities_reject_bad_configurations_far_from_the_origin_too() {
+    let m = Model::from_urdf_str(SMALL_HUMANOID_URDF, &UrdfOptions::default()).unwrap();
+    let mut d = Data::new(&m);
+    let v = vec![0.0; m.nv];
+    let mut q = m.neutral();
+    q[0] = 1e6;
+    assert!(centroidal_map_dot_v(&m, &mut d, &q[..3], &v).is_err());
+    q[1] = f64::NAN;
+    assert!(centroidal_map_dot_v(&m, &mut d, &q, &v).is_err());
+    assert!(centroidal_map(&m, &mut d, &q).is_err());
+}

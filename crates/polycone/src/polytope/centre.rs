@@ -8,7 +8,7 @@
 //!
 //! A first pass about the origin. If it finds the region and the centroid `c` of the region's
 //! own vertices (those within `far / 2` of the origin: not the box's) is within
-//! [`NEAR_ORIGIN`] of the origin, it is the answer (bit for bit what it always was).
+//! `tol::NEAR_ORIGIN` of the origin, it is the answer (bit for bit what it always was).
 //! Otherwise the rows are moved to `c` (`a_i . p' <= b_i - a_i . c`, `p = p' + c`) and the
 //! region computed again. If the first pass finds nothing, coarse passes from boxes reaching
 //! past every plane, 1e4 times larger each time (the corners of a thin wedge lie farther than
@@ -18,6 +18,7 @@
 //! the rows that matter are at the region's scale about it, and redundant rows far away (a
 //! stance's GIWC gives rows 1e10 m from the polygon) neither move it nor cut the box.
 
+use super::tol::NEAR_ORIGIN;
 use super::{PolytopeOptions, RegionStatus};
 
 /// A region a routine returns: where it is, and how to move it.
@@ -61,11 +62,6 @@ pub fn recentred<const D: usize, R: Region<D>>(
     region.translate(&c);
     region
 }
-
-/// Largest coordinate of the region's centroid under which the first pass is the answer:
-/// within it, rounding at the coordinates' scale costs at most 4 bits of a unit-sized region.
-/// A numerical-method switch, not a tolerance.
-pub const NEAR_ORIGIN: f64 = 16.0;
 
 /// Where to move the rows, from the first pass's `vertices` (`None`: keep the first pass).
 fn from_vertices<const D: usize>(vertices: &[[f64; D]], far: f64) -> Option<[f64; D]> {

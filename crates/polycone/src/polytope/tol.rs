@@ -30,6 +30,13 @@ pub const DEFAULT_ZERO_NORMAL: f64 = 1e-12;
 /// whether a vertex is a true corner. Reason: matches [`DEFAULT_DIST_TOL`] at unit scale.
 pub const DEFAULT_RANK_TOL: f64 = 1e-9;
 
+/// Largest coordinate (input length unit; default 16) of a region's centroid under which the
+/// region computed about the origin is the answer; farther, it is computed again about the
+/// centroid (module `centre`). Reason: within it, rounding at the coordinates' scale costs at
+/// most 4 bits of a unit-sized region, and answers near the origin stay bit for bit what they
+/// were. A numerical-method switch, not a tolerance on input: not an option.
+pub const NEAR_ORIGIN: f64 = 16.0;
+
 /// Options of the polytope routines; see the constants of this module for meaning and reasons.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PolytopeOptions {
