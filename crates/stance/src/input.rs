@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 
 use serde::de::DeserializeOwned;
 
+use crate::strict::Strict;
+
 use crate::StanceError;
 
 /// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`.
@@ -38,26 +40,31 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     if is_toml {
-        toml::from_str(text).map_err(|e| {
-            StanceError::File(format!(
-                "invalid TOML in {}: {}",
-                path.display(),
-                shorten_lines(&e.to_string())
-            ))
-        })
+        toml::Deserializer::parse(text)
+            .and_then(|de| T::deserialize(Strict(de)))
+            .map_err(|e| {
+                StanceError::File(format!(
+                    "invalid TOML in {}: {}",
+                    path.display(),
+                    shorten_lines(&e.to_string())
+                ))
+            })
     } else {
-        serde_json::from_str(text).map_err(|e| {
-            // Every input file is an object of named fields: say so when it is something else.
-            let hint = match text.trim_start().chars().next() {
-                Some('{') | None => "",
-                Some('[') => {
-                    " (the file holds a bare array: every input is an object with named \
+        let mut de = serde_json::Deserializer::from_str(text);
+        T::deserialize(Strict(&mut de))
+            .and_then(|v| de.end().map(|()| v))
+            .map_err(|e| {
+                // Every input file is an object of named fields: say so when it is something else.
+                let hint = match text.trim_start().chars().next() {
+                    Some('{') | None => "",
+                    Some('[') => {
+                        " (the file holds a bare array: every input is an object with named \
                               fields, such as {\"generators\": [...]})"
-                }
-                Some(_) => " (every input is a JSON object with named fields, {...})",
-            };
-            StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
-        })
+                    }
+                    Some(_) => " (every input is a JSON object with named fields, {...})",
+                };
+                StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
+            })
     }
 }
 

@@ -78,6 +78,7 @@ pub mod motion;
 mod name_or;
 pub mod retime;
 pub mod sim;
+mod strict;
 pub mod tol;
 pub mod view;
 
