@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Creates the project's Python virtualenv (default: .venv at the project root; override with
 # STANCE_VENV) and installs into it, from PyPI:
-#   always:   jvrc-description (the JVRC-1 humanoid URDF, used by stance-robot's tests)
+#   always:   bench/peers/requirements-tests.txt: jvrc-description (the JVRC-1 humanoid URDF,
+#             used by stance-robot's tests) and mujoco (`stance simulate` and its tests)
 #   --peers:  the peers used as black-box oracles by bench/peers/ and the fixture scripts
 #             (pycddlib, pypoman, toppra, Pinocchio, NumPy, SciPy), and the Debian packages
 #             they build against (cddlib, GMP, Eigen headers; needs root for apt-get)

@@ -7,7 +7,7 @@ finger joints locked at 0), at random configurations and velocities (fixed seed)
 mass, CoM, CoM Jacobian, A_g (`ccrba`), dA_g/dt v (`computeCentroidalMomentumTimeVariation`
 with a = 0), and for a few frames (feet, hands, ...) the placement, the frame Jacobians in WORLD,
 LOCAL and LOCAL_WORLD_ALIGNED, and the classical acceleration with a = 0 (`J_dot v`) in the same
-three frames; and the path terms of MATH.md section 6 at (q, q_s = v, q_ss = a random vector):
+three frames; and the path terms of docs/math.md section 6 at (q, q_s = v, q_ss = a random vector):
 p_s and p_ss are Pinocchio's CoM velocity and acceleration (`centerOfMass(q, v, a)`), l1 and l2
 the angular parts of the centroidal momentum and of its rate
 (`computeCentroidalMomentumTimeVariation(q, v, a)`); and `integrate(q, 0.3 v)`.
@@ -95,7 +95,7 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
         ag = np.array(ag)
         pin.computeCentroidalMomentumTimeVariation(model, data, q, v, a)
         dhg = np.concatenate([data.dhg.linear, data.dhg.angular])
-        # path terms (MATH.md section 6) at (q, q_s = v, q_ss = a_path): Pinocchio's CoM
+        # path terms (docs/math.md section 6) at (q, q_s = v, q_ss = a_path): Pinocchio's CoM
         # velocity and acceleration, centroidal momentum and its rate with that acceleration
         a_path = rng.normal(size=model.nv)
         pin.centerOfMass(model, data, q, v, a_path)

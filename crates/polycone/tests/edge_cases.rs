@@ -1,4 +1,4 @@
-//! The edge cases of MATH.md section 1: zero cone, whole space, half-space, lower-dimensional,
+//! The edge cases of docs/math.md section 1: zero cone, whole space, half-space, lower-dimensional,
 //! non-pointed cones; dimensions 1 to 12; errors on bad input.
 
 mod common;

@@ -1,5 +1,5 @@
 //! U_stance against the cdd GMP-exact references (testdata/contact, see its README), and the
-//! closed-form 16-row face of a rectangle (MATH.md section 2, Caron et al. ICRA 2015).
+//! closed-form 16-row face of a rectangle (docs/math.md section 2, Caron et al. ICRA 2015).
 
 mod common;
 

@@ -226,7 +226,7 @@ proptest! {
 
 #[test]
 fn robust_region_sign_sanity_of_eq_12() {
-    // MATH.md section 4: one flat foot at the origin, CoM (0, 0, 0.8) stable, (0.2, 0, 0.8) not.
+    // docs/math.md section 4: one flat foot at the origin, CoM (0, 0, 0.8) stable, (0.2, 0, 0.8) not.
     let stance = fixture_stance(&fixture("single_support_flat"));
     let giwc = stance.u_stance(&Default::default()).unwrap();
     let gs = [

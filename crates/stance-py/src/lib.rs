@@ -4,7 +4,7 @@
 //! facade, NumPy in and out. The Python half (`python/stance/`) holds the exception tree, the
 //! result dicts, the pypoman drop-ins and the stubs.
 //!
-//! # Conventions (those of the Rust crates, `MATH.md`)
+//! # Conventions (those of the Rust crates, `docs/math.md`)
 //!
 //! - Cones: generators and facets as **rows**; `span_to_face(V)` returns `U` with
 //!   `{x : U x <= 0, E x = 0} = span(V)`. (`stance.pypoman` has pypoman's column convention.)

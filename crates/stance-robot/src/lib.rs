@@ -29,11 +29,11 @@
 //! CoM (`L_G = L_O - c x h_lin`). `J_com = A_g,lin / m`. `(dA_g/dt) v` is the rate of change of
 //! `h_G` when `v` is constant.
 //!
-//! **Whole-body path** ([`ik`], MATH.md section 6): an acceleration-level IK QP tracks a CoM path
+//! **Whole-body path** ([`ik`], docs/math.md section 6): an acceleration-level IK QP tracks a CoM path
 //! and free-link paths with the contacts held, and is integrated along a grid into `q(s)`,
 //! `q_s(s)`, `q_ss(s)`.
 //!
-//! **Path terms** ([`path`], MATH.md section 6): `p = c(q)`, `p_s = J_com q_s`,
+//! **Path terms** ([`path`], docs/math.md section 6): `p = c(q)`, `p_s = J_com q_s`,
 //! `p_ss = J_com q_ss + (dJ_com/ds) q_s`, `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`.
 //!
 //! # Use

@@ -1,4 +1,4 @@
-//! Centroidal terms along a joint path `q(s)` (MATH.md section 6, the paper's Section V-B).
+//! Centroidal terms along a joint path `q(s)` (docs/math.md section 6, the paper's Section V-B).
 //!
 //! # Math
 //!

@@ -1,4 +1,4 @@
-//! The acceleration-level IK (MATH.md section 6) on the small humanoid: the QP solution agrees
+//! The acceleration-level IK (docs/math.md section 6) on the small humanoid: the QP solution agrees
 //! with an independent dense KKT solve when no bound is active; tracked paths keep the feet in
 //! place, follow the CoM and stay within joint limits; negative outcomes are values.
 

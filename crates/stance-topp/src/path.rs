@@ -12,7 +12,7 @@
 //!   `d_k = (P_{k+1} - P_k) / h_k`, closed by natural ends (`M = 0`) or clamped ends (given
 //!   tangents, for example zero to start or stop with the path tangent vanishing).
 //! - [`AngularTerms`]: the angular-momentum terms `l1(s)`, `l2(s)` of a whole-body motion
-//!   (`L' = l1 s'' + l2 s'^2`, `L` about the CoM; MATH.md section 6), sampled at knots and
+//!   (`L' = l1 s'' + l2 s'^2`, `L` about the CoM; docs/math.md section 6), sampled at knots and
 //!   linear in between (zero for a point-mass model).
 
 use crate::error::ToppError;

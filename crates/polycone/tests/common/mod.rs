@@ -332,7 +332,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// GIWC generators `-(f, p x f)` at the world origin: the 4 pyramid edges `(+-mu, +-mu, 1)` at
-/// the 4 corners of each rectangle (the paper's `A_stance V_all`, MATH.md section 3).
+/// the 4 corners of each rectangle (the paper's `A_stance V_all`, docs/math.md section 3).
 pub fn giwc_generators(contacts: &[Contact]) -> DMatrix<f64> {
     let mut rows = Vec::new();
     for c in contacts {

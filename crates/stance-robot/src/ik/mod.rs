@@ -1,4 +1,4 @@
-//! Acceleration-level inverse kinematics along a path (MATH.md section 6, the paper's Section
+//! Acceleration-level inverse kinematics along a path (docs/math.md section 6, the paper's Section
 //! V-B): from a CoM path and free end-effector paths, with contact frames held fixed, compute the
 //! joint path `q(s)` and its derivatives `q_s`, `q_ss` for [`crate::path_terms`].
 //!
@@ -107,10 +107,10 @@ pub enum IkSolver {
     Clarabel,
 }
 
-/// Weights and gains of the IK (the paper's defaults). MATH.md names the two task gains
-/// `K_s = K_ss = 10` without saying which multiplies which error; here they are named by role,
-/// `k_p` on the position error and `k_d` on the rate error, both 10 by default, so the choice
-/// does not matter at the defaults.
+/// Weights and gains of the IK (the paper's defaults, docs/math.md section 6). The paper gives
+/// one task gain of 10; the tracking law needs two, named here by role, `k_p` on the position
+/// error and `k_d` on the rate error, both 10 by default. (`K_s`, `K_ss` are the joint-limit
+/// damper's gains: see the module docs.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IkOptions {
     /// Weight of the CoM task (default 1).
@@ -126,7 +126,7 @@ pub struct IkOptions {
     /// Damping `gamma` of the contact velocities (default 10).
     pub gamma: f64,
     /// Position gain `k_c` pulling a contact frame back onto its target placement (default 0:
-    /// velocities only, as in MATH.md).
+    /// velocities only, as in docs/math.md).
     pub contact_k_p: f64,
     /// Regularization weight (default [`crate::tol::IK_REGULARIZATION`]).
     pub regularization: f64,

@@ -2,7 +2,7 @@
 //! start and checked against their environment surfaces, the task references are built from the
 //! moves ([`super::references`]), and the acceleration-level IK ([`stance_robot::ik`]) is
 //! integrated along the segment's grid into `q(s), q_s, q_ss` with the path terms
-//! `p, p_s, p_ss, l1, l2` of eq. 14 at every IK sample (MATH.md section 6).
+//! `p, p_s, p_ss, l1, l2` of eq. 14 at every IK sample (docs/math.md section 6).
 //!
 //! The IK holds the stance's contact frames at their placements at the segment's start
 //! (velocity damping and pose correction with the contact gain), tracks the CoM and the free

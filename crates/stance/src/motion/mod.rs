@@ -10,7 +10,7 @@
 //!    built ([`environment`]) and the initial posture found ([`stand`]).
 //! 2. [`ik_stage`]: per segment, the contacts are read off the configuration at its start and
 //!    checked against their surfaces; the references ([`references`]) are tracked by the IK,
-//!    integrated into `q(s), q_s, q_ss` with the path terms `p, p_s, p_ss, l1, l2` (MATH.md
+//!    integrated into `q(s), q_s, q_ss` with the path terms `p, p_s, p_ss, l1, l2` (docs/math.md
 //!    section 6: `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`).
 //! 3. [`rows`]: per segment, `U_stance` of its stance (planning friction and area scale) and
 //!    the rows of eq. 14 at its grid points.
