@@ -5,9 +5,7 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use stance::retime::{
-    AngularSpec, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef,
-};
+use stance::retime::{AngularSpec, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_topp::{
     solve_with, CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
 };
@@ -287,10 +285,7 @@ pub fn retime<'py>(
             )))
         }
     };
-    let discretization = match self::discretization(discretization)? {
-        Discretization::Interpolation => DiscretizationName::Interpolation,
-        Discretization::Collocation => DiscretizationName::Collocation,
-    };
+    let discretization = self::discretization(discretization)?;
     let angular_momentum = match angular_momentum {
         Some(d) if !d.is_none() => Some(angular(d)?),
         _ => None,

@@ -30,9 +30,7 @@ use stance_contact::{GiwcOptions, Scene};
 use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
-use stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, SolveOptions, Tolerances, Workspace,
-};
+use stance_topp::{solve_with, CanonicalConstraints, SolveOptions, Tolerances, Workspace};
 
 use crate::name_or::NameOr;
 use crate::StanceError;
@@ -112,21 +110,15 @@ pub struct PathSpec {
     pub interpolation: Interpolation,
 }
 
-/// Discretization of the reachability analysis (as in `stance topp`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DiscretizationName {
-    /// Rows of grid point `i` on `(u_i, x_i)` only. Beware with the default spline (zero
-    /// tangent at both ends): the rows at `s_0` do not involve `s''`, so the first interval's
-    /// acceleration is bounded only by the next grid point's speed and the profile bounces
-    /// (measured on a 10 cm sway in double support at 101 points: `s'` goes 0, 2.2, 0 over the
-    /// first three points, and the contact wrench is violated by 23 % of the weight between
-    /// grid points, as `between` reports; 4e-7 % with interpolation).
-    Collocation,
-    /// Also the rows of grid point `i + 1` at `x_i + 2 Delta u_i` (default: tighter between
-    /// grid points).
-    #[default]
-    Interpolation,
+pub use stance_topp::Discretization;
+
+/// The old name of [`Discretization`] (the facade had its own copy).
+#[deprecated(note = "use stance::retime::Discretization (stance_topp::Discretization)")]
+pub type DiscretizationName = Discretization;
+
+/// The facade's default discretization: interpolation (tighter between grid points).
+pub(crate) fn interpolation() -> Discretization {
+    Discretization::Interpolation
 }
 
 fn default_grid_points() -> usize {
@@ -153,9 +145,14 @@ pub struct MotionSpec {
     /// Path speed `s'` at the end (default 0).
     #[serde(default)]
     pub sd_end: f64,
-    /// Discretization (default interpolation).
-    #[serde(default)]
-    pub discretization: DiscretizationName,
+    /// Discretization (default interpolation). Beware collocation with the default spline
+    /// (zero tangent at both ends): the rows at `s_0` do not involve `s''`, so the first
+    /// interval's acceleration is bounded only by the next grid point's speed and the profile
+    /// bounces (measured on a 10 cm sway in double support at 101 points: `s'` goes 0, 2.2, 0
+    /// over the first three points, and the contact wrench is violated by 23 % of the weight
+    /// between grid points, as `between` reports; 4e-7 % with interpolation).
+    #[serde(default = "interpolation")]
+    pub discretization: Discretization,
     /// Refine the grid until the violation between grid points is below this fraction of the
     /// weight `m |g|` (e.g. 0.01); none by default (only measured).
     #[serde(default)]
@@ -172,7 +169,7 @@ pub struct MotionSpec {
     pub angular_momentum: Option<AngularSpec>,
 }
 
-/// Samples of the angular-momentum terms `l1(s)`, `l2(s)` (about the CoM, world axes; MATH.md
+/// Samples of the angular-momentum terms `l1(s)`, `l2(s)` (about the CoM, world axes; docs/math.md
 /// section 6: `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`), linear between
 /// samples. Units: N m s per unit of `s` (`l1`) and per unit of `s` squared (`l2`), so that
 /// `l1 s'' + l2 s'^2` is in N m.
@@ -479,10 +476,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
     let k = rows.factored_on_grid(grid.clone())?.to_constraints();
     let t_abc = t1.elapsed();
 
-    let disc = match spec.discretization {
-        DiscretizationName::Collocation => Discretization::Collocation,
-        DiscretizationName::Interpolation => Discretization::Interpolation,
-    };
+    let disc = spec.discretization;
     let opts = SolveOptions::new(disc)
         .with_start(spec.sd_start)
         .with_end(spec.sd_end);

@@ -3,7 +3,7 @@
 //! contact forces (the supporting-forces LP/QP of stance-contact, which uses the friction
 //! pyramids in face form and no double description).
 
-use stance::retime::{retime, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef};
+use stance::retime::{retime, Discretization, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_contact::{examples, supporting_forces, ForcesOutcome};
 use stance::stance_topp::path::PathCurve;
 
@@ -12,7 +12,7 @@ use stance::stance_topp::path::PathCurve;
 /// 1e-8 relative; 1e-6 leaves a margin of two orders of magnitude over both.
 const DISTANCE_BAND: f64 = 1e-6;
 
-fn spec(scene: &str, waypoints: Vec<[f64; 3]>, disc: DiscretizationName) -> MotionSpec {
+fn spec(scene: &str, waypoints: Vec<[f64; 3]>, disc: Discretization) -> MotionSpec {
     MotionSpec {
         scene: SceneRef::Named(scene.into()),
         path: PathSpec {
@@ -70,7 +70,7 @@ fn distance_along(spec: &MotionSpec, r: &stance::retime::Retiming) -> f64 {
         if i < n {
             pairs.push(r.sdd[i]);
         }
-        if i > 0 && (spec.discretization == DiscretizationName::Interpolation || i == n) {
+        if i > 0 && (spec.discretization == Discretization::Interpolation || i == n) {
             pairs.push(r.sdd[i - 1]);
         }
         let q = curve.eval(r.s[i]);
@@ -105,10 +105,7 @@ fn distance_along(spec: &MotionSpec, r: &stance::retime::Retiming) -> f64 {
 
 #[test]
 fn retimed_double_support_sway_is_supported_by_contact_forces() {
-    for disc in [
-        DiscretizationName::Collocation,
-        DiscretizationName::Interpolation,
-    ] {
+    for disc in [Discretization::Collocation, Discretization::Interpolation] {
         let s = spec(
             "double-support",
             vec![[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]],
@@ -124,7 +121,7 @@ fn retimed_box_climbing_motion_is_supported_by_contact_forces() {
     let s = spec(
         "box-climbing",
         vec![[0.2, 0.0, 0.8], [0.25, -0.05, 0.85], [0.3, -0.1, 0.9]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     let d = check_forces_along(&s);
     assert!(d <= DISTANCE_BAND, "distance {d:e}");
@@ -137,7 +134,7 @@ fn a_com_path_far_outside_the_support_is_infeasible_at_a_grid_point() {
     let s = spec(
         "single-support",
         vec![[0.0, 0.0, 0.8], [0.0, 1.0, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     let r = retime(&s).unwrap();
     assert_ne!(r.status, "optimal");
@@ -151,7 +148,7 @@ fn refinement_keeps_the_between_grid_violation_below_the_bound() {
     let mut s = spec(
         "stairs",
         vec![[0.0, 0.08, 0.8], [0.12, 0.0, 0.9], [0.26, -0.08, 1.02]],
-        DiscretizationName::Collocation,
+        Discretization::Collocation,
     );
     s.grid_points = 11;
     s.max_violation_fraction = Some(1e-3);
@@ -167,7 +164,7 @@ fn bad_motions_are_errors_that_say_what_to_fix() {
     let mut s = spec(
         "moon",
         vec![[0.0; 3], [0.1, 0.0, 0.8]],
-        DiscretizationName::Collocation,
+        Discretization::Collocation,
     );
     let e = retime(&s).unwrap_err().to_string();
     assert!(e.contains("box-climbing"), "{e}");
@@ -190,7 +187,7 @@ fn motion_fields_that_would_exhaust_memory_are_errors() {
     let base = spec(
         "double-support",
         vec![[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     let mut s = base.clone();
     s.dt = Some(1e-300);
@@ -215,7 +212,7 @@ fn bad_dt_is_an_error_even_when_the_motion_is_infeasible() {
     let mut s = spec(
         "single-support",
         vec![[0.0, 0.0, 0.8], [0.0, 1.0, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     s.dt = Some(-1.0);
     assert!(retime(&s).unwrap_err().to_string().contains("dt"));
@@ -234,7 +231,7 @@ fn retimed_arrays_line_up_with_the_grid() {
     let mut s = spec(
         "double-support",
         vec![[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     s.dt = Some(0.01);
     let r = retime(&s).unwrap();
@@ -259,7 +256,7 @@ fn angular_momentum_terms_change_the_retiming_and_are_supported_by_forces() {
     let point_mass = spec(
         "double-support",
         vec![[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     let r0 = retime(&point_mass).unwrap();
     let mut whole_body = point_mass.clone();
@@ -307,7 +304,7 @@ fn unbounded_or_overflowing_paths_are_reported() {
     let mut s = spec(
         "double-support",
         vec![[0.0, 0.0, 0.8], [0.0, 0.0, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     let r = retime(&s).unwrap();
     assert!(r.speed_at_box);
@@ -326,7 +323,7 @@ fn inner_errors_are_not_repeated_as_sources() {
     let mut s = spec(
         "double-support",
         vec![[0.0, 0.0, 1e200], [0.0, 0.0, -1e200]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     s.grid_points = 3;
     let e = retime(&s).unwrap_err();
@@ -343,7 +340,7 @@ fn a_weight_fraction_without_gravity_is_an_error_naming_the_field() {
     let mut s = spec(
         "double-support",
         vec![[0.0, 0.05, 0.8], [0.0, -0.05, 0.8]],
-        DiscretizationName::Interpolation,
+        Discretization::Interpolation,
     );
     s.scene = SceneRef::Inline(Box::new(scene));
     s.max_violation_fraction = Some(0.01);

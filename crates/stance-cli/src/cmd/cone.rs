@@ -161,11 +161,10 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
             let v = to_matrix("generators", &input.generators, input.dim)?;
             let opts = options(a.exact, a.wrench);
             let mut ws = Workspace::new();
-            let mut result = None;
-            for _ in 0..a.common.repeat {
-                result = Some(ws.span_to_face(&v, &opts).context("span-to-face")?);
-            }
-            let r = result.expect("repeat >= 1");
+            let r = a
+                .common
+                .repeated(|| ws.span_to_face(&v, &opts))
+                .context("span-to-face")?;
             write_output(
                 &a.common,
                 &SpanToFaceOutput {
@@ -197,11 +196,10 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
             let face = FaceForm::new(u, e).map_err(polycone_error)?;
             let opts = options(a.exact, a.wrench);
             let mut ws = Workspace::new();
-            let mut result = None;
-            for _ in 0..a.common.repeat {
-                result = Some(ws.face_to_span(&face, &opts).context("face-to-span")?);
-            }
-            let r = result.expect("repeat >= 1");
+            let r = a
+                .common
+                .repeated(|| ws.face_to_span(&face, &opts))
+                .context("face-to-span")?;
             write_output(
                 &a.common,
                 &FaceToSpanOutput {

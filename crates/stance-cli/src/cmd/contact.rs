@@ -170,15 +170,10 @@ pub fn run_giwc(a: GiwcArgs) -> Result<()> {
         opts.dd.arithmetic = stance::polycone::Arithmetic::Exact;
     }
     let mut ws = stance::polycone::Workspace::new();
-    let mut giwc = None;
-    for _ in 0..a.common.repeat {
-        giwc = Some(
-            stance
-                .u_stance_with(&mut ws, &opts)
-                .context("cannot compute the GIWC")?,
-        );
-    }
-    let giwc = giwc.expect("repeat >= 1");
+    let giwc = a
+        .common
+        .repeated(|| stance.u_stance_with(&mut ws, &opts))
+        .context("cannot compute the GIWC")?;
     let (facets, convention) = if a.net_contact_wrench {
         (
             giwc.net_contact_wrench_face().0,
@@ -306,11 +301,10 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             if !a.height.is_finite() {
                 bail!("--height must be finite");
             }
-            let mut out = None;
             let stance = scene.stance()?;
             let mut ws = PolygonWorkspace::new();
-            for _ in 0..a.common.repeat {
-                out = Some(if a.via_u_stance {
+            let (poly, route) = a.common.repeated(|| -> Result<_> {
+                Ok(if a.via_u_stance {
                     let p = ws.static_polygon_via_u_stance(&stance, g, a.height, &opts)?;
                     (p, "u_stance (requested)".to_string())
                 } else {
@@ -320,9 +314,8 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
                         PolygonRoute::ViaUStance(why) => format!("u_stance ({why:?})"),
                     };
                     (d.polygon, route)
-                });
-            }
-            let (poly, route) = out.expect("repeat >= 1");
+                })
+            })?;
             if let Some(path) = &a.plot {
                 plot::polygon(path, &stance, &poly)?;
             }
@@ -351,11 +344,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
                 a.gravity.clone()
             };
             let (stance, giwc) = stance_and_giwc(&scene)?;
-            let mut region = None;
-            for _ in 0..a.common.repeat {
-                region = Some(RobustRegion::new(&giwc, &gs, &opts)?);
-            }
-            let region = region.expect("repeat >= 1");
+            let region = a.common.repeated(|| RobustRegion::new(&giwc, &gs, &opts))?;
             if let Some(path) = &a.plot {
                 plot::region(path, &stance, &region)?;
             }
@@ -390,9 +379,8 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             let (_, giwc) = stance_and_giwc(&scene)?;
             let region = RobustRegion::new(&giwc, &gs, &opts)?;
             let mut stable = vec![false; points.len()];
-            for _ in 0..a.common.repeat {
-                batch_with_progress(&region, &points, &mut stable)?;
-            }
+            a.common
+                .repeated(|| batch_with_progress(&region, &points, &mut stable))?;
             let margin = a
                 .margin
                 .then(|| points.iter().map(|&p| region.margin(p)).collect());

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use stance::retime::{retime, DiscretizationName, Interpolation, MotionSpec, PathSpec, SceneRef};
+use stance::retime::{retime, Discretization, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion, StaticEquilibrium};
 use stance::stance_contact::{examples, GiwcOptions};
 use stance::stance_robot::{Data, Model, UrdfOptions, SMALL_HUMANOID_URDF};
@@ -202,7 +202,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
             grid_points: 101,
             sd_start: 0.0,
             sd_end: 0.0,
-            discretization: DiscretizationName::Interpolation,
+            discretization: Discretization::Interpolation,
             max_violation_fraction: None,
             samples_per_interval: 10,
             dt: None,

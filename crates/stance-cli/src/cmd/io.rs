@@ -19,6 +19,18 @@ pub struct Common {
     pub repeat: i64,
 }
 
+impl Common {
+    /// Runs `f` `--repeat` times (at least once) and returns its last result; the first error
+    /// stops. The one place `--repeat` is honoured.
+    pub fn repeated<T, E>(&self, mut f: impl FnMut() -> Result<T, E>) -> Result<T, E> {
+        let mut out = f()?;
+        for _ in 1..self.repeat {
+            out = f()?;
+        }
+        Ok(out)
+    }
+}
+
 /// Largest `--repeat`: a million repetitions of the fastest command take seconds; more is a
 /// typing mistake that would keep the process busy for hours.
 pub const MAX_REPEAT: i64 = 1_000_000;

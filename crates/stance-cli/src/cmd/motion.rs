@@ -84,10 +84,7 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         time_scale: args.time_scale,
         check_friction: args.check_friction,
     };
-    let mut out = run(spec.clone(), &options)?;
-    for _ in 1..args.common.repeat {
-        out = run(spec.clone(), &options)?;
-    }
+    let out = args.common.repeated(|| run(spec.clone(), &options))?;
     if let Some(dir) = &args.plot {
         plots(dir, &out, &args.plot_format)?;
     }

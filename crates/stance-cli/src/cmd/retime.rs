@@ -33,10 +33,7 @@ pub struct RetimeArgs {
 
 pub fn run(args: RetimeArgs) -> Result<()> {
     let spec: MotionSpec = read_input(&args.motion)?;
-    let mut out = retime(&spec)?;
-    for _ in 1..args.common.repeat {
-        out = retime(&spec)?;
-    }
+    let out = args.common.repeated(|| retime(&spec))?;
     if let Some(path) = &args.plot {
         phase_plane(path, &out)?;
     }

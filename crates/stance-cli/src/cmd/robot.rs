@@ -106,10 +106,9 @@ fn centroidal(args: CentroidalArgs) -> Result<()> {
         None => vec![0.0; model.nv],
     };
     let mut data = Data::new(&model);
-    let mut dh = centroidal_map_dot_v(&model, &mut data, &q, &v)?;
-    for _ in 1..args.common.repeat {
-        dh = centroidal_map_dot_v(&model, &mut data, &q, &v)?;
-    }
+    let dh = args
+        .common
+        .repeated(|| centroidal_map_dot_v(&model, &mut data, &q, &v))?;
     let rows = |m: &dyn Fn(usize, usize) -> f64, r: usize| -> Vec<Vec<f64>> {
         (0..r)
             .map(|i| (0..model.nv).map(|j| m(i, j)).collect())

@@ -26,14 +26,6 @@ pub struct ToppArgs {
     pub common: Common,
 }
 
-#[derive(Deserialize, Clone, Copy, Default)]
-#[serde(rename_all = "lowercase")]
-enum DiscretizationName {
-    #[default]
-    Collocation,
-    Interpolation,
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ToppInput {
@@ -46,7 +38,7 @@ struct ToppInput {
     #[serde(default)]
     sd_end: f64,
     #[serde(default)]
-    discretization: DiscretizationName,
+    discretization: Discretization,
     /// Metadata of the project's reference instances (`testdata/topp/*.json`: where the rows
     /// came from and the peers' answers), accepted so that those files run as they are, and
     /// ignored by the solver. Any other key is an error.
@@ -86,18 +78,12 @@ struct ToppOutput {
 pub fn run(args: ToppArgs) -> Result<()> {
     let input: ToppInput = read_input(&args.file)?;
     let k = CanonicalConstraints::from_dense(&input.s, &input.a, &input.b, &input.c)?;
-    let disc = match input.discretization {
-        DiscretizationName::Collocation => Discretization::Collocation,
-        DiscretizationName::Interpolation => Discretization::Interpolation,
-    };
+    let disc = input.discretization;
     let opts = SolveOptions::new(disc)
         .with_start(input.sd_start)
         .with_end(input.sd_end);
     let mut ws = Workspace::new();
-    let mut sol = solve_with(&k, &opts, &mut ws)?;
-    for _ in 1..args.common.repeat {
-        sol = solve_with(&k, &opts, &mut ws)?;
-    }
+    let sol = args.common.repeated(|| solve_with(&k, &opts, &mut ws))?;
     let index = sol.status.grid_index();
     let finite = |v: f64| v.is_finite().then_some(v);
     let out = match &sol.profile {

@@ -1,11 +1,16 @@
 //! Options, outcomes and results of the solver.
 
+use serde::{Deserialize, Serialize};
+
 use crate::error::ToppError;
 use crate::profile::Profile;
 use crate::tol::Tolerances;
 
 /// How the continuous constraints are imposed on the grid (Pham and Pham, T-RO 2018, sec. VI).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// In files: `"collocation"` or `"interpolation"` (the one type of the solver, the facade's
+/// specs and the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Discretization {
     /// The rows of grid point `i` constrain `(u_i, x_i)`.
     #[default]

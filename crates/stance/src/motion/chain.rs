@@ -30,14 +30,12 @@
 use std::time::{Duration, Instant};
 
 use stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, Profile, Row, Solution, SolveOptions, Status,
-    Workspace,
+    solve_with, CanonicalConstraints, Profile, Row, Solution, SolveOptions, Status, Workspace,
 };
 
 use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
-use super::spec::DiscretizationName;
 use crate::StanceError;
 
 /// How the segments are retimed.
@@ -125,13 +123,6 @@ pub struct Retimed {
     /// Feasible sets of `x` at the grid points (the `x` for which some `s''` satisfies the rows
     /// of that point).
     pub feasible: Vec<Option<[f64; 2]>>,
-}
-
-fn discretization(d: DiscretizationName) -> Discretization {
-    match d {
-        DiscretizationName::Collocation => Discretization::Collocation,
-        DiscretizationName::Interpolation => Discretization::Interpolation,
-    }
 }
 
 fn extend_with_margin(all: &mut Vec<Row>, rows: &[Row], margin: f64) {
@@ -373,7 +364,7 @@ pub fn retime(
             });
         }
     }
-    let opts = SolveOptions::new(discretization(plan.spec.retiming.discretization));
+    let opts = SolveOptions::new(plan.spec.retiming.discretization);
     let mut ws = Workspace::new();
     let mut segments = Vec::with_capacity(nseg);
     let mut refine = Refinement::default();

@@ -36,6 +36,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use stance_contact::scene::{strict, ShapeSpec};
 use stance_contact::FrictionModel;
+use stance_topp::Discretization;
 
 /// The robot: a built-in name or a URDF with its surfaces.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -263,17 +264,6 @@ impl Default for IkSpec {
     }
 }
 
-/// The retiming's discretization.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DiscretizationName {
-    /// Rows of grid point `i` only.
-    Collocation,
-    /// Also the rows of grid point `i + 1` (default).
-    #[default]
-    Interpolation,
-}
-
 /// Retiming options.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -282,8 +272,8 @@ pub struct RetimingSpec {
     #[serde(default = "hundred")]
     pub grid: usize,
     /// Discretization (interpolation).
-    #[serde(default)]
-    pub discretization: DiscretizationName,
+    #[serde(default = "crate::retime::interpolation")]
+    pub discretization: Discretization,
     /// Output time step of the trajectory and of the checks (s; 0.01).
     #[serde(default = "dt")]
     pub dt: f64,
@@ -297,7 +287,7 @@ impl Default for RetimingSpec {
     fn default() -> Self {
         Self {
             grid: 100,
-            discretization: DiscretizationName::Interpolation,
+            discretization: Discretization::Interpolation,
             dt: dt(),
             rest_to_rest: false,
         }
