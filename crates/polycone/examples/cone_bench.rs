@@ -14,26 +14,7 @@ use std::time::Instant;
 use polycone::nalgebra::DMatrix;
 use polycone::{Arithmetic, DdOptions, Workspace};
 
-fn parse_hex(s: &str) -> f64 {
-    let (neg, rest) = match s.strip_prefix('-') {
-        Some(r) => (true, r),
-        None => (false, s),
-    };
-    let rest = rest.strip_prefix("0x").expect("hex float");
-    let (mant, exp) = rest.split_once('p').expect("exponent");
-    let exp: i32 = exp.parse().expect("exponent value");
-    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
-    let mut m: u64 = u64::from_str_radix(int, 16).expect("int part");
-    for c in frac.chars() {
-        m = m * 16 + c.to_digit(16).expect("hex digit") as u64;
-    }
-    let v = (m as f64) * 2f64.powi(exp - 4 * frac.len() as i32);
-    if neg {
-        -v
-    } else {
-        v
-    }
-}
+use stance_test_support::hex::parse_hex;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

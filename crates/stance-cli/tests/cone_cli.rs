@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+use stance_test_support::cli;
+
 fn stance(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_stance"))
         .args(args)
@@ -12,11 +14,7 @@ fn stance(args: &[&str]) -> Output {
 
 /// A fresh file in the temporary directory with `content`.
 fn temp_file(name: &str, content: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stance-cone-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, content).unwrap();
-    p
+    cli::temp_file("cone-cli", name, content)
 }
 
 fn json(out: &Output) -> serde_json::Value {

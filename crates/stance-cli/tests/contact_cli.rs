@@ -1,25 +1,14 @@
 //! The contact commands of the contract: `stance giwc`, `stance equilibrium polygon|region|test`.
 
-use std::process::Command;
+use stance_test_support::cli;
 
 fn stance(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stance"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
+    let r = cli::run(env!("CARGO_BIN_EXE_stance"), args);
+    (r.code, r.stdout, r.stderr)
 }
 
 fn tmp(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("stance-contact-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+    cli::temp_file("contact-cli", name, text)
 }
 
 const SCENE: &str = r#"{"mass": 39, "gravity": [0, 0, -9.81], "contacts": [

@@ -3,10 +3,10 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use stance_test_support::cli;
+
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("stance-motion-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    cli::temp_dir("motion-cli").join(name)
 }
 
 fn stance() -> Command {

@@ -1,10 +1,9 @@
 //! `stance robot centroidal` end to end (the binary, through `std::process::Command`), checked
 //! against the Pinocchio fixtures of `testdata/robot/` (1e-9 relative, as the library tests).
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
 use serde_json::Value;
+use stance_test_support::cli;
+use std::path::{Path, PathBuf};
 
 const REL_TOL: f64 = 1e-9;
 
@@ -13,15 +12,8 @@ fn root() -> PathBuf {
 }
 
 fn stance(args: &[String]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stance"))
-        .args(args)
-        .output()
-        .expect("run stance");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let r = cli::run(env!("CARGO_BIN_EXE_stance"), args);
+    (r.code, r.stdout, r.stderr)
 }
 
 fn load(name: &str) -> Value {

@@ -1,28 +1,17 @@
 //! `stance topp FILE` end to end, through the built binary.
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use serde_json::{json, Value};
+use stance_test_support::cli;
 
 fn tmp(name: &str, contents: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stance-cli-topp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, contents).unwrap();
-    p
+    cli::temp_file("cli-topp", name, contents)
 }
 
 fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stance"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let r = cli::run(env!("CARGO_BIN_EXE_stance"), args);
+    (r.code, r.stdout, r.stderr)
 }
 
 /// The shared instance reduced to the contract's keys.

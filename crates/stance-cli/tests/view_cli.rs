@@ -2,23 +2,15 @@
 //! motion's result; bad input is one clear line and exit code 2. (The page in a browser:
 //! scripts/test-view.sh.)
 
-use std::process::Command;
+use stance_test_support::cli;
 
 fn stance(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stance"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
+    let r = cli::run(env!("CARGO_BIN_EXE_stance"), args);
+    (r.code, r.stderr)
 }
 
 fn dir() -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("stance-view-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    cli::temp_dir("view-cli")
 }
 
 #[test]

@@ -1330,10 +1330,7 @@ mod tests {
             let j: serde_json::Value =
                 serde_json::from_str(&std::fs::read_to_string(&path).expect("read")).expect("json");
             let d = j["dim"].as_u64().expect("dim") as usize;
-            let rows = j["generators"]["float64_hex"].as_array().expect("rows");
-            let v = DMatrix::from_fn(rows.len(), d, |i, c| {
-                parse_hex(rows[i][c].as_str().expect("hex"))
-            });
+            let v = stance_test_support::hex::matrix(&j["generators"]["float64_hex"], d);
             out.push((path.file_stem().unwrap().to_string_lossy().into_owned(), v));
         }
         let foot = [0.11, 0.065];
@@ -1387,24 +1384,6 @@ mod tests {
             ));
         }
         out
-    }
-
-    fn parse_hex(s: &str) -> f64 {
-        let (neg, rest) = s.strip_prefix('-').map_or((false, s), |r| (true, r));
-        let rest = rest.strip_prefix("0x").expect("hex float");
-        let (mant, exp) = rest.split_once('p').expect("exponent");
-        let exp: i32 = exp.parse().expect("exponent value");
-        let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
-        let mut m: u64 = u64::from_str_radix(int, 16).expect("int part");
-        for c in frac.chars() {
-            m = m * 16 + c.to_digit(16).expect("hex digit") as u64;
-        }
-        let v = (m as f64) * 2f64.powi(exp - 4 * frac.len() as i32);
-        if neg {
-            -v
-        } else {
-            v
-        }
     }
 
     fn run(v: &DMatrix<f64>, dd_only: bool) -> (Result<SpanToFace, String>, RidgeStats) {

@@ -3,28 +3,8 @@
 
 use polycone::nalgebra::DMatrix;
 
-/// Parses a Python `float.hex()` string (`-0x1.8p+3`, `0x0.0p+0`, `inf`...).
-pub fn parse_hex(s: &str) -> f64 {
-    let (neg, rest) = match s.strip_prefix('-') {
-        Some(r) => (true, r),
-        None => (false, s),
-    };
-    let rest = rest.strip_prefix("0x").expect("hex float");
-    let (mant, exp) = rest.split_once('p').expect("exponent");
-    let exp: i32 = exp.parse().expect("exponent value");
-    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
-    let mut m: u64 = u64::from_str_radix(int, 16).expect("int part");
-    for c in frac.chars() {
-        m = m * 16 + c.to_digit(16).expect("hex digit") as u64;
-    }
-    let e = exp - 4 * frac.len() as i32;
-    let v = (m as f64) * 2f64.powi(e);
-    if neg {
-        -v
-    } else {
-        v
-    }
-}
+#[allow(unused_imports)] // not every test binary reads hex fixtures
+pub use stance_test_support::hex::parse_hex;
 
 pub fn load(name: &str) -> serde_json::Value {
     let path = format!(
@@ -36,10 +16,7 @@ pub fn load(name: &str) -> serde_json::Value {
 }
 
 pub fn matrix_hex(v: &serde_json::Value, d: usize) -> DMatrix<f64> {
-    let rows = v.as_array().expect("rows");
-    DMatrix::from_fn(rows.len(), d, |i, j| {
-        parse_hex(rows[i][j].as_str().expect("hex"))
-    })
+    stance_test_support::hex::matrix(v, d)
 }
 
 pub fn matrix_f64(v: &serde_json::Value, d: usize) -> DMatrix<f64> {
