@@ -239,115 +239,157 @@ fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
+/// The model of a parsed URDF, in phases: the kinematic tree ([`Tree::of`]), the locks
+/// ([`locks`]), the link inertias, the universe and the root joint ([`universe`],
+/// [`attach_root`]), the joints depth first ([`add_joints`]), then the subtree ranges and the
+/// mass check ([`finish`]). Errors come in that order.
 fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotError> {
     let tol = options.tolerances;
-    // Names are unique.
-    let mut link_index: HashMap<&str, usize> = HashMap::new();
-    for (i, l) in robot.links.iter().enumerate() {
-        if link_index.insert(l.name.as_str(), i).is_some() {
-            return Err(RobotError::DuplicateName {
-                kind: "link",
-                name: l.name.clone(),
-            });
+    let tree = Tree::of(robot)?;
+    let locked = locks(robot, options)?;
+    let link_inertia = robot
+        .links
+        .iter()
+        .map(|l| link_inertia_of(l, tol.inertia_psd_rel))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut model = universe(robot, options);
+    let root_attach = attach_root(&mut model, options.root);
+    model.add_body(
+        &robot.links[tree.root].name,
+        root_attach,
+        &link_inertia[tree.root],
+    );
+    add_joints(
+        &mut model,
+        robot,
+        &tree,
+        &locked,
+        &link_inertia,
+        root_attach,
+    )?;
+    finish(model)
+}
+
+/// The URDF's kinematic tree: unique names, one parent joint per link, one root.
+struct Tree<'a> {
+    /// Index of each link by name.
+    link_index: HashMap<&'a str, usize>,
+    /// Child joints of each link, in the byte order of their names (Pinocchio's traversal).
+    children: Vec<Vec<usize>>,
+    /// The one link without a parent joint.
+    root: usize,
+}
+
+impl<'a> Tree<'a> {
+    fn of(robot: &'a urdf_rs::Robot) -> Result<Self, RobotError> {
+        let mut link_index: HashMap<&str, usize> = HashMap::new();
+        for (i, l) in robot.links.iter().enumerate() {
+            if link_index.insert(l.name.as_str(), i).is_some() {
+                return Err(RobotError::DuplicateName {
+                    kind: "link",
+                    name: l.name.clone(),
+                });
+            }
         }
-    }
-    let mut joint_names: HashMap<&str, usize> = HashMap::new();
-    for (i, j) in robot.joints.iter().enumerate() {
-        if joint_names.insert(j.name.as_str(), i).is_some() {
-            return Err(RobotError::DuplicateName {
-                kind: "joint",
-                name: j.name.clone(),
-            });
+        let mut joint_names: HashMap<&str, usize> = HashMap::new();
+        for (i, j) in robot.joints.iter().enumerate() {
+            if joint_names.insert(j.name.as_str(), i).is_some() {
+                return Err(RobotError::DuplicateName {
+                    kind: "joint",
+                    name: j.name.clone(),
+                });
+            }
         }
-    }
-    if robot.links.is_empty() {
-        return Err(RobotError::NotATree("the URDF has no <link>".into()));
-    }
-    // Parent joint of each link; children of each link.
-    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
-    let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
-    for (ji, j) in robot.joints.iter().enumerate() {
-        let p = *link_index
-            .get(j.parent.link.as_str())
-            .ok_or_else(|| RobotError::UnknownLink {
-                joint: j.name.clone(),
-                link: j.parent.link.clone(),
-            })?;
-        let c = *link_index
-            .get(j.child.link.as_str())
-            .ok_or_else(|| RobotError::UnknownLink {
-                joint: j.name.clone(),
-                link: j.child.link.clone(),
-            })?;
-        if let Some(prev) = parent_joint[c] {
-            return Err(RobotError::MultipleParents {
-                link: j.child.link.clone(),
-                first: robot.joints[prev].name.clone(),
-                second: j.name.clone(),
-            });
+        if robot.links.is_empty() {
+            return Err(RobotError::NotATree("the URDF has no <link>".into()));
         }
-        parent_joint[c] = Some(ji);
-        children[p].push(ji);
-    }
-    // Children in the byte order of their joint names (Pinocchio's traversal order).
-    for c in children.iter_mut() {
-        c.sort_by(|a, b| robot.joints[*a].name.cmp(&robot.joints[*b].name));
-    }
-    let roots: Vec<usize> = (0..robot.links.len())
-        .filter(|&l| parent_joint[l].is_none())
-        .collect();
-    let root = match roots.as_slice() {
-        [r] => *r,
-        [] => {
-            return Err(RobotError::NotATree(
-                "every link has a parent joint, so the joints form a cycle; remove the joint that closes it".into(),
-            ))
+        // Parent joint of each link; children of each link.
+        let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+        for (ji, j) in robot.joints.iter().enumerate() {
+            let link = |name: &String| {
+                link_index
+                    .get(name.as_str())
+                    .copied()
+                    .ok_or_else(|| RobotError::UnknownLink {
+                        joint: j.name.clone(),
+                        link: name.clone(),
+                    })
+            };
+            let p = link(&j.parent.link)?;
+            let c = link(&j.child.link)?;
+            if let Some(prev) = parent_joint[c] {
+                return Err(RobotError::MultipleParents {
+                    link: j.child.link.clone(),
+                    first: robot.joints[prev].name.clone(),
+                    second: j.name.clone(),
+                });
+            }
+            parent_joint[c] = Some(ji);
+            children[p].push(ji);
         }
-        many => {
-            let names: Vec<&str> = many.iter().map(|&l| robot.links[l].name.as_str()).collect();
-            return Err(RobotError::NotATree(format!(
-                "several links have no parent joint ({}); connect them with joints so that one root remains",
-                names.join(", ")
-            )));
+        for c in children.iter_mut() {
+            c.sort_by(|a, b| robot.joints[*a].name.cmp(&robot.joints[*b].name));
         }
-    };
-    // Locked joints exist and are movable.
+        let roots: Vec<usize> = (0..robot.links.len())
+            .filter(|&l| parent_joint[l].is_none())
+            .collect();
+        let root = match roots.as_slice() {
+            [r] => *r,
+            [] => {
+                return Err(RobotError::NotATree(
+                    "every link has a parent joint, so the joints form a cycle; remove the joint that closes it".into(),
+                ))
+            }
+            many => {
+                let names: Vec<&str> =
+                    many.iter().map(|&l| robot.links[l].name.as_str()).collect();
+                return Err(RobotError::NotATree(format!(
+                    "several links have no parent joint ({}); connect them with joints so that one root remains",
+                    names.join(", ")
+                )));
+            }
+        };
+        Ok(Tree {
+            link_index,
+            children,
+            root,
+        })
+    }
+}
+
+/// The locked joints by name: each exists, is movable, has a finite value and is locked once.
+fn locks<'a>(
+    robot: &urdf_rs::Robot,
+    options: &'a UrdfOptions,
+) -> Result<HashMap<&'a str, f64>, RobotError> {
     let mut locked: HashMap<&str, f64> = HashMap::new();
     for (name, value) in &options.locked {
-        let Some(&ji) = joint_names.get(name.as_str()) else {
-            return Err(RobotError::CannotLock {
-                joint: name.clone(),
-                reason: "no joint of that name in the URDF".into(),
-            });
+        let cannot = |reason: String| RobotError::CannotLock {
+            joint: name.clone(),
+            reason,
+        };
+        let Some(j) = robot.joints.iter().find(|j| j.name == *name) else {
+            return Err(cannot("no joint of that name in the URDF".into()));
         };
         if !value.is_finite() {
-            return Err(RobotError::CannotLock {
-                joint: name.clone(),
-                reason: "the lock value is not finite".into(),
-            });
+            return Err(cannot("the lock value is not finite".into()));
         }
-        if robot.joints[ji].joint_type == urdf_rs::JointType::Fixed {
-            return Err(RobotError::CannotLock {
-                joint: name.clone(),
-                reason: "it is a fixed joint already".into(),
-            });
+        if j.joint_type == urdf_rs::JointType::Fixed {
+            return Err(cannot("it is a fixed joint already".into()));
         }
         if let Some(first) = locked.insert(name.as_str(), *value) {
-            return Err(RobotError::CannotLock {
-                joint: name.clone(),
-                reason: format!(
-                    "it is locked twice (at {first} and at {value}): give each joint one value"
-                ),
-            });
+            return Err(cannot(format!(
+                "it is locked twice (at {first} and at {value}): give each joint one value"
+            )));
         }
     }
-    // Link inertias, validated.
-    let mut link_inertia = Vec::with_capacity(robot.links.len());
-    for l in &robot.links {
-        link_inertia.push(link_inertia_of(l, tol.inertia_psd_rel)?);
-    }
+    Ok(locked)
+}
 
-    let mut model = Model {
+/// A model holding only the universe joint and frame.
+fn universe(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Model {
+    Model {
         name: robot.name.clone(),
         unknown_elements: Vec::new(),
         joints: vec![Joint {
@@ -374,10 +416,14 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
         dof_joint: Vec::new(),
         subtree_end: Vec::new(),
         locked: options.locked.clone(),
-        tolerances: tol,
-    };
+        tolerances: options.tolerances,
+    }
+}
 
-    let root_attach = match options.root {
+/// Where the root link goes: on a free-flyer joint (added here, with its frame) or on the
+/// universe.
+fn attach_root(model: &mut Model, root: RootJoint) -> Attach {
+    match root {
         RootJoint::FreeFlyer => {
             let k = model.add_joint(
                 "root_joint".into(),
@@ -401,79 +447,103 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
             joint: 0,
             joint_from_link: Pose::identity(),
         },
-    };
-    model.add_body(&robot.links[root].name, root_attach, &link_inertia[root]);
+    }
+}
 
-    // Depth first, children in name order; an explicit stack (no recursion limit on deep files).
+/// Every joint below the root, depth first with children in name order, on an explicit stack (no
+/// recursion limit on deep files); each child link's body added where its joint attaches it.
+fn add_joints(
+    model: &mut Model,
+    robot: &urdf_rs::Robot,
+    tree: &Tree,
+    locked: &HashMap<&str, f64>,
+    link_inertia: &[Inertia],
+    root_attach: Attach,
+) -> Result<(), RobotError> {
     let mut visited = vec![false; robot.links.len()];
-    visited[root] = true;
-    let mut stack: Vec<(usize, Attach)> = children[root]
+    visited[tree.root] = true;
+    let mut stack: Vec<(usize, Attach)> = tree.children[tree.root]
         .iter()
         .rev()
         .map(|&j| (j, root_attach))
         .collect();
     while let Some((ji, parent_attach)) = stack.pop() {
         let j = &robot.joints[ji];
-        let c = link_index[j.child.link.as_str()];
+        let c = tree.link_index[j.child.link.as_str()];
         visited[c] = true;
-        let placement = parent_attach
-            .joint_from_link
-            .compose(&Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy));
-        let kind = joint_kind(j, tol.min_axis_norm)?;
-        if j.limit.lower.is_nan() || j.limit.upper.is_nan() || j.limit.lower > j.limit.upper {
-            return Err(RobotError::InvalidLimits {
-                joint: j.name.clone(),
-                lower: j.limit.lower,
-                upper: j.limit.upper,
-            });
-        }
-        let attach = match (kind, locked.get(j.name.as_str())) {
-            (Some(kind), None) => {
-                let k = model.add_joint(
-                    j.name.clone(),
-                    kind,
-                    parent_attach.joint,
-                    placement,
-                    Some(&j.limit),
-                );
-                model.frames.push(Frame {
-                    name: j.name.clone(),
-                    kind: FrameKind::Joint,
-                    parent_joint: k,
-                    joint_from_frame: Pose::identity(),
-                });
-                Attach {
-                    joint: k,
-                    joint_from_link: Pose::identity(),
-                }
-            }
-            (kind, lock) => {
-                let placement = match (kind, lock) {
-                    (Some(kind), Some(&value)) => placement.compose(&locked_motion(&kind, value)),
-                    _ => placement,
-                };
-                model.frames.push(Frame {
-                    name: j.name.clone(),
-                    kind: FrameKind::FixedJoint,
-                    parent_joint: parent_attach.joint,
-                    joint_from_frame: placement,
-                });
-                Attach {
-                    joint: parent_attach.joint,
-                    joint_from_link: placement,
-                }
-            }
-        };
+        let attach = add_joint_of(model, j, parent_attach, locked.get(j.name.as_str()))?;
         model.add_body(&j.child.link, attach, &link_inertia[c]);
-        stack.extend(children[c].iter().rev().map(|&g| (g, attach)));
+        stack.extend(tree.children[c].iter().rev().map(|&g| (g, attach)));
     }
     if let Some(l) = visited.iter().position(|v| !v) {
         return Err(RobotError::NotATree(format!(
             "link '{}' is not reachable from the root link '{}' (a cycle of joints); remove the joint that closes it",
-            robot.links[l].name, robot.links[root].name
+            robot.links[l].name, robot.links[tree.root].name
         )));
     }
-    // Subtree ranges (parents precede children).
+    Ok(())
+}
+
+/// One URDF joint: a model joint (with its frame) when it moves, a fixed frame merged into the
+/// parent body when it is fixed or locked (at its lock value). Returns where its child link goes.
+fn add_joint_of(
+    model: &mut Model,
+    j: &urdf_rs::Joint,
+    parent_attach: Attach,
+    lock: Option<&f64>,
+) -> Result<Attach, RobotError> {
+    let placement = parent_attach
+        .joint_from_link
+        .compose(&Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy));
+    let kind = joint_kind(j, model.tolerances.min_axis_norm)?;
+    if j.limit.lower.is_nan() || j.limit.upper.is_nan() || j.limit.lower > j.limit.upper {
+        return Err(RobotError::InvalidLimits {
+            joint: j.name.clone(),
+            lower: j.limit.lower,
+            upper: j.limit.upper,
+        });
+    }
+    Ok(match (kind, lock) {
+        (Some(kind), None) => {
+            let k = model.add_joint(
+                j.name.clone(),
+                kind,
+                parent_attach.joint,
+                placement,
+                Some(&j.limit),
+            );
+            model.frames.push(Frame {
+                name: j.name.clone(),
+                kind: FrameKind::Joint,
+                parent_joint: k,
+                joint_from_frame: Pose::identity(),
+            });
+            Attach {
+                joint: k,
+                joint_from_link: Pose::identity(),
+            }
+        }
+        (kind, lock) => {
+            let placement = match (kind, lock) {
+                (Some(kind), Some(&value)) => placement.compose(&locked_motion(&kind, value)),
+                _ => placement,
+            };
+            model.frames.push(Frame {
+                name: j.name.clone(),
+                kind: FrameKind::FixedJoint,
+                parent_joint: parent_attach.joint,
+                joint_from_frame: placement,
+            });
+            Attach {
+                joint: parent_attach.joint,
+                joint_from_link: placement,
+            }
+        }
+    })
+}
+
+/// Subtree ranges (parents precede children), then the check that the model has mass.
+fn finish(mut model: Model) -> Result<Model, RobotError> {
     let n = model.joints.len();
     model.subtree_end = (0..n).collect();
     for i in (1..n).rev() {
@@ -484,7 +554,7 @@ fn build(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Model, RobotEr
     }
     model.subtree_end[0] = n - 1;
     let mass = model.total_mass();
-    if mass <= tol.min_total_mass {
+    if mass <= model.tolerances.min_total_mass {
         return Err(RobotError::MissingInertia { mass });
     }
     Ok(model)
