@@ -8,7 +8,7 @@ use stance_robot::Pose;
 
 use super::environment::EnvSurface;
 use super::robot::MotionRobot;
-use super::spec::{ComTarget, InitialSpec, MotionSpec, RetimingSpec};
+use super::spec::{ComTarget, InitialSpec, LinkMoveSpec, MotionSpec, RetimingSpec, SegmentSpec};
 use super::stand::stand;
 use crate::StanceError;
 
@@ -153,292 +153,33 @@ impl MotionPlan {
         if let Some(g) = spec.gravity.iter().find(|g| !g.is_finite()) {
             return Err(bad(format!("gravity has a non-finite entry {g}")));
         }
-        // environment
-        let mut environment: Vec<EnvSurface> = Vec::new();
-        for e in &spec.environment {
-            if environment.iter().any(|o| o.name == e.name) {
-                return Err(bad(format!(
-                    "two environment surfaces are named {:?}; names must be unique",
-                    e.name
-                )));
-            }
-            environment.push(EnvSurface::new(e)?);
-        }
-        let env_index = |name: &str, what: &str| {
-            environment
-                .iter()
-                .position(|e| e.name == name)
-                .ok_or_else(|| {
-                    bad(format!(
-                        "{what} names the environment surface {name:?}, which does not exist; \
-                         the surfaces are {}",
-                        environment
-                            .iter()
-                            .map(|e| e.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ))
-                })
+        let environment = environment(&spec)?;
+        check_options(&spec)?;
+        let names = Names {
+            robot: &robot,
+            environment: &environment,
         };
-        let surf_index = |name: &str| {
-            robot.surface(name).map(|s| {
-                robot
-                    .surfaces
-                    .iter()
-                    .position(|o| o.name == s.name)
-                    .unwrap_or(0)
-            })
-        };
-        // options
-        let p = &spec.planning;
-        finite_in(
-            "planning.area_scale",
-            p.area_scale,
-            f64::MIN_POSITIVE,
-            1.0,
-            "give a fraction in (0, 1] (the paper: 0.7)",
-        )?;
-        finite_in(
-            "planning.margin",
-            p.margin,
-            0.0,
-            0.5,
-            "give a fraction of the weight in [0, 0.5]",
-        )?;
-        p.friction_model
-            .validate()
-            .map_err(|e| bad(format!("planning.friction_model: {e}")))?;
-        let ik = &spec.ik;
-        for (what, x) in [
-            ("ik.w_com", ik.w_com),
-            ("ik.w_link", ik.w_link),
-            ("ik.w_posture", ik.w_posture),
-        ] {
-            finite_in(what, x, 0.0, f64::MAX, "give a finite weight >= 0")?;
-        }
-        for (what, x) in [("ik.gain", ik.gain), ("ik.contact_gain", ik.contact_gain)] {
-            finite_in(
-                what,
-                x,
-                f64::MIN_POSITIVE,
-                f64::MAX,
-                "give a finite gain > 0",
-            )?;
-        }
-        finite_in(
-            "ik.joint_range",
-            ik.joint_range,
-            f64::MIN_POSITIVE,
-            1.0,
-            "give a fraction in (0, 1] (the paper: 0.95)",
-        )?;
-        if !(1..=crate::tol::MAX_IK_SUBSTEPS).contains(&ik.substeps) {
-            return Err(bad(format!(
-                "ik.substeps is {}; give 1 to {}",
-                ik.substeps,
-                crate::tol::MAX_IK_SUBSTEPS
-            )));
-        }
-        check_retiming(&spec.retiming)?;
-        // segments
         if spec.segments.is_empty() {
             return Err(bad("the motion has no segments; give at least one".into()));
         }
-        let mut segments = Vec::new();
-        for (k, s) in spec.segments.iter().enumerate() {
-            let name = s
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("segment {}", k + 1));
-            let what = format!("segment {} ({name})", k + 1);
-            if s.stance.is_empty() {
-                return Err(bad(format!(
-                    "{what} has an empty stance; give at least one contact"
-                )));
-            }
-            let mut stance = Vec::new();
-            for (rs, es) in &s.stance {
-                let r = surf_index(rs)?;
-                let e = env_index(es, &what)?;
-                if let Some(mu) = p.friction {
-                    if mu > environment[e].friction {
-                        return Err(bad(format!(
-                            "planning.friction {mu} exceeds the friction {} of {es:?} (used by \
-                             {what}); plan with at most the surface's friction",
-                            environment[e].friction
-                        )));
-                    }
-                }
-                stance.push((r, e));
-            }
-            if s.moves.is_empty() {
-                return Err(bad(format!("{what} has no moves; give at least one")));
-            }
-            let mut moves = Vec::new();
-            for (i, m) in s.moves.iter().enumerate() {
-                let mw = format!("{what}, move {}", i + 1);
-                finite_in(
-                    &format!("{mw}: duration"),
-                    m.duration,
-                    crate::tol::MIN_MOVE_DURATION,
-                    crate::tol::MAX_MOVE_DURATION,
-                    &format!(
-                        "give a length between {} and {} path units",
-                        crate::tol::MIN_MOVE_DURATION,
-                        crate::tol::MAX_MOVE_DURATION
-                    ),
-                )?;
-                if let Some(ComTarget::By(v) | ComTarget::To(v)) = &m.com {
-                    if v.iter().any(|x| !x.is_finite()) {
-                        return Err(bad(format!("{mw}: the CoM target is not finite")));
-                    }
-                }
-                let mut links = Vec::new();
-                for l in &m.links {
-                    let surface = surf_index(&l.surface)?;
-                    if stance.iter().any(|&(r, _)| r == surface) {
-                        return Err(bad(format!(
-                            "{mw} moves {:?}, which is a contact of the segment's stance; \
-                             move only free links",
-                            l.surface
-                        )));
-                    }
-                    if links.iter().any(|o: &LinkMove| o.surface == surface) {
-                        return Err(bad(format!("{mw} moves {:?} twice", l.surface)));
-                    }
-                    let finite =
-                        |v: &Option<[f64; 3]>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
-                    if !(finite(&l.by) && finite(&l.to) && finite(&l.rotate_by) && finite(&l.rpy))
-                        || l.at.is_some_and(|a| a.iter().any(|x| !x.is_finite()))
-                        || l.yaw.is_some_and(|y| !y.is_finite())
-                    {
-                        return Err(bad(format!(
-                            "{mw}: {:?} has a non-finite target",
-                            l.surface
-                        )));
-                    }
-                    let goal = match (&l.by, &l.to, &l.onto) {
-                        (Some(by), None, None)
-                            if l.rpy.is_none() && l.at.is_none() && l.yaw.is_none() =>
-                        {
-                            LinkGoal::By {
-                                offset: Vector3::from(*by),
-                                rotate: l.rotate_by.map_or(Matrix3::identity(), rpy),
-                            }
-                        }
-                        (None, Some(to), None)
-                            if l.rotate_by.is_none() && l.at.is_none() && l.yaw.is_none() =>
-                        {
-                            LinkGoal::To {
-                                position: Vector3::from(*to),
-                                rotation: l.rpy.map(rpy),
-                            }
-                        }
-                        (None, None, Some(onto)) if l.rotate_by.is_none() && l.rpy.is_none() => {
-                            let e = env_index(onto, &mw)?;
-                            let at = l.at.ok_or_else(|| {
-                                bad(format!(
-                                    "{mw}: onto {onto:?} needs at = [x, y] on that surface"
-                                ))
-                            })?;
-                            LinkGoal::Onto {
-                                surface: e,
-                                pose: environment[e].placement(at, l.yaw.unwrap_or(0.0)),
-                            }
-                        }
-                        _ => {
-                            return Err(bad(format!(
-                                "{mw}: {:?} needs exactly one of `by` (with optional rotate_by), \
-                                 `to` (with optional rpy) or `onto` (with at and optional yaw)",
-                                l.surface
-                            )))
-                        }
-                    };
-                    links.push(LinkMove { surface, goal });
-                }
-                moves.push(Move {
-                    duration: m.duration,
-                    com: m.com.clone(),
-                    links,
-                });
-            }
-            let w_link = s.w_link.unwrap_or(ik.w_link);
-            finite_in(
-                &format!("{what}: w_link"),
-                w_link,
-                0.0,
-                f64::MAX,
-                "give a finite weight >= 0",
-            )?;
-            let gain = s.gain.unwrap_or(ik.gain);
-            finite_in(
-                &format!("{what}: gain"),
-                gain,
-                f64::MIN_POSITIVE,
-                f64::MAX,
-                "give a finite gain > 0",
-            )?;
-            segments.push(SegmentPlan {
-                name,
-                stance,
-                moves,
-                w_link,
-                gain,
-            });
-        }
+        let segments = spec
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(k, s)| segment(k, s, &spec, &names))
+            .collect::<Result<Vec<_>, _>>()?;
         let shortest = segments
             .iter()
             .flat_map(|s| s.moves.iter().map(|m| m.duration))
             .fold(f64::INFINITY, f64::min);
         finite_in(
             "ik.com_blend",
-            ik.com_blend,
+            spec.ik.com_blend,
             f64::MIN_POSITIVE,
             0.5 * shortest,
             "give a half-width > 0 and at most half of the shortest move",
         )?;
-        // initial configuration
-        let q0 = match &spec.initial {
-            InitialSpec::Configuration(q) => {
-                stance_robot::check_configuration(&robot.model, q)
-                    .map_err(|e| bad(format!("initial.configuration: {e}")))?;
-                q.clone()
-            }
-            InitialSpec::Standing(st) => {
-                let mut targets = Vec::new();
-                let mut mean = Vector3::zeros();
-                for (rs, placement) in &st.contacts {
-                    let r = surf_index(rs)?;
-                    let e = env_index(&placement.surface, "initial.standing")?;
-                    if !(placement.at.iter().all(|x| x.is_finite()) && placement.yaw.is_finite()) {
-                        return Err(bad(format!(
-                            "initial.standing: {rs:?} has a non-finite placement"
-                        )));
-                    }
-                    let pose = environment[e].placement(placement.at, placement.yaw);
-                    mean += pose.translation;
-                    targets.push((robot.surfaces[r].frame, pose));
-                }
-                if targets.is_empty() {
-                    return Err(bad(
-                        "initial.standing has no contacts; place at least one surface".into(),
-                    ));
-                }
-                mean /= targets.len() as f64;
-                finite_in(
-                    "initial.standing.com_height",
-                    st.com_height,
-                    -1e6,
-                    1e6,
-                    "give a finite height (m)",
-                )?;
-                let xy = st.com_xy.unwrap_or([mean.x, mean.y]);
-                if xy.iter().any(|x| !x.is_finite()) {
-                    return Err(bad("initial.standing.com_xy is not finite".into()));
-                }
-                stand(&robot, &targets, Vector3::new(xy[0], xy[1], st.com_height))?
-            }
-        };
+        let q0 = initial(&spec, &names)?;
         Ok(Self {
             name: spec.name.clone().unwrap_or_else(|| "motion".into()),
             robot,
@@ -449,4 +190,305 @@ impl MotionPlan {
             spec,
         })
     }
+}
+
+/// The environment's surfaces, names unique.
+fn environment(spec: &MotionSpec) -> Result<Vec<EnvSurface>, StanceError> {
+    let mut environment: Vec<EnvSurface> = Vec::new();
+    for e in &spec.environment {
+        if environment.iter().any(|o| o.name == e.name) {
+            return Err(bad(format!(
+                "two environment surfaces are named {:?}; names must be unique",
+                e.name
+            )));
+        }
+        environment.push(EnvSurface::new(e)?);
+    }
+    Ok(environment)
+}
+
+/// The planning, IK and retiming options, each in its range.
+fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
+    let p = &spec.planning;
+    finite_in(
+        "planning.area_scale",
+        p.area_scale,
+        f64::MIN_POSITIVE,
+        1.0,
+        "give a fraction in (0, 1] (the paper: 0.7)",
+    )?;
+    finite_in(
+        "planning.margin",
+        p.margin,
+        0.0,
+        0.5,
+        "give a fraction of the weight in [0, 0.5]",
+    )?;
+    p.friction_model
+        .validate()
+        .map_err(|e| bad(format!("planning.friction_model: {e}")))?;
+    let ik = &spec.ik;
+    for (what, x) in [
+        ("ik.w_com", ik.w_com),
+        ("ik.w_link", ik.w_link),
+        ("ik.w_posture", ik.w_posture),
+    ] {
+        finite_in(what, x, 0.0, f64::MAX, "give a finite weight >= 0")?;
+    }
+    for (what, x) in [("ik.gain", ik.gain), ("ik.contact_gain", ik.contact_gain)] {
+        finite_in(
+            what,
+            x,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            "give a finite gain > 0",
+        )?;
+    }
+    finite_in(
+        "ik.joint_range",
+        ik.joint_range,
+        f64::MIN_POSITIVE,
+        1.0,
+        "give a fraction in (0, 1] (the paper: 0.95)",
+    )?;
+    if !(1..=crate::tol::MAX_IK_SUBSTEPS).contains(&ik.substeps) {
+        return Err(bad(format!(
+            "ik.substeps is {}; give 1 to {}",
+            ik.substeps,
+            crate::tol::MAX_IK_SUBSTEPS
+        )));
+    }
+    check_retiming(&spec.retiming)
+}
+
+/// Name lookups while a plan is built: robot surfaces and environment surfaces by name, as
+/// indices, with errors listing the names there are.
+struct Names<'a> {
+    robot: &'a MotionRobot,
+    environment: &'a [EnvSurface],
+}
+
+impl Names<'_> {
+    fn env(&self, name: &str, what: &str) -> Result<usize, StanceError> {
+        self.environment
+            .iter()
+            .position(|e| e.name == name)
+            .ok_or_else(|| {
+                bad(format!(
+                    "{what} names the environment surface {name:?}, which does not exist; \
+                     the surfaces are {}",
+                    self.environment
+                        .iter()
+                        .map(|e| e.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })
+    }
+
+    fn surface(&self, name: &str) -> Result<usize, StanceError> {
+        self.robot.surface(name).map(|s| {
+            self.robot
+                .surfaces
+                .iter()
+                .position(|o| o.name == s.name)
+                .unwrap_or(0)
+        })
+    }
+}
+
+/// Segment `k` (from 0): its stance, its moves and its task options.
+fn segment(
+    k: usize,
+    s: &SegmentSpec,
+    spec: &MotionSpec,
+    names: &Names,
+) -> Result<SegmentPlan, StanceError> {
+    let name = s
+        .name
+        .clone()
+        .unwrap_or_else(|| format!("segment {}", k + 1));
+    let what = format!("segment {} ({name})", k + 1);
+    if s.stance.is_empty() {
+        return Err(bad(format!(
+            "{what} has an empty stance; give at least one contact"
+        )));
+    }
+    let mut stance = Vec::new();
+    for (rs, es) in &s.stance {
+        let r = names.surface(rs)?;
+        let e = names.env(es, &what)?;
+        if let Some(mu) = spec.planning.friction {
+            let surface_mu = names.environment[e].friction;
+            if mu > surface_mu {
+                return Err(bad(format!(
+                    "planning.friction {mu} exceeds the friction {surface_mu} of {es:?} (used by \
+                     {what}); plan with at most the surface's friction"
+                )));
+            }
+        }
+        stance.push((r, e));
+    }
+    if s.moves.is_empty() {
+        return Err(bad(format!("{what} has no moves; give at least one")));
+    }
+    let mut moves = Vec::new();
+    for (i, m) in s.moves.iter().enumerate() {
+        let mw = format!("{what}, move {}", i + 1);
+        finite_in(
+            &format!("{mw}: duration"),
+            m.duration,
+            crate::tol::MIN_MOVE_DURATION,
+            crate::tol::MAX_MOVE_DURATION,
+            &format!(
+                "give a length between {} and {} path units",
+                crate::tol::MIN_MOVE_DURATION,
+                crate::tol::MAX_MOVE_DURATION
+            ),
+        )?;
+        if let Some(ComTarget::By(v) | ComTarget::To(v)) = &m.com {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(bad(format!("{mw}: the CoM target is not finite")));
+            }
+        }
+        let mut links: Vec<LinkMove> = Vec::new();
+        for l in &m.links {
+            let surface = names.surface(&l.surface)?;
+            if stance.iter().any(|&(r, _)| r == surface) {
+                return Err(bad(format!(
+                    "{mw} moves {:?}, which is a contact of the segment's stance; \
+                     move only free links",
+                    l.surface
+                )));
+            }
+            if links.iter().any(|o| o.surface == surface) {
+                return Err(bad(format!("{mw} moves {:?} twice", l.surface)));
+            }
+            let goal = link_goal(l, &mw, names)?;
+            links.push(LinkMove { surface, goal });
+        }
+        moves.push(Move {
+            duration: m.duration,
+            com: m.com.clone(),
+            links,
+        });
+    }
+    let w_link = s.w_link.unwrap_or(spec.ik.w_link);
+    finite_in(
+        &format!("{what}: w_link"),
+        w_link,
+        0.0,
+        f64::MAX,
+        "give a finite weight >= 0",
+    )?;
+    let gain = s.gain.unwrap_or(spec.ik.gain);
+    finite_in(
+        &format!("{what}: gain"),
+        gain,
+        f64::MIN_POSITIVE,
+        f64::MAX,
+        "give a finite gain > 0",
+    )?;
+    Ok(SegmentPlan {
+        name,
+        stance,
+        moves,
+        w_link,
+        gain,
+    })
+}
+
+/// A free link's goal: exactly one of `by` (with optional `rotate_by`), `to` (with optional
+/// `rpy`) or `onto` (with `at` and optional `yaw`), all finite. `mw` names the move in errors.
+fn link_goal(l: &LinkMoveSpec, mw: &str, names: &Names) -> Result<LinkGoal, StanceError> {
+    let finite = |v: &Option<[f64; 3]>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
+    if !(finite(&l.by) && finite(&l.to) && finite(&l.rotate_by) && finite(&l.rpy))
+        || l.at.is_some_and(|a| a.iter().any(|x| !x.is_finite()))
+        || l.yaw.is_some_and(|y| !y.is_finite())
+    {
+        return Err(bad(format!(
+            "{mw}: {:?} has a non-finite target",
+            l.surface
+        )));
+    }
+    Ok(match (&l.by, &l.to, &l.onto) {
+        (Some(by), None, None) if l.rpy.is_none() && l.at.is_none() && l.yaw.is_none() => {
+            LinkGoal::By {
+                offset: Vector3::from(*by),
+                rotate: l.rotate_by.map_or(Matrix3::identity(), rpy),
+            }
+        }
+        (None, Some(to), None) if l.rotate_by.is_none() && l.at.is_none() && l.yaw.is_none() => {
+            LinkGoal::To {
+                position: Vector3::from(*to),
+                rotation: l.rpy.map(rpy),
+            }
+        }
+        (None, None, Some(onto)) if l.rotate_by.is_none() && l.rpy.is_none() => {
+            let e = names.env(onto, mw)?;
+            let at = l.at.ok_or_else(|| {
+                bad(format!(
+                    "{mw}: onto {onto:?} needs at = [x, y] on that surface"
+                ))
+            })?;
+            LinkGoal::Onto {
+                surface: e,
+                pose: names.environment[e].placement(at, l.yaw.unwrap_or(0.0)),
+            }
+        }
+        _ => {
+            return Err(bad(format!(
+                "{mw}: {:?} needs exactly one of `by` (with optional rotate_by), \
+                 `to` (with optional rpy) or `onto` (with at and optional yaw)",
+                l.surface
+            )))
+        }
+    })
+}
+
+/// The initial configuration: given, or found by standing the robot on the placed contacts
+/// with the CoM at the given height (above the contacts' mean by default).
+fn initial(spec: &MotionSpec, names: &Names) -> Result<Vec<f64>, StanceError> {
+    let robot = names.robot;
+    Ok(match &spec.initial {
+        InitialSpec::Configuration(q) => {
+            stance_robot::check_configuration(&robot.model, q)
+                .map_err(|e| bad(format!("initial.configuration: {e}")))?;
+            q.clone()
+        }
+        InitialSpec::Standing(st) => {
+            let mut targets = Vec::new();
+            let mut mean = Vector3::zeros();
+            for (rs, placement) in &st.contacts {
+                let r = names.surface(rs)?;
+                let e = names.env(&placement.surface, "initial.standing")?;
+                if !(placement.at.iter().all(|x| x.is_finite()) && placement.yaw.is_finite()) {
+                    return Err(bad(format!(
+                        "initial.standing: {rs:?} has a non-finite placement"
+                    )));
+                }
+                let pose = names.environment[e].placement(placement.at, placement.yaw);
+                mean += pose.translation;
+                targets.push((robot.surfaces[r].frame, pose));
+            }
+            if targets.is_empty() {
+                return Err(bad(
+                    "initial.standing has no contacts; place at least one surface".into(),
+                ));
+            }
+            mean /= targets.len() as f64;
+            finite_in(
+                "initial.standing.com_height",
+                st.com_height,
+                -1e6,
+                1e6,
+                "give a finite height (m)",
+            )?;
+            let xy = st.com_xy.unwrap_or([mean.x, mean.y]);
+            if xy.iter().any(|x| !x.is_finite()) {
+                return Err(bad("initial.standing.com_xy is not finite".into()));
+            }
+            stand(robot, &targets, Vector3::new(xy[0], xy[1], st.com_height))?
+        }
+    })
 }
