@@ -52,7 +52,7 @@ pub fn from_python<T: DeserializeOwned>(
         .call((obj,), Some(&kwargs))
         .map_err(|e| errors::input(format!("{what} cannot be read: {}", e.value(py))))?
         .extract()?;
-    serde_json::from_str(&text).map_err(|e| errors::input(format!("invalid {what}: {e}")))
+    stance::input::from_json_str(&text).map_err(|e| errors::input(format!("invalid {what}: {e}")))
 }
 
 /// `(_restore, (kind, json_text))`.

@@ -57,6 +57,10 @@ def test_exception_tree() -> None:
         (lambda: stance.retime(STANCE, [[0, 0, 0.8], [0.1, 0, 0.8]], interpolation="bezier"), "spline"),
         (lambda: stance.motion("no-such-motion"), "neither a motion file nor a built-in motion"),
         (lambda: stance.motion("small-sway", grid=0), "grid"),
+        (
+            lambda: stance.Stance.from_scene({"mass": 39, "contacts": [["LF", [0, 0, 0], None, "point", 0.7]]}),
+            "object with named fields",
+        ),
     ],
 )
 def test_bad_input_raises_input_error(call, match: str) -> None:  # type: ignore[no-untyped-def]

@@ -11,6 +11,22 @@ use crate::strict::Strict;
 
 use crate::StanceError;
 
+/// Parses JSON text into `T` as input files are read: named fields only (the array form of a
+/// struct is refused at any depth) and nothing after the value. For inputs that do not come
+/// from a file (the Python package's dicts).
+///
+/// ```
+/// use stance::stance_contact::FrictionModel;
+/// assert!(stance::input::from_json_str::<FrictionModel>(r#"{"sides": 4}"#).is_ok());
+/// assert!(stance::input::from_json_str::<FrictionModel>("[4]").is_err());
+/// ```
+pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, serde_json::Error> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let v = T::deserialize(Strict(&mut de))?;
+    de.end()?;
+    Ok(v)
+}
+
 /// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`.
 ///
 /// ```
@@ -50,21 +66,18 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
                 ))
             })
     } else {
-        let mut de = serde_json::Deserializer::from_str(text);
-        T::deserialize(Strict(&mut de))
-            .and_then(|v| de.end().map(|()| v))
-            .map_err(|e| {
-                // Every input file is an object of named fields: say so when it is something else.
-                let hint = match text.trim_start().chars().next() {
-                    Some('{') | None => "",
-                    Some('[') => {
-                        " (the file holds a bare array: every input is an object with named \
+        from_json_str(text).map_err(|e| {
+            // Every input file is an object of named fields: say so when it is something else.
+            let hint = match text.trim_start().chars().next() {
+                Some('{') | None => "",
+                Some('[') => {
+                    " (the file holds a bare array: every input is an object with named \
                               fields, such as {\"generators\": [...]})"
-                    }
-                    Some(_) => " (every input is a JSON object with named fields, {...})",
-                };
-                StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
-            })
+                }
+                Some(_) => " (every input is a JSON object with named fields, {...})",
+            };
+            StanceError::File(format!("invalid JSON in {}: {e}{hint}", path.display()))
+        })
     }
 }
 

@@ -47,7 +47,7 @@ pub mod trajectory;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use chain::{retime, RetimeFailure, RetimingMode};
+use chain::{retime, RetimeFailure, Retimed, RetimingMode};
 use ik_stage::{run_segment, IkStageWorkspace, SegmentPath};
 use plan::MotionPlan;
 use result::{
@@ -56,6 +56,7 @@ use result::{
 };
 use rows::{segment_rows, SegmentRows};
 pub use spec::MotionSpec;
+use trajectory::TrajectorySample;
 
 use crate::StanceError;
 
@@ -119,49 +120,9 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     } else {
         RetimingMode::Chained
     };
-    let grid = plan.spec.retiming.grid;
     let substeps = plan.spec.ik.substeps;
     let mut ik_ws = IkStageWorkspace::new(&plan);
-    let mut paths: Vec<SegmentPath> = Vec::new();
-    let mut failure = None;
-    let (mut q, mut q_s) = (plan.q0.clone(), vec![0.0; m.nv]);
-    let mut previous: Vec<ik_stage::PlacedContact> = Vec::new();
-    let com = ik_stage::com_reference(&plan)?;
-    let mut s_offset = 0.0;
-    for k in 0..plan.segments.len() {
-        let path = run_segment(
-            &plan,
-            k,
-            &com,
-            s_offset,
-            &q,
-            &q_s,
-            &previous,
-            grid * substeps,
-            &mut ik_ws,
-        )?;
-        s_offset += path.references.length();
-        previous = path.contacts.clone();
-        if let Some((i, status)) = &path.failure {
-            failure = Some(RetimeFailure {
-                status: "ik_failed",
-                segment: k,
-                grid_point: i / substeps,
-                s: path.references.length() * *i as f64 / (grid * substeps) as f64,
-                reason: format!(
-                    "the IK stopped at step {i} of {}: {status:?} (a joint limit, or a via-point \
-                     out of reach)",
-                    grid * substeps
-                ),
-            });
-            paths.push(path);
-            break;
-        }
-        let last = &path.samples[path.samples.len() - 1];
-        q = last.q.clone();
-        q_s = last.q_s.clone();
-        paths.push(path);
-    }
+    let (paths, mut failure) = ik_paths(&plan, &mut ik_ws)?;
     let mut rows = Vec::new();
     let mut retimed = None;
     if failure.is_none() {
@@ -194,53 +155,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             }
         }
         if !options.skip_checks {
-            let t0 = Instant::now();
-            let stances: Vec<stance_contact::Stance> = match options.check_friction {
-                None => rows.iter().map(|r| r.stance.clone()).collect(),
-                Some(mu) => paths
-                    .iter()
-                    .map(|p| {
-                        rows::stance_of(
-                            &plan,
-                            p,
-                            1.0,
-                            Some(mu),
-                            stance_contact::FrictionModel {
-                                sides: 8,
-                                approximation: stance_contact::Approximation::Inner,
-                            },
-                        )
-                    })
-                    .collect::<Result<_, _>>()?,
-            };
-            let refs: Vec<&stance_contact::Stance> = stances.iter().collect();
-            let c = checks::check_samples(&plan, &paths, &refs, &samples)?;
-            let (between, _at) = checks::between_violation(&paths, &rows, r);
-            let t = t0.elapsed();
-            let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
-            checks = Some(ChecksInfo {
-                samples: c.len(),
-                samples_without_forces: c.iter().filter(|x| !x.forces).count(),
-                first_without_forces: c
-                    .iter()
-                    .zip(&samples)
-                    .filter(|(x, _)| !x.forces)
-                    .map(|(_, s)| s.t)
-                    .take(20)
-                    .collect(),
-                max_friction_usage: c.iter().map(|x| x.friction_usage).fold(0.0, f64::max),
-                min_normal_force: c
-                    .iter()
-                    .map(|x| x.min_normal_force)
-                    .fold(f64::INFINITY, f64::min),
-                max_contact_drift: c.iter().map(|x| x.contact_drift).fold(0.0, f64::max),
-                max_joint_violation: c.iter().map(|x| x.joint_violation).fold(0.0, f64::max),
-                max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
-                max_between_violation: between,
-                max_between_violation_fraction: between / weight,
-                t_checks_ms: ms(t),
-                t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,
-            });
+            checks = Some(checks_info(&plan, &paths, &rows, r, &samples, options)?);
         }
     }
 
@@ -251,37 +166,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         _ => MotionStatus::NotRetimable,
     };
     let times = profile.as_ref().map(|p| p.times().to_vec());
-    let segments = paths
-        .iter()
-        .enumerate()
-        .map(|(k, path)| {
-            let r = rows.get(k);
-            let span = retimed
-                .as_ref()
-                .zip(times.as_ref())
-                .map(|(rt, t)| (t[rt.seg_start[k]], t[rt.seg_start[k + 1]]));
-            let solve = retimed.as_ref().and_then(|rt| rt.segments.get(k));
-            SegmentInfo {
-                name: plan.segments[k].name.clone(),
-                t_start: span.map(|s| s.0),
-                t_end: span.map(|s| s.1),
-                duration: span.map(|s| s.1 - s.0),
-                sd_boundaries: solve.map(|s| s.sd),
-                contacts: contact_infos(&plan, path, r),
-                u_stance_rows: r.map_or(0, |r| r.u.len()),
-                giwc_certified: r.is_some_and(|r| r.certified),
-                grid_points: r.map_or(0, |r| r.grid.len()),
-                ik_steps: path.samples.len(),
-                ik_fallbacks: path.fallbacks,
-                t_ik_ms: ms(path.elapsed),
-                t_u_ms: r.map_or(0.0, |r| ms(r.t_u)),
-                t_abc_ms: r.map_or(0.0, |r| ms(r.t_abc)),
-                t_topp_ms: solve.map(|s| ms(s.t_topp)),
-                max_com_error: path.max_com_error,
-                max_contact_drift: path.max_contact_drift,
-            }
-        })
-        .collect();
+    let segments = segment_infos(&plan, &paths, &rows, retimed.as_ref(), times.as_deref());
     let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
     let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
     let t_abc: f64 = rows.iter().map(|r| ms(r.t_abc)).sum::<f64>()
@@ -294,37 +179,9 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         duration: profile
             .as_ref()
             .map(|p| p.duration() / options.time_scale.unwrap_or(1.0)),
-        robot: RobotInfo {
-            name: plan.robot.name.clone(),
-            urdf: plan.robot.urdf.as_ref().map(|p| p.display().to_string()),
-            locked: plan.robot.locked.clone(),
-            mass: m.total_mass(),
-            nq: m.nq,
-            nv: m.nv,
-            unknown_urdf_elements: m
-                .unknown_elements
-                .iter()
-                .map(|(name, line)| format!("<{name}> (line {line})"))
-                .collect(),
-        },
+        robot: robot_info(&plan),
         gravity: plan.gravity,
-        environment: plan
-            .environment
-            .iter()
-            .map(|e| EnvironmentInfo {
-                name: e.name.clone(),
-                vertices: e
-                    .polygon
-                    .iter()
-                    .map(|p| {
-                        (e.pose.rotation * nalgebra::Vector3::new(p[0], p[1], 0.0)
-                            + e.pose.translation)
-                            .into()
-                    })
-                    .collect(),
-                friction: e.friction,
-            })
-            .collect(),
+        environment: environment_info(&plan),
         friction_model: plan.spec.planning.friction_model,
         segments,
         failure,
@@ -367,6 +224,195 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         samples,
         result,
     })
+}
+
+/// Stage 1: the IK along every segment, chained (each starts where the previous one ended),
+/// until the end or the first segment whose IK stops (its path kept, with the failure).
+fn ik_paths(
+    plan: &MotionPlan,
+    ik_ws: &mut IkStageWorkspace,
+) -> Result<(Vec<SegmentPath>, Option<RetimeFailure>), StanceError> {
+    let m = &plan.robot.model;
+    let grid = plan.spec.retiming.grid;
+    let substeps = plan.spec.ik.substeps;
+    let mut paths: Vec<SegmentPath> = Vec::new();
+    let mut failure = None;
+    let (mut q, mut q_s) = (plan.q0.clone(), vec![0.0; m.nv]);
+    let mut previous: Vec<ik_stage::PlacedContact> = Vec::new();
+    let com = ik_stage::com_reference(plan)?;
+    let mut s_offset = 0.0;
+    for k in 0..plan.segments.len() {
+        let path = run_segment(
+            plan,
+            k,
+            &com,
+            s_offset,
+            &q,
+            &q_s,
+            &previous,
+            grid * substeps,
+            ik_ws,
+        )?;
+        s_offset += path.references.length();
+        previous = path.contacts.clone();
+        if let Some((i, status)) = &path.failure {
+            failure = Some(RetimeFailure {
+                status: "ik_failed",
+                segment: k,
+                grid_point: i / substeps,
+                s: path.references.length() * *i as f64 / (grid * substeps) as f64,
+                reason: format!(
+                    "the IK stopped at step {i} of {}: {status:?} (a joint limit, or a via-point \
+                     out of reach)",
+                    grid * substeps
+                ),
+            });
+            paths.push(path);
+            break;
+        }
+        let last = &path.samples[path.samples.len() - 1];
+        q = last.q.clone();
+        q_s = last.q_s.clone();
+        paths.push(path);
+    }
+    Ok((paths, failure))
+}
+
+/// Stage 4: the independent checks of the sampled trajectory (supporting forces at every sample,
+/// friction, drift, joint limits) and the rows between grid points.
+fn checks_info(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    r: &Retimed,
+    samples: &[TrajectorySample],
+    options: &RunOptions,
+) -> Result<ChecksInfo, StanceError> {
+    let m = &plan.robot.model;
+    let t0 = Instant::now();
+    let stances: Vec<stance_contact::Stance> = match options.check_friction {
+        None => rows.iter().map(|r| r.stance.clone()).collect(),
+        Some(mu) => paths
+            .iter()
+            .map(|p| {
+                rows::stance_of(
+                    plan,
+                    p,
+                    1.0,
+                    Some(mu),
+                    stance_contact::FrictionModel {
+                        sides: 8,
+                        approximation: stance_contact::Approximation::Inner,
+                    },
+                )
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let refs: Vec<&stance_contact::Stance> = stances.iter().collect();
+    let c = checks::check_samples(plan, paths, &refs, samples)?;
+    let (between, _at) = checks::between_violation(paths, rows, r);
+    let t = t0.elapsed();
+    let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    Ok(ChecksInfo {
+        samples: c.len(),
+        samples_without_forces: c.iter().filter(|x| !x.forces).count(),
+        first_without_forces: c
+            .iter()
+            .zip(samples)
+            .filter(|(x, _)| !x.forces)
+            .map(|(_, s)| s.t)
+            .take(20)
+            .collect(),
+        max_friction_usage: c.iter().map(|x| x.friction_usage).fold(0.0, f64::max),
+        min_normal_force: c
+            .iter()
+            .map(|x| x.min_normal_force)
+            .fold(f64::INFINITY, f64::min),
+        max_contact_drift: c.iter().map(|x| x.contact_drift).fold(0.0, f64::max),
+        max_joint_violation: c.iter().map(|x| x.joint_violation).fold(0.0, f64::max),
+        max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
+        max_between_violation: between,
+        max_between_violation_fraction: between / weight,
+        t_checks_ms: ms(t),
+        t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,
+    })
+}
+
+/// One line per segment of the result: its times, contacts, rows, IK and timings.
+fn segment_infos(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    retimed: Option<&Retimed>,
+    times: Option<&[f64]>,
+) -> Vec<SegmentInfo> {
+    paths
+        .iter()
+        .enumerate()
+        .map(|(k, path)| {
+            let r = rows.get(k);
+            let span = retimed
+                .zip(times)
+                .map(|(rt, t)| (t[rt.seg_start[k]], t[rt.seg_start[k + 1]]));
+            let solve = retimed.and_then(|rt| rt.segments.get(k));
+            SegmentInfo {
+                name: plan.segments[k].name.clone(),
+                t_start: span.map(|s| s.0),
+                t_end: span.map(|s| s.1),
+                duration: span.map(|s| s.1 - s.0),
+                sd_boundaries: solve.map(|s| s.sd),
+                contacts: contact_infos(plan, path, r),
+                u_stance_rows: r.map_or(0, |r| r.u.len()),
+                giwc_certified: r.is_some_and(|r| r.certified),
+                grid_points: r.map_or(0, |r| r.grid.len()),
+                ik_steps: path.samples.len(),
+                ik_fallbacks: path.fallbacks,
+                t_ik_ms: ms(path.elapsed),
+                t_u_ms: r.map_or(0.0, |r| ms(r.t_u)),
+                t_abc_ms: r.map_or(0.0, |r| ms(r.t_abc)),
+                t_topp_ms: solve.map(|s| ms(s.t_topp)),
+                max_com_error: path.max_com_error,
+                max_contact_drift: path.max_contact_drift,
+            }
+        })
+        .collect()
+}
+
+/// The robot as the result describes it.
+fn robot_info(plan: &MotionPlan) -> RobotInfo {
+    let m = &plan.robot.model;
+    RobotInfo {
+        name: plan.robot.name.clone(),
+        urdf: plan.robot.urdf.as_ref().map(|p| p.display().to_string()),
+        locked: plan.robot.locked.clone(),
+        mass: m.total_mass(),
+        nq: m.nq,
+        nv: m.nv,
+        unknown_urdf_elements: m
+            .unknown_elements
+            .iter()
+            .map(|(name, line)| format!("<{name}> (line {line})"))
+            .collect(),
+    }
+}
+
+/// The environment's surfaces as the result describes them (polygons in world coordinates).
+fn environment_info(plan: &MotionPlan) -> Vec<EnvironmentInfo> {
+    plan.environment
+        .iter()
+        .map(|e| EnvironmentInfo {
+            name: e.name.clone(),
+            vertices: e
+                .polygon
+                .iter()
+                .map(|p| {
+                    (e.pose.rotation * nalgebra::Vector3::new(p[0], p[1], 0.0) + e.pose.translation)
+                        .into()
+                })
+                .collect(),
+            friction: e.friction,
+        })
+        .collect()
 }
 
 fn contact_infos(
