@@ -424,29 +424,40 @@ fn universe(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Model {
 /// universe.
 fn attach_root(model: &mut Model, root: RootJoint) -> Attach {
     match root {
-        RootJoint::FreeFlyer => {
-            let k = model.add_joint(
-                "root_joint".into(),
-                JointKind::FreeFlyer,
-                0,
-                Pose::identity(),
-                None,
-            );
-            model.frames.push(Frame {
-                name: "root_joint".into(),
-                kind: FrameKind::Joint,
-                parent_joint: k,
-                joint_from_frame: Pose::identity(),
-            });
-            Attach {
-                joint: k,
-                joint_from_link: Pose::identity(),
-            }
-        }
+        RootJoint::FreeFlyer => moving_joint(
+            model,
+            "root_joint",
+            JointKind::FreeFlyer,
+            0,
+            Pose::identity(),
+            None,
+        ),
         RootJoint::Fixed => Attach {
             joint: 0,
             joint_from_link: Pose::identity(),
         },
+    }
+}
+
+/// A joint that moves, with its frame; its child link is attached at the joint's origin.
+fn moving_joint(
+    model: &mut Model,
+    name: &str,
+    kind: JointKind,
+    parent: usize,
+    placement: Pose,
+    limit: Option<&urdf_rs::JointLimit>,
+) -> Attach {
+    let k = model.add_joint(name.to_string(), kind, parent, placement, limit);
+    model.frames.push(Frame {
+        name: name.to_string(),
+        kind: FrameKind::Joint,
+        parent_joint: k,
+        joint_from_frame: Pose::identity(),
+    });
+    Attach {
+        joint: k,
+        joint_from_link: Pose::identity(),
     }
 }
 
@@ -504,25 +515,14 @@ fn add_joint_of(
         });
     }
     Ok(match (kind, lock) {
-        (Some(kind), None) => {
-            let k = model.add_joint(
-                j.name.clone(),
-                kind,
-                parent_attach.joint,
-                placement,
-                Some(&j.limit),
-            );
-            model.frames.push(Frame {
-                name: j.name.clone(),
-                kind: FrameKind::Joint,
-                parent_joint: k,
-                joint_from_frame: Pose::identity(),
-            });
-            Attach {
-                joint: k,
-                joint_from_link: Pose::identity(),
-            }
-        }
+        (Some(kind), None) => moving_joint(
+            model,
+            &j.name,
+            kind,
+            parent_attach.joint,
+            placement,
+            Some(&j.limit),
+        ),
         (kind, lock) => {
             let placement = match (kind, lock) {
                 (Some(kind), Some(&value)) => placement.compose(&locked_motion(&kind, value)),
