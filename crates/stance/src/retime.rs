@@ -30,7 +30,9 @@ use stance_contact::{GiwcOptions, Scene};
 use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
-use stance_topp::{solve_with, CanonicalConstraints, SolveOptions, Tolerances, Workspace};
+use stance_topp::{
+    solve_with, CanonicalConstraints, Profile, Solution, SolveOptions, Tolerances, Workspace,
+};
 
 use crate::name_or::NameOr;
 use crate::StanceError;
@@ -383,6 +385,90 @@ pub(crate) fn feasible_set(
 /// assert!(r.duration.unwrap() > 0.0);
 /// ```
 pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
+    validate(spec)?;
+    let scene = spec.scene.scene()?;
+    let curve = spec.path.curve()?;
+    let grid = uniform_grid(curve.domain(), spec.grid_points - 1);
+
+    let t0 = Instant::now();
+    let giwc = scene.stance()?.u_stance(&GiwcOptions::default())?;
+    let t_u = t0.elapsed();
+    if giwc.equations.nrows() > 0 {
+        return Err(StanceError::BadMotion(format!(
+            "the stance's GIWC is lower-dimensional ({} equation(s)); retiming needs a \
+             full-dimensional GIWC (use surface contacts or more contacts)",
+            giwc.equations.nrows()
+        )));
+    }
+    let u = giwc.facet_rows();
+    check_finite_path(&curve, &grid)?;
+    let rows = path_rows(spec, &u, &curve, &scene)?;
+    let t1 = Instant::now();
+    let k = rows.factored_on_grid(grid.clone())?.to_constraints();
+    let t_abc = t1.elapsed();
+
+    let disc = spec.discretization;
+    let opts = SolveOptions::new(disc)
+        .with_start(spec.sd_start)
+        .with_end(spec.sd_end);
+    let mut ws = Workspace::new();
+    let t2 = Instant::now();
+    let sol = solve_with(&k, &opts, &mut ws)?;
+    let t_topp = t2.elapsed();
+
+    let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    if spec.max_violation_fraction.is_some() && weight <= 0.0 {
+        return Err(StanceError::BadMotion(format!(
+            "max_violation_fraction is a fraction of the weight m |g|, but the scene's gravity \
+             is {:?}; drop max_violation_fraction or give a non-zero gravity",
+            scene.gravity
+        )));
+    }
+    let (k_final, sol, refinement) = refine(spec, &rows, grid, &opts, weight, k, sol)?;
+
+    let index = sol.status.grid_index();
+    let speed_at_box = sol.profile.as_ref().is_some_and(|p| {
+        p.x()
+            .iter()
+            .any(|&x| x >= opts.tol.max_x * (1.0 - stance_topp::tol::BOX_TOUCH))
+    });
+    let s_final = k_final.grid().to_vec();
+    let com = s_final.iter().map(|&s| curve.eval(s).p).collect();
+    let feasible_sets = (0..s_final.len())
+        .map(|i| feasible_set(&k_final, i, &opts.tol))
+        .collect();
+    let (between, sd, sdd, t, samples) = match &sol.profile {
+        Some(p) => profile_output(p, &rows, spec, weight)?,
+        None => (None, Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+    };
+    Ok(Retiming {
+        status: sol.status.name(),
+        index,
+        discretization: disc.name(),
+        duration: sol.duration().filter(|d| d.is_finite()),
+        s: s_final,
+        sd,
+        sdd,
+        t,
+        com,
+        controllable_sets: sol.controllable.clone(),
+        feasible_sets,
+        rows_per_point: u.len(),
+        giwc_certified: giwc.certified,
+        speed_at_box,
+        between,
+        refinement,
+        samples,
+        timings: Timings {
+            t_u_ms: t_u.as_secs_f64() * 1e3,
+            t_abc_ms: t_abc.as_secs_f64() * 1e3,
+            t_topp_ms: t_topp.as_secs_f64() * 1e3,
+        },
+    })
+}
+
+/// Stage 1: the options of a motion file, each in its range.
+fn validate(spec: &MotionSpec) -> Result<(), StanceError> {
     if spec.grid_points < 2 {
         return Err(StanceError::BadMotion(format!(
             "grid_points is {}; give at least 2",
@@ -425,11 +511,12 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
             )));
         }
     }
-    let scene = spec.scene.scene()?;
-    let curve = spec.path.curve()?;
-    let [s0, s1] = curve.domain();
-    let n = spec.grid_points - 1;
-    let grid: Vec<f64> = (0..=n)
+    Ok(())
+}
+
+/// Stage 2: `n` equal intervals of `[s0, s1]`, the last point exactly `s1`.
+fn uniform_grid([s0, s1]: [f64; 2], n: usize) -> Vec<f64> {
+    (0..=n)
         .map(|i| {
             if i == n {
                 s1
@@ -437,23 +524,14 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
                 s0 + (s1 - s0) * i as f64 / n as f64
             }
         })
-        .collect();
+        .collect()
+}
 
-    let t0 = Instant::now();
-    let giwc = scene.stance()?.u_stance(&GiwcOptions::default())?;
-    let t_u = t0.elapsed();
-    if giwc.equations.nrows() > 0 {
-        return Err(StanceError::BadMotion(format!(
-            "the stance's GIWC is lower-dimensional ({} equation(s)); retiming needs a \
-             full-dimensional GIWC (use surface contacts or more contacts)",
-            giwc.equations.nrows()
-        )));
-    }
-    let u = giwc.facet_rows();
-
-    // Knots too close together (or waypoints too far apart) overflow the path's derivatives:
-    // say so rather than report a non-finite row.
-    for &s in [s0, s1].iter().chain(&grid) {
+/// Knots too close together (or waypoints too far apart) overflow the path's derivatives: say
+/// so rather than report a non-finite row.
+fn check_finite_path(curve: &ComPath, grid: &[f64]) -> Result<(), StanceError> {
+    let [s0, s1] = curve.domain();
+    for &s in [s0, s1].iter().chain(grid) {
         let q = curve.eval(s);
         if q.p
             .iter()
@@ -467,114 +545,85 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
             )));
         }
     }
-    let mut rows = PathRows::new(u.clone(), curve.clone(), scene.mass, scene.gravity)?;
+    Ok(())
+}
+
+/// Stage 3: the rows of eq. 14 along the path (`U_stance` rows `u`, with the angular-momentum
+/// terms when given).
+fn path_rows(
+    spec: &MotionSpec,
+    u: &[[f64; 6]],
+    curve: &ComPath,
+    scene: &Scene,
+) -> Result<PathRows<ComPath>, StanceError> {
+    let mut rows = PathRows::new(u.to_vec(), curve.clone(), scene.mass, scene.gravity)?;
     if let Some(l) = &spec.angular_momentum {
         let knots = l.s.clone().unwrap_or_else(|| spec.path.knots());
         rows = rows.with_angular(AngularTerms::new(knots, l.l1.clone(), l.l2.clone())?)?;
     }
-    let t1 = Instant::now();
-    let k = rows.factored_on_grid(grid.clone())?.to_constraints();
-    let t_abc = t1.elapsed();
+    Ok(rows)
+}
 
-    let disc = spec.discretization;
-    let opts = SolveOptions::new(disc)
-        .with_start(spec.sd_start)
-        .with_end(spec.sd_end);
-    let mut ws = Workspace::new();
-    let t2 = Instant::now();
-    let mut sol = solve_with(&k, &opts, &mut ws)?;
-    let t_topp = t2.elapsed();
-
-    let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
-    if spec.max_violation_fraction.is_some() && weight <= 0.0 {
-        return Err(StanceError::BadMotion(format!(
-            "max_violation_fraction is a fraction of the weight m |g|, but the scene's gravity \
-             is {:?}; drop max_violation_fraction or give a non-zero gravity",
-            scene.gravity
-        )));
-    }
-    let mut k_final = k;
-    let mut refinement = None;
-    if let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) {
-        let rep = refine_until(
-            &rows,
-            grid,
-            &opts,
-            bound * weight,
-            weight,
-            crate::tol::MAX_REFINED_GRID_POINTS,
-            spec.samples_per_interval,
-        )?;
-        refinement = Some(Refinement {
-            converged: rep.converged,
-            rounds: rep.rounds,
-            points_added: rep.points_added,
-            elapsed_ms: rep.elapsed.as_secs_f64() * 1e3,
-        });
-        k_final = rows.on_grid(rep.grid)?;
-        sol = rep.solution;
-    }
-
-    let index = sol.status.grid_index();
-    let speed_at_box = sol.profile.as_ref().is_some_and(|p| {
-        p.x()
-            .iter()
-            .any(|&x| x >= opts.tol.max_x * (1.0 - stance_topp::tol::BOX_TOUCH))
-    });
-    let s_final = k_final.grid().to_vec();
-    let com = s_final.iter().map(|&s| curve.eval(s).p).collect();
-    let feasible_sets = (0..s_final.len())
-        .map(|i| feasible_set(&k_final, i, &opts.tol))
-        .collect();
-    let (between, sd, sdd, t, samples) = match &sol.profile {
-        Some(p) => {
-            let (rep, _) = check_between(p, &rows, spec.samples_per_interval, weight);
-            // A stalled profile (infinite duration) has no finite-time trajectory to sample.
-            let samples = match spec.dt {
-                Some(dt) if p.duration().is_finite() => p
-                    .resample(dt)
-                    .map_err(|e| StanceError::BadMotion(format!("dt: {e}")))?
-                    .iter()
-                    .map(|q| [q.t, q.s, q.sd, q.sdd])
-                    .collect(),
-                _ => Vec::new(),
-            };
-            (
-                Some(Between {
-                    max_violation_newtons: rep.max_violation,
-                    fraction_of_weight: rep.fraction,
-                    at_s: rep.at_s,
-                }),
-                p.sd(),
-                p.u().to_vec(),
-                p.times().to_vec(),
-                samples,
-            )
-        }
-        None => (None, Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+/// Stage 5: with `max_violation_fraction` and a profile, the grid refined until the violation
+/// between grid points is below that fraction of the weight; otherwise the first solve as it is.
+fn refine(
+    spec: &MotionSpec,
+    rows: &PathRows<ComPath>,
+    grid: Vec<f64>,
+    opts: &SolveOptions,
+    weight: f64,
+    k: CanonicalConstraints,
+    sol: Solution,
+) -> Result<(CanonicalConstraints, Solution, Option<Refinement>), StanceError> {
+    let (Some(bound), Some(_)) = (spec.max_violation_fraction, &sol.profile) else {
+        return Ok((k, sol, None));
     };
-    Ok(Retiming {
-        status: sol.status.name(),
-        index,
-        discretization: disc.name(),
-        duration: sol.duration().filter(|d| d.is_finite()),
-        s: s_final,
-        sd,
-        sdd,
-        t,
-        com,
-        controllable_sets: sol.controllable.clone(),
-        feasible_sets,
-        rows_per_point: u.len(),
-        giwc_certified: giwc.certified,
-        speed_at_box,
-        between,
-        refinement,
+    let rep = refine_until(
+        rows,
+        grid,
+        opts,
+        bound * weight,
+        weight,
+        crate::tol::MAX_REFINED_GRID_POINTS,
+        spec.samples_per_interval,
+    )?;
+    let refinement = Refinement {
+        converged: rep.converged,
+        rounds: rep.rounds,
+        points_added: rep.points_added,
+        elapsed_ms: rep.elapsed.as_secs_f64() * 1e3,
+    };
+    Ok((rows.on_grid(rep.grid)?, rep.solution, Some(refinement)))
+}
+
+/// The output of a profile: violation between grid points, `s'`, `s''`, times, and the
+/// trajectory resampled at `dt` when asked (a stalled profile, of infinite duration, has none).
+#[allow(clippy::type_complexity)]
+fn profile_output(
+    p: &Profile,
+    rows: &PathRows<ComPath>,
+    spec: &MotionSpec,
+    weight: f64,
+) -> Result<(Option<Between>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<[f64; 4]>), StanceError> {
+    let (rep, _) = check_between(p, rows, spec.samples_per_interval, weight);
+    let samples = match spec.dt {
+        Some(dt) if p.duration().is_finite() => p
+            .resample(dt)
+            .map_err(|e| StanceError::BadMotion(format!("dt: {e}")))?
+            .iter()
+            .map(|q| [q.t, q.s, q.sd, q.sdd])
+            .collect(),
+        _ => Vec::new(),
+    };
+    Ok((
+        Some(Between {
+            max_violation_newtons: rep.max_violation,
+            fraction_of_weight: rep.fraction,
+            at_s: rep.at_s,
+        }),
+        p.sd(),
+        p.u().to_vec(),
+        p.times().to_vec(),
         samples,
-        timings: Timings {
-            t_u_ms: t_u.as_secs_f64() * 1e3,
-            t_abc_ms: t_abc.as_secs_f64() * 1e3,
-            t_topp_ms: t_topp.as_secs_f64() * 1e3,
-        },
-    })
+    ))
 }
