@@ -36,7 +36,7 @@
 //! let scene = examples::double_support_flat();
 //! let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
 //! let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
-//! assert!(eq.is_stable([0.0, 0.0, 0.8]));
+//! assert!(eq.contains([0.0, 0.0, 0.8]));
 //! let polygon = eq.polygon(0.0).unwrap();
 //! assert_eq!(polygon.vertices.len(), 4); // both feet's outer corners
 //! ```

@@ -100,11 +100,11 @@ fn check_agreement(stance: Stance, points: Vec<[f64; 3]>) -> Result<(), TestCase
             prop_assert!(r <= REGION_BAND);
         }
         if r > REGION_BAND {
-            prop_assert!(eq.is_stable(p));
+            prop_assert!(eq.contains(p));
             prop_assert!(v <= FACE_BAND);
         }
         if r < -REGION_BAND {
-            prop_assert!(!eq.is_stable(p));
+            prop_assert!(!eq.contains(p));
             prop_assert!(v >= -FACE_BAND);
         }
         // 3. The polygon (vertical gravity: the prism's cross-section).
@@ -170,7 +170,7 @@ proptest! {
         let n = poly.vertices.len() as f64;
         let c = poly.vertices.iter().fold([0.0, 0.0], |a, v| [a[0] + v[0] / n, a[1] + v[1] / n]);
         let p = [c[0], c[1], 0.9];
-        prop_assert!(eq.is_stable(p));
+        prop_assert!(eq.contains(p));
         let qp = supporting_forces(&stance, &w_gi_static(1.0, G, p), &Default::default()).unwrap();
         if poly.margin(c) > REGION_BAND {
             prop_assert_eq!(qp.outcome, ForcesOutcome::Feasible);

@@ -72,7 +72,7 @@ fn opposing_walls_are_non_pointed_and_agree_with_the_qp() {
         let w = w_gi_static(40.0, G, p);
         let qp = supporting_forces(&stance, &w, &Default::default()).unwrap();
         let face = giwc.contains(&w, 1e-9);
-        assert_eq!(eq.is_stable(p), face, "halfspaces vs face at {p:?}");
+        assert_eq!(eq.contains(p), face, "halfspaces vs face at {p:?}");
         assert_eq!(
             qp.outcome,
             if face {
@@ -89,7 +89,7 @@ fn opposing_walls_are_non_pointed_and_agree_with_the_qp() {
         .unwrap();
     assert_eq!((all.facets.nrows(), all.lineality.nrows()), (0, 6));
     let eq = StaticEquilibrium::new(&all, G, &Default::default()).unwrap();
-    assert!(eq.is_stable([5.0, -3.0, 0.0]));
+    assert!(eq.contains([5.0, -3.0, 0.0]));
     assert_eq!(eq.polygon(0.0).unwrap().status, RegionStatus::Unbounded);
 }
 
@@ -309,7 +309,7 @@ fn bad_inputs_are_errors_with_a_fix() {
     // `new` itself fail (it computes the polygon to reduce its rows); now only `polygon` does.
     let almost = StaticEquilibrium::new(&giwc, [9.81, 0.0, 1e-14], &Default::default()).unwrap();
     assert!(almost.polygon(0.0).is_err());
-    assert!(!almost.is_stable([0.0, 0.0, 0.8]));
+    assert!(!almost.contains([0.0, 0.0, 0.8]));
     assert!(StaticEquilibrium::new(&giwc, [0.0; 3], &Default::default()).is_err());
 }
 

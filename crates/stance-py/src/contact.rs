@@ -786,7 +786,7 @@ impl Stance {
             _ => None,
         };
         let eq = self.statics_for(py, g)?;
-        batch(py, coms, move |p, out| eq.is_stable_batch(p, out))
+        batch(py, coms, move |p, out| eq.contains_batch(p, out))
     }
 
     /// The robust static-equilibrium region for the gravity-like vectors `gravities` `(K, 3)`.

@@ -82,8 +82,8 @@ impl StaticEquilibrium {
     /// let scene = examples::single_support_flat();
     /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
     /// let eq = StaticEquilibrium::new(&giwc, [0.0, 0.0, -9.81], &Default::default()).unwrap();
-    /// assert!(eq.is_stable([0.0, 0.0, 0.8]));
-    /// assert!(!eq.is_stable([0.2, 0.0, 0.8]));
+    /// assert!(eq.contains([0.0, 0.0, 0.8]));
+    /// assert!(!eq.contains([0.2, 0.0, 0.8]));
     /// ```
     pub fn new(
         giwc: &Giwc,
@@ -187,11 +187,19 @@ impl StaticEquilibrium {
     /// let scene = examples::double_support_flat();
     /// let giwc = scene.stance().unwrap().u_stance(&Default::default()).unwrap();
     /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
-    /// assert!(eq.is_stable([0.0, 0.0, 0.8]));
+    /// assert!(eq.contains([0.0, 0.0, 0.8]));
     /// ```
     #[inline]
-    pub fn is_stable(&self, p: [f64; 3]) -> bool {
+    pub fn contains(&self, p: [f64; 3]) -> bool {
         self.tester.contains(p)
+    }
+
+    /// The old name of [`StaticEquilibrium::contains`] (regions answer `contains`, as
+    /// [`super::RobustRegion`] does).
+    #[deprecated(note = "use StaticEquilibrium::contains")]
+    #[inline]
+    pub fn is_stable(&self, p: [f64; 3]) -> bool {
+        self.contains(p)
     }
 
     /// Tests many CoMs in parallel (rayon), writing `out[i]` for `points[i]`; no allocation per
@@ -204,11 +212,11 @@ impl StaticEquilibrium {
     /// let eq = StaticEquilibrium::new(&giwc, scene.gravity, &Default::default()).unwrap();
     /// let pts = [[0.0, 0.0, 0.8], [0.2, 0.0, 0.8]];
     /// let mut out = [false; 2];
-    /// eq.is_stable_batch(&pts, &mut out).unwrap();
+    /// eq.contains_batch(&pts, &mut out).unwrap();
     /// assert_eq!(out, [true, false]);
-    /// assert!(eq.is_stable_batch(&pts, &mut [false; 3]).is_err());
+    /// assert!(eq.contains_batch(&pts, &mut [false; 3]).is_err());
     /// ```
-    pub fn is_stable_batch(
+    pub fn contains_batch(
         &self,
         points: &[[f64; 3]],
         out: &mut [bool],
@@ -216,6 +224,16 @@ impl StaticEquilibrium {
         super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
         Ok(())
+    }
+
+    /// The old name of [`StaticEquilibrium::contains_batch`].
+    #[deprecated(note = "use StaticEquilibrium::contains_batch")]
+    pub fn is_stable_batch(
+        &self,
+        points: &[[f64; 3]],
+        out: &mut [bool],
+    ) -> Result<(), ContactError> {
+        self.contains_batch(points, out)
     }
 
     /// The cross-section of the static-equilibrium prism at height `z = height` (m): the
