@@ -8,13 +8,13 @@
 //! Plots (static-equilibrium polygons, the robust region, phase planes) go to `--out DIR` (default `stance-demo`).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use stance::retime::{retime, Discretization, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion, StaticEquilibrium};
-use stance::stance_contact::{examples, GiwcOptions};
+use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene};
 use stance::stance_robot::{Data, Model, UrdfOptions, SMALL_HUMANOID_URDF};
 
 #[derive(clap::Args)]
@@ -39,15 +39,31 @@ pub fn run(args: DemoArgs) -> Result<()> {
     let mut o = String::new();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output directory {}", args.out.display()))?;
-    let mut gravities = Vec::new();
-    for (gx, gy) in [(0.15, 0.0), (-0.15, 0.0), (0.0, 0.15), (0.0, -0.15)] {
-        gravities.push([gx, gy, -9.81]);
-    }
-
     writeln!(
         o,
         "stance demo: the paper's stances end to end (times are wall-clock, this machine)\n"
     )?;
+    let giwcs = giwc_section(&mut o)?;
+    polygon_section(&mut o, &giwcs, &args.out)?;
+    robust_section(&mut o, &giwcs, &args.out)?;
+    retiming_section(&mut o, &giwcs, &args.out)?;
+    robot_section(&mut o)?;
+    super::io::print_text(&o)?;
+    o.clear();
+    motions(&mut o, &args.out)?;
+    writeln!(
+        o,
+        "\nPlots (static-equilibrium polygons, the robust region, phase planes x = s'^2 against s): {}",
+        args.out.display()
+    )?;
+    super::io::print_text(&o)
+}
+
+/// A built-in scene with its GIWC.
+type SceneGiwc = (&'static str, Scene, Giwc);
+
+/// Section 1: `U_stance` of every built-in scene.
+fn giwc_section(o: &mut String) -> Result<Vec<SceneGiwc>> {
     writeln!(
         o,
         "1. Gravito-inertial wrench cone, U_stance (once per stance; paper Section III)"
@@ -79,7 +95,11 @@ pub fn run(args: DemoArgs) -> Result<()> {
         )?;
         giwcs.push((name, scene, giwc));
     }
+    Ok(giwcs)
+}
 
+/// Section 2: the static-equilibrium polygons, through `U_stance` and from the contacts.
+fn polygon_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<()> {
     writeln!(
         o,
         "\n2. Static-equilibrium polygon (vertical gravity; paper Section IV)"
@@ -90,7 +110,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         "scene", "vertices", "area m^2", "from U ms", "from contacts ms"
     )?;
     let mut ws = PolygonWorkspace::new();
-    for (name, scene, giwc) in &giwcs {
+    for (name, scene, giwc) in giwcs {
         let t = Instant::now();
         let eq = StaticEquilibrium::new(giwc, scene.gravity, &Default::default())?;
         let poly = eq.polygon(0.0)?;
@@ -104,7 +124,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
             bail!("{name}: the direct polygon and the one through U_stance differ");
         }
         super::contact::plot::polygon(
-            &args.out.join(format!("polygon-{name}.svg")),
+            &out.join(format!("polygon-{name}.svg")),
             &scene.stance()?,
             &poly,
         )?;
@@ -126,7 +146,15 @@ pub fn run(args: DemoArgs) -> Result<()> {
             ms_direct
         )?;
     }
+    Ok(())
+}
 
+/// Section 3: the robust region of the paper's Fig. 3 scene and a million CoM tests.
+fn robust_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<()> {
+    let mut gravities = Vec::new();
+    for (gx, gy) in [(0.15, 0.0), (-0.15, 0.0), (0.0, 0.15), (0.0, -0.15)] {
+        gravities.push([gx, gy, -9.81]);
+    }
     let (_, fig3_scene, fig3_giwc) = giwcs
         .iter()
         .find(|(n, _, _)| *n == "robust-equilibrium")
@@ -135,7 +163,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
     let region = RobustRegion::new(fig3_giwc, &gravities, &Default::default())?;
     let region_ms = t.elapsed().as_secs_f64() * 1e3;
     super::contact::plot::region(
-        &args.out.join("region-robust-equilibrium.svg"),
+        &out.join("region-robust-equilibrium.svg"),
         &fig3_scene.stance()?,
         &region,
     )?;
@@ -181,7 +209,11 @@ pub fn run(args: DemoArgs) -> Result<()> {
         batch.as_secs_f64() * 1e3,
         batch.as_secs_f64() * 1e9 / n as f64
     )?;
+    Ok(())
+}
 
+/// Section 4: a CoM motion retimed in every built-in scene.
+fn retiming_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<()> {
     writeln!(
         o,
         "\n4. Retiming a CoM motion under contact stability (GIWC -> TOPP; paper Section V)"
@@ -191,7 +223,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         "   {:<18} {:>6} {:>5} {:>11} {:>10} {:>12} {:>7} {:>7} {:>7}",
         "scene", "grid", "rows", "status", "duration s", "between %mg", "t_u ms", "t_abc", "t_topp"
     )?;
-    for (name, _, _) in &giwcs {
+    for (name, _, _) in giwcs {
         let spec = MotionSpec {
             scene: SceneRef::Named(name.to_string()),
             path: PathSpec {
@@ -209,7 +241,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
             angular_momentum: None,
         };
         let r = retime(&spec)?;
-        let plot = args.out.join(format!("phase-{name}.svg"));
+        let plot = out.join(format!("phase-{name}.svg"));
         super::retime::phase_plane(&plot, &r)?;
         writeln!(
             o,
@@ -228,7 +260,11 @@ pub fn run(args: DemoArgs) -> Result<()> {
             r.timings.t_topp_ms
         )?;
     }
+    Ok(())
+}
 
+/// Section 5: the project's small humanoid's centroidal quantities.
+fn robot_section(o: &mut String) -> Result<()> {
     writeln!(
         o,
         "\n5. Robot model: the project's small humanoid (URDF), centroidal quantities"
@@ -248,15 +284,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         data.com.map(|c| (c * 1e4).round() / 1e4),
         us
     )?;
-    super::io::print_text(&o)?;
-    o.clear();
-    motions(&mut o, &args.out)?;
-    writeln!(
-        o,
-        "\nPlots (static-equilibrium polygons, the robust region, phase planes x = s'^2 against s): {}",
-        args.out.display()
-    )?;
-    super::io::print_text(&o)
+    Ok(())
 }
 
 /// The paper's per-segment figures (Tables I and II): rows of `U_stance` (unpruned cdd), `T_U`,
