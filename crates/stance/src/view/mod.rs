@@ -245,6 +245,21 @@ pub struct PolygonView {
     pub height: f64,
 }
 
+impl PolygonView {
+    /// The view of a static polygon at `height` (vertices rounded to 0.1 mm).
+    fn of(p: &stance_contact::equilibrium::StaticPolygon, height: f64) -> Self {
+        Self {
+            status: region_status(p.status),
+            vertices: p
+                .vertices
+                .iter()
+                .map(|v| [round(v[0]), round(v[1])])
+                .collect(),
+            height,
+        }
+    }
+}
+
 /// One stance.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StanceView {

@@ -9,8 +9,8 @@ use stance_contact::{Contact, FrictionModel, Shape, Stance};
 use stance_robot::{center_of_mass, Data, Model, UrdfOptions};
 
 use super::{
-    region_status, round, round3, scale_of, ContactView, PhaseView, PolygonView, RobotView,
-    StanceView, SurfaceView, TableView, ViewData, MAX_FRAME_RATE,
+    round, round3, scale_of, ContactView, PhaseView, PolygonView, RobotView, StanceView,
+    SurfaceView, TableView, ViewData, MAX_FRAME_RATE,
 };
 use crate::motion::result::{
     EnvironmentInfo, MotionResult, MotionStatus, PhaseInfo, RobotInfo, SegmentInfo, TrajectoryInfo,
@@ -164,16 +164,7 @@ pub fn motion_view(record: &MotionRecord, model: &Model) -> Result<ViewData, Sta
                     .map_err(StanceError::from)
             });
         let polygon = match polygon {
-            Ok(p) => Some(PolygonView {
-                status: region_status(p.polygon.status),
-                vertices: p
-                    .polygon
-                    .vertices
-                    .iter()
-                    .map(|v| [round(v[0]), round(v[1])])
-                    .collect(),
-                height,
-            }),
+            Ok(p) => Some(PolygonView::of(&p.polygon, height)),
             Err(e) => {
                 notes.push(format!("segment {}: no static polygon: {e}", seg.name));
                 None

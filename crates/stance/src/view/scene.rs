@@ -5,8 +5,8 @@ use stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace, RobustRe
 use stance_contact::{GiwcOptions, Scene};
 
 use super::{
-    region_status, round, round3, scale_of, ContactView, PolygonView, RegionView, StanceView,
-    TableView, ViewData,
+    region_status, round3, scale_of, ContactView, PolygonView, RegionView, StanceView, TableView,
+    ViewData,
 };
 use crate::StanceError;
 
@@ -75,16 +75,7 @@ pub fn scene_view(
     let opts = EquilibriumOptions::default();
     let polygon =
         match PolygonWorkspace::new().static_polygon(&stance, scene.gravity, height, &opts) {
-            Ok(p) => Some(PolygonView {
-                status: region_status(p.polygon.status),
-                vertices: p
-                    .polygon
-                    .vertices
-                    .iter()
-                    .map(|v| [round(v[0]), round(v[1])])
-                    .collect(),
-                height,
-            }),
+            Ok(p) => Some(PolygonView::of(&p.polygon, height)),
             Err(e) => {
                 notes.push(format!("no static-equilibrium polygon: {e}"));
                 None
