@@ -249,121 +249,10 @@ pub fn run_segment(
 ) -> Result<SegmentPath, StanceError> {
     let t0 = Instant::now();
     let m = &plan.robot.model;
-    let seg = &plan.segments[k];
-    let what = format!("segment {} ({})", k + 1, seg.name);
     forward_kinematics(m, &mut ws.data, q).map_err(StanceError::Robot)?;
-    let pose_of = |data: &Data, surface: usize| {
-        frame_placement(m, data, plan.robot.surfaces[surface].frame).map_err(StanceError::Robot)
-    };
-    // contacts, read off the configuration and checked against their surfaces
-    let mut contacts = Vec::new();
-    for &(r, e) in &seg.stance {
-        let pose = pose_of(&ws.data, r)?;
-        let surf = &plan.robot.surfaces[r];
-        let poly = polygon_of(&surf.shape, &surf.name, true)?;
-        let on = plan.environment[e].check(&pose, &poly);
-        if !on.holds() {
-            return Err(StanceError::BadMotion(format!(
-                "{what}: {:?} is not on {:?} at the segment's start ({:.1} mm from its plane, \
-                 normals {:.2} deg apart, {:.1} mm outside it; tolerances {} mm, {} deg, {} mm): \
-                 land it there in the previous segment (a move with onto = {:?})",
-                surf.name,
-                plan.environment[e].name,
-                on.distance * 1e3,
-                on.angle.to_degrees(),
-                on.outside * 1e3,
-                crate::tol::CONTACT_DISTANCE * 1e3,
-                crate::tol::CONTACT_ANGLE.to_degrees(),
-                crate::tol::CONTACT_OUTSIDE * 1e3,
-                plan.environment[e].name,
-            )));
-        }
-        contacts.push(PlacedContact {
-            surface: r,
-            environment: e,
-            pose: contact_pose(plan, k, previous, r, e, &pose),
-            on_surface: on,
-        });
-    }
-    // references
-    let mut knots = vec![0.0];
-    let mut links: Vec<LinkPlan> = Vec::new();
-    let in_stance = |r: usize| seg.stance.iter().any(|&(x, _)| x == r);
-    for r in previous
-        .iter()
-        .map(|c| c.surface)
-        .filter(|&r| !in_stance(r))
-    {
-        let start = pose_of(&ws.data, r)?;
-        links.push(LinkPlan {
-            surface: r,
-            frame: plan.robot.surfaces[r].frame,
-            start,
-            legs: Vec::new(),
-        });
-    }
-    for mv in &seg.moves {
-        let s0 = knots[knots.len() - 1];
-        let s1 = s0 + mv.duration;
-        knots.push(s1);
-        for lm in &mv.links {
-            let idx = match links.iter().position(|l| l.surface == lm.surface) {
-                Some(i) => i,
-                None => {
-                    let start = pose_of(&ws.data, lm.surface)?;
-                    links.push(LinkPlan {
-                        surface: lm.surface,
-                        frame: plan.robot.surfaces[lm.surface].frame,
-                        start,
-                        legs: Vec::new(),
-                    });
-                    links.len() - 1
-                }
-            };
-            let plan_l = &mut links[idx];
-            let from = plan_l.legs.last().map_or(plan_l.start, |l| l.to);
-            let to = match &lm.goal {
-                LinkGoal::By { offset, rotate } => Pose {
-                    rotation: from.rotation * rotate,
-                    translation: from.translation + offset,
-                },
-                LinkGoal::To { position, rotation } => Pose {
-                    rotation: rotation.unwrap_or(from.rotation),
-                    translation: *position,
-                },
-                LinkGoal::Onto { pose, .. } => *pose,
-            };
-            plan_l.legs.push(LinkLeg {
-                s: [s0, s1],
-                from,
-                to,
-                landing: matches!(lm.goal, LinkGoal::Onto { .. }),
-            });
-        }
-    }
-    let references = SegmentReferences {
-        knots,
-        s_offset,
-        com: com.clone(),
-        links,
-    };
-    // the IK along the grid
-    let ik = &plan.spec.ik;
-    let options = IkOptions {
-        w_com: ik.w_com,
-        w_link: seg.w_link,
-        w_posture: ik.w_posture,
-        k_p: seg.gain,
-        k_d: seg.gain,
-        gamma: ik.contact_gain,
-        contact_k_p: ik.contact_gain,
-        joint_bounds: JointBounds::Damper {
-            k_s: 10.0,
-            k_ss: 10.0,
-            range: ik.joint_range,
-        },
-        ..Default::default()
-    };
+    let contacts = placed_contacts(plan, k, previous, &ws.data)?;
+    let references = segment_references(plan, k, com, s_offset, previous, &ws.data)?;
+    let options = ik_options(plan, k);
     let holds: Vec<ContactHold> = contacts
         .iter()
         .map(|c| ContactHold {
@@ -470,4 +359,148 @@ pub fn run_segment(
     }
     out.elapsed = t0.elapsed();
     Ok(out)
+}
+
+/// The pose (world) of robot surface `r` in the configuration whose kinematics `data` holds.
+fn surface_pose(plan: &MotionPlan, data: &Data, r: usize) -> Result<Pose, StanceError> {
+    frame_placement(&plan.robot.model, data, plan.robot.surfaces[r].frame)
+        .map_err(StanceError::Robot)
+}
+
+/// The contacts of segment `k`'s stance, read off the start configuration (kinematics in
+/// `data`) and checked against their environment surfaces.
+fn placed_contacts(
+    plan: &MotionPlan,
+    k: usize,
+    previous: &[PlacedContact],
+    data: &Data,
+) -> Result<Vec<PlacedContact>, StanceError> {
+    let seg = &plan.segments[k];
+    let what = format!("segment {} ({})", k + 1, seg.name);
+    let mut contacts = Vec::new();
+    for &(r, e) in &seg.stance {
+        let pose = surface_pose(plan, data, r)?;
+        let surf = &plan.robot.surfaces[r];
+        let poly = polygon_of(&surf.shape, &surf.name, true)?;
+        let on = plan.environment[e].check(&pose, &poly);
+        if !on.holds() {
+            return Err(StanceError::BadMotion(format!(
+                "{what}: {:?} is not on {:?} at the segment's start ({:.1} mm from its plane, \
+                 normals {:.2} deg apart, {:.1} mm outside it; tolerances {} mm, {} deg, {} mm): \
+                 land it there in the previous segment (a move with onto = {:?})",
+                surf.name,
+                plan.environment[e].name,
+                on.distance * 1e3,
+                on.angle.to_degrees(),
+                on.outside * 1e3,
+                crate::tol::CONTACT_DISTANCE * 1e3,
+                crate::tol::CONTACT_ANGLE.to_degrees(),
+                crate::tol::CONTACT_OUTSIDE * 1e3,
+                plan.environment[e].name,
+            )));
+        }
+        contacts.push(PlacedContact {
+            surface: r,
+            environment: e,
+            pose: contact_pose(plan, k, previous, r, e, &pose),
+            on_surface: on,
+        });
+    }
+    Ok(contacts)
+}
+
+/// The references of segment `k`: its knots (one per move), the CoM reference, and the legs of
+/// every free link (links that left contact are held where they are until moved).
+fn segment_references(
+    plan: &MotionPlan,
+    k: usize,
+    com: &ComReference,
+    s_offset: f64,
+    previous: &[PlacedContact],
+    data: &Data,
+) -> Result<SegmentReferences, StanceError> {
+    let seg = &plan.segments[k];
+    let mut knots = vec![0.0];
+    let mut links: Vec<LinkPlan> = Vec::new();
+    let in_stance = |r: usize| seg.stance.iter().any(|&(x, _)| x == r);
+    for r in previous
+        .iter()
+        .map(|c| c.surface)
+        .filter(|&r| !in_stance(r))
+    {
+        let start = surface_pose(plan, data, r)?;
+        links.push(LinkPlan {
+            surface: r,
+            frame: plan.robot.surfaces[r].frame,
+            start,
+            legs: Vec::new(),
+        });
+    }
+    for mv in &seg.moves {
+        let s0 = knots[knots.len() - 1];
+        let s1 = s0 + mv.duration;
+        knots.push(s1);
+        for lm in &mv.links {
+            let idx = match links.iter().position(|l| l.surface == lm.surface) {
+                Some(i) => i,
+                None => {
+                    let start = surface_pose(plan, data, lm.surface)?;
+                    links.push(LinkPlan {
+                        surface: lm.surface,
+                        frame: plan.robot.surfaces[lm.surface].frame,
+                        start,
+                        legs: Vec::new(),
+                    });
+                    links.len() - 1
+                }
+            };
+            let plan_l = &mut links[idx];
+            let from = plan_l.legs.last().map_or(plan_l.start, |l| l.to);
+            let to = match &lm.goal {
+                LinkGoal::By { offset, rotate } => Pose {
+                    rotation: from.rotation * rotate,
+                    translation: from.translation + offset,
+                },
+                LinkGoal::To { position, rotation } => Pose {
+                    rotation: rotation.unwrap_or(from.rotation),
+                    translation: *position,
+                },
+                LinkGoal::Onto { pose, .. } => *pose,
+            };
+            plan_l.legs.push(LinkLeg {
+                s: [s0, s1],
+                from,
+                to,
+                landing: matches!(lm.goal, LinkGoal::Onto { .. }),
+            });
+        }
+    }
+    Ok(SegmentReferences {
+        knots,
+        s_offset,
+        com: com.clone(),
+        links,
+    })
+}
+
+/// The IK's weights and gains for segment `k` (its own link weight and gain, the motion's
+/// others; the paper's damper on the joint limits).
+fn ik_options(plan: &MotionPlan, k: usize) -> IkOptions {
+    let seg = &plan.segments[k];
+    let ik = &plan.spec.ik;
+    IkOptions {
+        w_com: ik.w_com,
+        w_link: seg.w_link,
+        w_posture: ik.w_posture,
+        k_p: seg.gain,
+        k_d: seg.gain,
+        gamma: ik.contact_gain,
+        contact_k_p: ik.contact_gain,
+        joint_bounds: JointBounds::Damper {
+            k_s: 10.0,
+            k_ss: 10.0,
+            range: ik.joint_range,
+        },
+        ..Default::default()
+    }
 }
