@@ -376,6 +376,8 @@ fn from_scratch(
             let mut p = exact_polar(v, opts)
                 .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))?;
             p.certificate.fallback = Some(reason);
+            // As a conversion from scratch does: the rounded input's slivers merged.
+            crate::convert::merge_near_parallel(&mut p, opts.tol.certificate);
             Ok((polar_into_result(p, d), Whitened::default(), false))
         }
         Err(e) => Err(e),

@@ -696,7 +696,7 @@ pub fn face_to_span(face: &FaceForm, opts: &DdOptions) -> Result<FaceToSpan, Con
 /// earlier kept row: the slivers the rounded input splits off the intended geometry (two feet
 /// 1e-5 m apart in height: 126 exact facets, 42 after merging). What this guarantees is in
 /// [`Certificate::merged_rows`]. Equations and lineality are kept as they are.
-fn merge_near_parallel(p: &mut Polar, delta: f64) {
+pub(crate) fn merge_near_parallel(p: &mut Polar, delta: f64) {
     let (m, d) = p.facets.shape();
     if m < 2 {
         return;

@@ -309,6 +309,28 @@ fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
     DMatrix::from_row_slice(rows.len() / 6, 6, &rows)
 }
 
+/// A continuation whose conversion falls back to exact arithmetic merges the fallback's slivers
+/// as a conversion from scratch does: the same rows, the same certificate of the merge.
+#[test]
+fn a_continuation_merges_the_slivers_of_its_exact_fallback() {
+    for dz in [1e-5, 1e-7, 1e-9] {
+        let v = two_feet_wrench_span(dz);
+        let scratch = span_to_face(&v, &DdOptions::default()).unwrap();
+        let c = polycone::Continuation::new(&v, &DdOptions::default()).unwrap();
+        let r = c.result();
+        assert_eq!(
+            r.certificate.fallback.is_some(),
+            scratch.certificate.fallback.is_some(),
+            "{dz}"
+        );
+        assert_eq!(
+            r.certificate.merged_rows, scratch.certificate.merged_rows,
+            "{dz}"
+        );
+        assert_eq!(r.face.facets, scratch.face.facets, "{dz}");
+    }
+}
+
 /// After an exact fallback the default mode merges the slivers of the rounded input: no two
 /// rows within the tolerance, and the certificate's bound holds. Checked against the exact
 /// answer (no merging): the merged cone contains it, and every extreme ray of the merged cone
