@@ -121,67 +121,144 @@ pub fn supporting_forces(
             what: "the gravito-inertial wrench".into(),
         });
     }
-    let model = stance.friction_model();
-    // Face rows of each contact's pyramid (k sides, plus `f_z >= 0` when mu = 0).
-    let faces: Vec<Vec<[f64; 3]>> = stance
-        .contacts()
-        .iter()
-        .map(|c| model.faces(c.friction()))
-        .collect();
-    // Variables: 3 per contact vertex.
-    let mut points: Vec<(usize, [f64; 3])> = Vec::new();
-    for (i, c) in stance.contacts().iter().enumerate() {
-        for q in c.vertices_world() {
-            points.push((i, q));
-        }
-    }
-    let nv = points.len();
-    let n = 3 * nv;
-    // Friction rows, all vertices.
-    let nf: usize = points.iter().map(|(i, _)| faces[*i].len()).sum();
-    let m = 6 + nf;
-    // Reference point: the centroid c of the contact points; w_GI(c) = (f, tau - c x f).
-    let mut centroid = [0.0; 3];
-    for (_, q) in &points {
-        for k in 0..3 {
-            centroid[k] += q[k] / nv as f64;
-        }
-    }
-    let f_gi = [w_gi[0], w_gi[1], w_gi[2]];
-    let c_x_f = crate::cross(centroid, f_gi);
-    let w_c = [
-        w_gi[0],
-        w_gi[1],
-        w_gi[2],
-        w_gi[3] - c_x_f[0],
-        w_gi[4] - c_x_f[1],
-        w_gi[5] - c_x_f[2],
-    ];
-    let scale = w_c.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let scale = if scale > 0.0 { scale } else { 1.0 };
-    let mut a = vec![0.0; m * n];
-    let mut b = vec![0.0; m];
-    for r in 0..6 {
-        b[r] = -w_c[r] / scale;
-    }
-    let mut row = 6;
-    for (j, (i, q)) in points.iter().enumerate() {
-        let rot = stance.contacts()[*i].rotation();
-        let qr =
-            crate::stance::skew([q[0] - centroid[0], q[1] - centroid[1], q[2] - centroid[2]]) * rot;
-        for r in 0..3 {
-            for c in 0..3 {
-                a[r * n + 3 * j + c] = rot[(r, c)];
-                a[(3 + r) * n + 3 * j + c] = qr[(r, c)];
+    let lp = ForceProblem::new(stance, w_gi);
+    let (x, status, distance, solved1) = solve_forces(&lp, tol)?;
+    let (residual, friction_violation) = lp.residuals(&x);
+    let outcome = if !solved1 {
+        ForcesOutcome::Unknown
+    } else if distance > tol.qp_max_residual {
+        ForcesOutcome::Infeasible
+    } else if residual <= tol.qp_max_residual && friction_violation <= tol.qp_max_residual {
+        ForcesOutcome::Feasible
+    } else {
+        ForcesOutcome::Unknown
+    };
+    let contacts = per_contact(stance, &lp, &x);
+    Ok(SupportingForces {
+        outcome,
+        contacts,
+        residual,
+        friction_violation,
+        distance,
+        solver_status: format!("{status:?}"),
+    })
+}
+
+/// The force problem in the scaled variables: `A f = b` for the six wrench rows (about the
+/// contact points' centroid, divided by the wrench's norm) and `G f <= 0` for the friction rows,
+/// `f` the local force at every contact vertex.
+struct ForceProblem {
+    /// Contact index and world position of every vertex (3 variables each).
+    points: Vec<(usize, [f64; 3])>,
+    /// `m x n` rows, row-major: 6 wrench rows, then `nf` friction rows.
+    a: Vec<f64>,
+    b: Vec<f64>,
+    n: usize,
+    m: usize,
+    nf: usize,
+    /// The wrench's norm the rows were divided by.
+    scale: f64,
+}
+
+impl ForceProblem {
+    fn new(stance: &Stance, w_gi: &[f64; 6]) -> Self {
+        let model = stance.friction_model();
+        // Face rows of each contact's pyramid (k sides, plus `f_z >= 0` when mu = 0).
+        let faces: Vec<Vec<[f64; 3]>> = stance
+            .contacts()
+            .iter()
+            .map(|c| model.faces(c.friction()))
+            .collect();
+        // Variables: 3 per contact vertex.
+        let mut points: Vec<(usize, [f64; 3])> = Vec::new();
+        for (i, c) in stance.contacts().iter().enumerate() {
+            for q in c.vertices_world() {
+                points.push((i, q));
             }
         }
-        for g in &faces[*i] {
-            for c in 0..3 {
-                a[row * n + 3 * j + c] = g[c];
+        let nv = points.len();
+        let n = 3 * nv;
+        // Friction rows, all vertices.
+        let nf: usize = points.iter().map(|(i, _)| faces[*i].len()).sum();
+        let m = 6 + nf;
+        // Reference point: the centroid c of the contact points; w_GI(c) = (f, tau - c x f).
+        let mut centroid = [0.0; 3];
+        for (_, q) in &points {
+            for k in 0..3 {
+                centroid[k] += q[k] / nv as f64;
             }
-            row += 1;
+        }
+        let f_gi = [w_gi[0], w_gi[1], w_gi[2]];
+        let c_x_f = crate::cross(centroid, f_gi);
+        let w_c = [
+            w_gi[0],
+            w_gi[1],
+            w_gi[2],
+            w_gi[3] - c_x_f[0],
+            w_gi[4] - c_x_f[1],
+            w_gi[5] - c_x_f[2],
+        ];
+        let scale = w_c.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let mut a = vec![0.0; m * n];
+        let mut b = vec![0.0; m];
+        for r in 0..6 {
+            b[r] = -w_c[r] / scale;
+        }
+        let mut row = 6;
+        for (j, (i, q)) in points.iter().enumerate() {
+            let rot = stance.contacts()[*i].rotation();
+            let qr =
+                crate::stance::skew([q[0] - centroid[0], q[1] - centroid[1], q[2] - centroid[2]])
+                    * rot;
+            for r in 0..3 {
+                for c in 0..3 {
+                    a[r * n + 3 * j + c] = rot[(r, c)];
+                    a[(3 + r) * n + 3 * j + c] = qr[(r, c)];
+                }
+            }
+            for g in &faces[*i] {
+                for c in 0..3 {
+                    a[row * n + 3 * j + c] = g[c];
+                }
+                row += 1;
+            }
+        }
+        ForceProblem {
+            points,
+            a,
+            b,
+            n,
+            m,
+            nf,
+            scale,
         }
     }
+
+    /// The wrench residual (2-norm over the six rows) and the largest friction row of `x`.
+    fn residuals(&self, x: &[f64]) -> (f64, f64) {
+        let (a, b, n, m) = (&self.a, &self.b, self.n, self.m);
+        let mut residual = 0.0;
+        for r in 0..6 {
+            let v: f64 = (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>() - b[r];
+            residual += v * v;
+        }
+        let residual = residual.sqrt();
+        let friction_violation = (6..m)
+            .map(|r| (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>())
+            .fold(0.0, f64::max);
+        (residual, friction_violation)
+    }
+}
+
+/// Phase 1 (distance of the wrench to what the contacts can produce), then, when it is zero,
+/// phase 2 (minimum-norm forces). Returns the forces, the solver status, the phase-1 distance,
+/// and whether phase 1 solved.
+fn solve_forces(
+    lp: &ForceProblem,
+    tol: &ContactTolerances,
+) -> Result<(Vec<f64>, SolverStatus, f64, bool), ContactError> {
+    let (a, b, n, m, nf) = (&lp.a, &lp.b, lp.n, lp.m, lp.nf);
     let settings = || {
         DefaultSettingsBuilder::default()
             .verbose(false)
@@ -233,8 +310,8 @@ pub fn supporting_forces(
         let mut solver = DefaultSolver::new(
             &CscMatrix::identity(n),
             &vec![0.0; n],
-            &csc_from_dense(m, n, &a),
-            &b,
+            &csc_from_dense(m, n, a),
+            b,
             &[
                 SupportedConeT::ZeroConeT(6),
                 SupportedConeT::NonnegativeConeT(nf),
@@ -252,25 +329,12 @@ pub fn supporting_forces(
     } else {
         (phase1.solution.x[..n].to_vec(), status1)
     };
-    // Residuals of the returned forces.
-    let mut residual = 0.0;
-    for r in 0..6 {
-        let v: f64 = (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>() - b[r];
-        residual += v * v;
-    }
-    let residual = residual.sqrt();
-    let friction_violation = (6..m)
-        .map(|r| (0..n).map(|c| a[r * n + c] * x[c]).sum::<f64>())
-        .fold(0.0, f64::max);
-    let outcome = if !solved1 {
-        ForcesOutcome::Unknown
-    } else if distance > tol.qp_max_residual {
-        ForcesOutcome::Infeasible
-    } else if residual <= tol.qp_max_residual && friction_violation <= tol.qp_max_residual {
-        ForcesOutcome::Feasible
-    } else {
-        ForcesOutcome::Unknown
-    };
+    Ok((x, status, distance, solved1))
+}
+
+/// The forces of `x` per contact: vertices, local and world forces (unscaled).
+fn per_contact(stance: &Stance, lp: &ForceProblem, x: &[f64]) -> Vec<ContactForces> {
+    let (points, scale) = (&lp.points, lp.scale);
     let mut contacts: Vec<ContactForces> = stance
         .contacts()
         .iter()
@@ -288,12 +352,5 @@ pub fn supporting_forces(
         contacts[*i].forces_local.push(fl);
         contacts[*i].forces_world.push([fw[0], fw[1], fw[2]]);
     }
-    Ok(SupportingForces {
-        outcome,
-        contacts,
-        residual,
-        friction_violation,
-        distance,
-        solver_status: format!("{status:?}"),
-    })
+    contacts
 }
