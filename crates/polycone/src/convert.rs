@@ -16,7 +16,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::certificate::{certify_whitened, CertScratch, Certificate};
+use crate::certificate::{certify_whitened, CertScratch, Certificate, CheckOptions, Claim};
 use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::forms::check_dimension;
@@ -402,13 +402,17 @@ impl Workspace {
         let t = perp.len().checked_div(r).unwrap_or(0);
         let l = r - t;
         let (certificate, extreme_kept) = certify_whitened(
-            wh,
-            &fw,
-            &perp,
-            &lin,
-            tol,
-            opts.arithmetic,
-            opts.check_completeness,
+            Claim {
+                wh,
+                fw: &fw,
+                perp: &perp,
+                lin: &lin,
+            },
+            CheckOptions {
+                tol,
+                arithmetic: opts.arithmetic,
+                check_completeness: opts.check_completeness,
+            },
             &mut self.check,
         );
         if !certificate.certified && !opts.allow_uncertified && opts.check_completeness {
@@ -600,13 +604,17 @@ pub fn certify_span_to_face(
     let (perp, lin) = split_lineality(&fw, nf, r, tol.rank);
     let mut check = CertScratch::default();
     let (mut cert, _) = certify_whitened(
-        &wh,
-        &fw,
-        &perp,
-        &lin,
-        tol,
-        opts.arithmetic,
-        true,
+        Claim {
+            wh: &wh,
+            fw: &fw,
+            perp: &perp,
+            lin: &lin,
+        },
+        CheckOptions {
+            tol,
+            arithmetic: opts.arithmetic,
+            check_completeness: true,
+        },
         &mut check,
     );
     // Equations: annihilate the generators, and as many as the complement of span(V).

@@ -232,22 +232,40 @@ pub(crate) struct CertScratch {
 /// general one (facets of the paper's cones need about ten).
 const TINY_MAX_RAYS: usize = 256;
 
-/// Certifies whitened facets `fw` (`nf x r`, unit rows) against the whitened generators.
-/// `perp` (`t x r`, orthonormal rows) spans the facets, `lin` (`(r - t) x r`, orthonormal rows)
-/// its complement, the claimed lineality space.
-/// Returns the certificate and the extreme generators (indices into `wh.kept`, see
+/// What a conversion claims, in whitened coordinates: the generators (`wh`), the facets `fw`
+/// (`nf x r`, unit rows), and the split of the space into `perp` (`t x r`, orthonormal rows,
+/// spanned by the facets) and `lin` (`(r - t) x r`, the claimed lineality space).
+#[derive(Clone, Copy)]
+pub(crate) struct Claim<'a> {
+    pub wh: &'a Whitened,
+    pub fw: &'a [f64],
+    pub perp: &'a [f64],
+    pub lin: &'a [f64],
+}
+
+/// How a claim is checked: the tolerances, the arithmetic of the conversion, and whether the
+/// completeness part (ridges) runs.
+#[derive(Clone, Copy)]
+pub(crate) struct CheckOptions<'a> {
+    pub tol: &'a Tolerances,
+    pub arithmetic: Arithmetic,
+    pub check_completeness: bool,
+}
+
+/// Certifies a [`Claim`] (whitened facets against the whitened generators, and the claimed
+/// lineality split) as `how` says. Returns the certificate and the extreme generators (indices into `wh.kept`, see
 /// [`Incidence::extreme`]).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn certify_whitened(
-    wh: &Whitened,
-    fw: &[f64],
-    perp: &[f64],
-    lin: &[f64],
-    tol: &Tolerances,
-    arithmetic: Arithmetic,
-    check_completeness: bool,
+    claim: Claim,
+    how: CheckOptions,
     cs: &mut CertScratch,
 ) -> (Certificate, Vec<usize>) {
+    let Claim { wh, fw, perp, lin } = claim;
+    let CheckOptions {
+        tol,
+        arithmetic,
+        check_completeness,
+    } = how;
     let r = wh.r;
     let nf = fw.len().checked_div(r).unwrap_or(0);
     let t = perp.len().checked_div(r).unwrap_or(0);
