@@ -12,9 +12,13 @@ pip=("$py" -m pip install --quiet --disable-pip-version-check)
 
 echo "-- stance-py: fmt, clippy, doc"
 export PYO3_PYTHON="$py"
+# The checks share the workspace's target folder: its clippy and doc runs have already checked
+# every dependency the bindings share with it (the wheel below builds in the package's own).
+check_dir="${CARGO_TARGET_DIR:-$root/target}"
 cargo fmt --manifest-path "$pkg/Cargo.toml" -- --check
-cargo clippy --manifest-path "$pkg/Cargo.toml" --all-targets -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc --manifest-path "$pkg/Cargo.toml" --no-deps
+CARGO_TARGET_DIR="$check_dir" cargo clippy --manifest-path "$pkg/Cargo.toml" --all-targets -- -D warnings
+CARGO_TARGET_DIR="$check_dir" RUSTDOCFLAGS="-D warnings" \
+    cargo doc --manifest-path "$pkg/Cargo.toml" --no-deps
 echo "-- stance-py: wheel into $venv"
 "${pip[@]}" -r "$pkg/requirements-test.txt"
 "${pip[@]}" --force-reinstall --no-deps "$pkg"
