@@ -33,7 +33,7 @@ use nalgebra::DMatrix;
 use num_bigint::BigInt;
 use num_traits::{Float, One, Signed, ToPrimitive, Zero};
 
-use crate::dd::bitset;
+use crate::dd::{self, bitset};
 use crate::linalg::orthonormal_rows;
 use crate::tol::Tolerances;
 use crate::{Arithmetic, Certificate, ConeError};
@@ -390,6 +390,7 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
         .collect();
     let need = k.saturating_sub(2) as u32;
     let mut tmp = vec![0u64; words];
+    let (mut z_all, mut zp, mut zn, mut cand) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for j in (0..m).filter(|j| !basis.contains(j)) {
         let s: Vec<BigInt> = rays.iter().map(|r| dot(&a[j], &r.x)).collect();
         if s.iter().all(|v| !v.is_positive()) {
@@ -400,36 +401,39 @@ fn exact_dd(a: &[Vec<BigInt>], k: usize) -> Result<Vec<Ray>, ConeError> {
             }
             continue;
         }
+        // The adjacent pairs of R+ x R-, in the order and by the combinatorial test of the
+        // floating-point step (`crate::dd::step`), on exact signs.
+        let plus: Vec<usize> = (0..rays.len()).filter(|&i| s[i].is_positive()).collect();
+        let minus: Vec<usize> = (0..rays.len()).filter(|&i| s[i].is_negative()).collect();
+        z_all.clear();
+        rays.iter().for_each(|r| z_all.extend_from_slice(&r.z));
+        zp.clear();
+        plus.iter().for_each(|&p| zp.extend_from_slice(&rays[p].z));
+        zn.clear();
+        minus.iter().for_each(|&q| zn.extend_from_slice(&rays[q].z));
+        cand.clear();
+        dd::candidate_pairs(&zp, &zn, words, need, &mut cand);
         // New rays first (they need their parents), then the survivors are moved, not cloned.
         let mut created: Vec<Ray> = Vec::new();
-        for p in (0..rays.len()).filter(|&i| s[i].is_positive()) {
-            for q in (0..rays.len()).filter(|&i| s[i].is_negative()) {
-                let mut c = 0;
-                for t in 0..words {
-                    tmp[t] = rays[p].z[t] & rays[q].z[t];
-                    c += tmp[t].count_ones();
-                }
-                if c < need {
-                    continue;
-                }
-                let blocked = (0..rays.len()).any(|o| {
-                    o != p && o != q && tmp.iter().zip(&rays[o].z).all(|(a, b)| a & !b == 0)
-                });
-                if blocked {
-                    continue;
-                }
-                let mut x: Vec<BigInt> = (0..k)
-                    .map(|t| &s[p] * &rays[q].x[t] - &s[q] * &rays[p].x[t])
-                    .collect();
-                // Divide out the content only when the entries get long: gcds dominate the
-                // cost, and most combinations stay short.
-                if x.iter().map(|v| v.bits()).max().unwrap_or(0) > PRIMITIVE_BITS {
-                    primitive(&mut x);
-                }
-                let mut z = tmp.clone();
-                bitset::set(&mut z, j);
-                created.push(Ray { x, z });
+        for &(pi, ni) in &cand {
+            let (p, q) = (plus[pi as usize], minus[ni as usize]);
+            for t in 0..words {
+                tmp[t] = rays[p].z[t] & rays[q].z[t];
             }
+            if !dd::adjacent(&tmp, &z_all, words, rays.len(), [p, q]) {
+                continue;
+            }
+            let mut x: Vec<BigInt> = (0..k)
+                .map(|t| &s[p] * &rays[q].x[t] - &s[q] * &rays[p].x[t])
+                .collect();
+            // Divide out the content only when the entries get long: gcds dominate the
+            // cost, and most combinations stay short.
+            if x.iter().map(|v| v.bits()).max().unwrap_or(0) > PRIMITIVE_BITS {
+                primitive(&mut x);
+            }
+            let mut z = tmp.clone();
+            bitset::set(&mut z, j);
+            created.push(Ray { x, z });
         }
         let mut next: Vec<Ray> = Vec::with_capacity(rays.len() + created.len());
         for (i, mut r) in rays.into_iter().enumerate() {

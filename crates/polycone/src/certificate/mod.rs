@@ -83,7 +83,7 @@
 
 mod neighbours;
 
-use crate::dd::{DdCore, DdFailure, Scan, SmallDd};
+use crate::dd::{DdCore, DdFailure, Scan};
 use crate::linalg::{dot, normalize, rank_of, spans};
 use crate::precondition::Whitened;
 use crate::tol::Tolerances;
@@ -197,8 +197,6 @@ pub(crate) struct CertScratch {
     /// The double description of facets that have neither closed form, and of the lineality
     /// check.
     pub(crate) small: DdCore,
-    /// The same, for the small per-facet conversions.
-    tiny: SmallDd,
     /// Generators transposed (`r x ng`): the slack loop runs along contiguous generators.
     gt: Vec<f64>,
     /// Slacks `u . g` (`nf x ng`, row-major), whitened coordinates.
@@ -227,10 +225,6 @@ pub(crate) struct CertScratch {
     /// Linear algebra scratch.
     buf: Vec<f64>,
 }
-
-/// Most rays the fixed-size double description of a facet keeps before handing over to the
-/// general one (facets of the paper's cones need about ten).
-const TINY_MAX_RAYS: usize = 256;
 
 /// What a conversion claims, in whitened coordinates: the generators (`wh`), the facets `fw`
 /// (`nf x r`, unit rows), and the split of the space into `perp` (`t x r`, orthonormal rows,
@@ -393,7 +387,6 @@ pub(crate) fn certify_whitened(
     };
     let mut work = RidgeWork {
         small: &mut cs.small,
-        tiny: &mut cs.tiny,
         members: &mut cs.members,
         rows: &mut cs.rows,
         ridge: &mut cs.ridge,

@@ -8,7 +8,6 @@ use super::*;
 /// Buffers of [`count_open_ridges`], borrowed from [`CertScratch`].
 pub(super) struct RidgeWork<'a> {
     pub(super) small: &'a mut DdCore,
-    pub(super) tiny: &'a mut SmallDd,
     pub(super) members: &'a mut Vec<usize>,
     pub(super) rows: &'a mut Vec<f64>,
     pub(super) ridge: &'a mut Vec<usize>,
@@ -219,20 +218,10 @@ pub(super) fn count_open_ridges(
             }
         }
         record!(dd);
-        // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows),
-        // by the fixed-size double description, or the general one beyond its range.
+        // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows).
         let m = members.len();
-        let tiny = &mut *w.tiny;
         let small = &mut *w.small;
-        let (result, used_tiny) =
-            match tiny.run(rows, m, k, tol.incidence, tol.support_rank, TINY_MAX_RAYS) {
-                Some(r) => (r, true),
-                None => (
-                    small.run(rows, m, k, tol.incidence, tol.support_rank),
-                    false,
-                ),
-            };
-        match result {
+        match small.run(rows, m, k, tol.incidence, tol.support_rank) {
             Ok(()) => {}
             Err(DdFailure::RankDeficient) => {
                 unsupported.push(f);
@@ -244,15 +233,8 @@ pub(super) fn count_open_ridges(
                 continue;
             }
         }
-        let nr = if used_tiny { tiny.n() } else { small.n };
-        for q in 0..nr {
-            let z_hi = |loc: usize| -> bool {
-                if used_tiny {
-                    tiny.z[q] >> loc & 1 == 1
-                } else {
-                    small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1
-                }
-            };
+        for q in 0..small.n {
+            let z_hi = |loc: usize| small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1;
             ridge.clear();
             for (loc, &i) in members.iter().enumerate() {
                 if z_hi(loc) {

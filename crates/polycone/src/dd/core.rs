@@ -4,6 +4,7 @@
 
 use super::bitset;
 use super::scan::Scan;
+use super::step::Next;
 
 /// Dimensions up to this use stack buffers for small per-call vectors.
 const MAX_STACK_K: usize = 16;
@@ -32,13 +33,13 @@ pub(crate) struct DdCore {
     pub z: Vec<u64>,
     /// Number of current rays.
     pub n: usize,
-    next_x: Vec<f64>,
-    next_z: Vec<u64>,
-    slack: Vec<f64>,
-    plus: Vec<u32>,
-    minus: Vec<u32>,
-    zero: Vec<u32>,
-    tmp: Vec<u64>,
+    /// The rays of the next cone, during a step.
+    pub(super) next: Next,
+    pub(super) slack: Vec<f64>,
+    pub(super) plus: Vec<u32>,
+    pub(super) minus: Vec<u32>,
+    pub(super) zero: Vec<u32>,
+    pub(super) tmp: Vec<u64>,
     order: Vec<usize>,
     in_basis: Vec<bool>,
     basis: Vec<usize>,
@@ -46,55 +47,24 @@ pub(crate) struct DdCore {
     aug: Vec<f64>,
     /// Transposed incidence of the current rays: for each row `j`, the bitset (over rays) of
     /// the rays tight on `j`; `m * ray_words` words.
-    col: Vec<u64>,
-    acc: Vec<u64>,
-    zp: Vec<u64>,
-    zn: Vec<u64>,
-    cand: Vec<(u32, u32)>,
+    pub(super) col: Vec<u64>,
+    pub(super) acc: Vec<u64>,
+    pub(super) zp: Vec<u64>,
+    pub(super) zn: Vec<u64>,
+    pub(super) cand: Vec<(u32, u32)>,
     /// Candidate indices into `minus` for one ray of `plus` (one-word path).
-    cand_idx: Vec<u32>,
+    pub(super) cand_idx: Vec<u32>,
     /// The compiled variant of the bitset scans this CPU runs.
-    scan: Scan,
+    pub(super) scan: Scan,
     /// Number of adjacency candidates examined in the last run (for profiling).
     pub pairs_tested: usize,
     /// Tests only: take the multi-word path even when one word would do, to check the
     /// one-word fast path against it.
     #[cfg(test)]
-    force_multi_word: bool,
+    pub(super) force_multi_word: bool,
 }
 
 impl DdCore {
-    /// Appends to `next_x` the new ray on the hyperplane of the row being added, combining the
-    /// adjacent rays `p` (slack > 0) and `q` (slack < 0): `slack_p x_q - slack_q x_p`, normalized.
-    /// (An associated function over the three buffers, so that callers may hold other fields.)
-    #[inline(always)]
-    fn push_combination(
-        slack: &[f64],
-        x: &[f64],
-        next_x: &mut Vec<f64>,
-        [p, q, k]: [usize; 3],
-    ) -> Result<(), DdFailure> {
-        let (sp, sq) = (slack[p], slack[q]);
-        let start = next_x.len();
-        next_x.resize(start + k, 0.0);
-        let (xp, xq) = (&x[p * k..(p + 1) * k], &x[q * k..(q + 1) * k]);
-        let out = &mut next_x[start..start + k];
-        let mut nn = 0.0;
-        for ((o, &a), &b) in out.iter_mut().zip(xq).zip(xp) {
-            let v = sp * a - sq * b;
-            *o = v;
-            nn += v * v;
-        }
-        if nn.is_nan() || nn <= 0.0 || !nn.is_finite() {
-            return Err(DdFailure::Cancellation);
-        }
-        let inv = 1.0 / nn.sqrt();
-        for v in out.iter_mut() {
-            *v *= inv;
-        }
-        Ok(())
-    }
-
     /// Ray `i` as a slice.
     #[inline]
     pub fn ray(&self, i: usize) -> &[f64] {
@@ -308,344 +278,17 @@ impl DdCore {
         }
         Ok(())
     }
-
-    /// One double description step: intersects the current cone with `{x : row . x <= 0}`.
-    pub(super) fn add_row<const K: usize>(
-        &mut self,
-        row: &[f64],
-        j: usize,
-        eps_zero: f64,
-    ) -> Result<(), DdFailure> {
-        #[cfg(test)]
-        let one_word = self.words == 1 && !self.force_multi_word;
-        #[cfg(not(test))]
-        let one_word = self.words == 1;
-        if one_word {
-            return self.add_row_one_word::<K>(row, j, eps_zero);
-        }
-        let (k, words) = (dim::<K>(self.k), self.words);
-        self.slack.clear();
-        self.plus.clear();
-        self.minus.clear();
-        self.zero.clear();
-        for i in 0..self.n {
-            let x = &self.x[i * k..(i + 1) * k];
-            let s: f64 = row.iter().zip(x).map(|(u, v)| u * v).sum();
-            self.slack.push(s);
-            if s > eps_zero {
-                self.plus.push(i as u32);
-            } else if s < -eps_zero {
-                self.minus.push(i as u32);
-            } else {
-                self.zero.push(i as u32);
-            }
-        }
-        if self.plus.is_empty() {
-            for &i in &self.zero {
-                let i = i as usize;
-                bitset::set(&mut self.z[i * words..(i + 1) * words], j);
-            }
-            return Ok(());
-        }
-        self.next_x.clear();
-        self.next_z.clear();
-        let mut next_n = 0;
-        // Keep R- and R0 (the latter now tight on row j).
-        for (&i, is_zero) in self
-            .minus
-            .iter()
-            .map(|i| (i, false))
-            .chain(self.zero.iter().map(|i| (i, true)))
-        {
-            let i = i as usize;
-            self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
-            let start = self.next_z.len();
-            self.next_z
-                .extend_from_slice(&self.z[i * words..(i + 1) * words]);
-            if is_zero {
-                bitset::set(&mut self.next_z[start..start + words], j);
-            }
-            next_n += 1;
-        }
-        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2.
-        let need = k.saturating_sub(2) as u32;
-        self.zp.clear();
-        for &p in &self.plus {
-            let p = p as usize;
-            self.zp
-                .extend_from_slice(&self.z[p * words..(p + 1) * words]);
-        }
-        self.zn.clear();
-        for &q in &self.minus {
-            let q = q as usize;
-            self.zn
-                .extend_from_slice(&self.z[q * words..(q + 1) * words]);
-        }
-        self.cand.clear();
-        candidate_pairs(&self.zp, &self.zn, words, need, &mut self.cand);
-        // Few candidates: scanning the rays for a blocker is cheaper than building the
-        // transposed incidence (measured on 6-D wrench cones).
-        let scan = self.cand.len() < 4 * k;
-        if scan {
-            self.tmp.clear();
-            self.tmp.resize(words, 0);
-            for ci in 0..self.cand.len() {
-                let (pi, ni) = self.cand[ci];
-                let p = self.plus[pi as usize] as usize;
-                let q = self.minus[ni as usize] as usize;
-                for t in 0..words {
-                    self.tmp[t] = self.z[p * words + t] & self.z[q * words + t];
-                }
-                self.pairs_tested += 1;
-                let tmp = &self.tmp;
-                let blocked = (0..self.n).any(|r| {
-                    r != p
-                        && r != q
-                        && tmp
-                            .iter()
-                            .zip(&self.z[r * words..(r + 1) * words])
-                            .all(|(a, b)| a & !b == 0)
-                });
-                if blocked {
-                    continue;
-                }
-                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
-                let zs = self.next_z.len();
-                self.next_z.extend_from_slice(&self.tmp);
-                bitset::set(&mut self.next_z[zs..zs + words], j);
-                next_n += 1;
-            }
-        } else if !self.cand.is_empty() {
-            // Transposed incidence, for the combinatorial adjacency test: a third ray tight on
-            // every row of Z(p) ∩ Z(n) is in the AND of those rows' ray sets.
-            let rw = bitset::words_for(self.n);
-            self.col.clear();
-            self.col.resize(self.m * rw, 0);
-            for i in 0..self.n {
-                for (wi, &w0) in self.z[i * words..(i + 1) * words].iter().enumerate() {
-                    let mut w = w0;
-                    while w != 0 {
-                        let b = w.trailing_zeros() as usize;
-                        w &= w - 1;
-                        let jj = wi * 64 + b;
-                        self.col[jj * rw + i / 64] |= 1u64 << (i % 64);
-                    }
-                }
-            }
-            self.acc.clear();
-            self.acc.resize(rw, 0);
-            self.tmp.clear();
-            self.tmp.resize(words, 0);
-            for ci in 0..self.cand.len() {
-                let (pi, ni) = self.cand[ci];
-                let p = self.plus[pi as usize] as usize;
-                let q = self.minus[ni as usize] as usize;
-                for t in 0..words {
-                    self.tmp[t] = self.z[p * words + t] & self.z[q * words + t];
-                }
-                self.pairs_tested += 1;
-                self.acc.fill(u64::MAX);
-                for (wi, &w0) in self.tmp.iter().enumerate() {
-                    let mut w = w0;
-                    while w != 0 {
-                        let b = w.trailing_zeros() as usize;
-                        w &= w - 1;
-                        let jj = wi * 64 + b;
-                        for (a, c) in self.acc.iter_mut().zip(&self.col[jj * rw..(jj + 1) * rw]) {
-                            *a &= c;
-                        }
-                    }
-                }
-                self.acc[p / 64] &= !(1u64 << (p % 64));
-                self.acc[q / 64] &= !(1u64 << (q % 64));
-                // Only rays 0..n exist: clear the bits past them.
-                if !self.n.is_multiple_of(64) {
-                    self.acc[rw - 1] &= (1u64 << (self.n % 64)) - 1;
-                }
-                if self.acc.iter().any(|&w| w != 0) {
-                    continue;
-                }
-                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
-                let zs = self.next_z.len();
-                self.next_z.extend_from_slice(&self.tmp);
-                bitset::set(&mut self.next_z[zs..zs + words], j);
-                next_n += 1;
-            }
-        }
-        std::mem::swap(&mut self.x, &mut self.next_x);
-        std::mem::swap(&mut self.z, &mut self.next_z);
-        self.n = next_n;
-        Ok(())
-    }
-
-    /// [`Self::add_row`] when every zero set fits one word (`m <= 64`, the common case): the
-    /// same steps on plain `u64` masks, without per-pair slices.
-    fn add_row_one_word<const K: usize>(
-        &mut self,
-        row: &[f64],
-        j: usize,
-        eps_zero: f64,
-    ) -> Result<(), DdFailure> {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("popcnt") {
-                // SAFETY: the CPU supports `popcnt`, checked just above.
-                return unsafe { self.add_row_one_word_popcnt::<K>(row, j, eps_zero) };
-            }
-        }
-        self.add_row_one_word_body::<K>(row, j, eps_zero)
-    }
-
-    /// [`Self::add_row_one_word_body`] compiled with the `popcnt` instruction.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "popcnt")]
-    unsafe fn add_row_one_word_popcnt<const K: usize>(
-        &mut self,
-        row: &[f64],
-        j: usize,
-        eps_zero: f64,
-    ) -> Result<(), DdFailure> {
-        self.add_row_one_word_body::<K>(row, j, eps_zero)
-    }
-
-    #[inline(always)]
-    fn add_row_one_word_body<const K: usize>(
-        &mut self,
-        row: &[f64],
-        j: usize,
-        eps_zero: f64,
-    ) -> Result<(), DdFailure> {
-        let k = dim::<K>(self.k);
-        let bit = 1u64 << j;
-        self.slack.clear();
-        self.plus.clear();
-        self.minus.clear();
-        self.zero.clear();
-        for (i, x) in self.x.chunks_exact(k).take(self.n).enumerate() {
-            let s: f64 = row.iter().zip(x).map(|(u, v)| u * v).sum();
-            self.slack.push(s);
-            if s > eps_zero {
-                self.plus.push(i as u32);
-            } else if s < -eps_zero {
-                self.minus.push(i as u32);
-            } else {
-                self.zero.push(i as u32);
-            }
-        }
-        if self.plus.is_empty() {
-            for &i in &self.zero {
-                self.z[i as usize] |= bit;
-            }
-            return Ok(());
-        }
-        self.next_x.clear();
-        self.next_z.clear();
-        // Keep R- and R0 (the latter now tight on row j).
-        for &i in &self.minus {
-            let i = i as usize;
-            self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
-            self.next_z.push(self.z[i]);
-        }
-        for &i in &self.zero {
-            let i = i as usize;
-            self.next_x.extend_from_slice(&self.x[i * k..(i + 1) * k]);
-            self.next_z.push(self.z[i] | bit);
-        }
-        // Candidate pairs: |Z(p) ∩ Z(n)| >= k - 2 (a vectorized scan of the zero sets of R-,
-        // gathered contiguously), then no third ray r with Z(p) ∩ Z(n) ⊆ Z(r) (a vectorized
-        // count of the current zero sets containing Z(p) ∩ Z(n): p and n always do).
-        let need = k.saturating_sub(2) as u32;
-        let n = self.n;
-        let scan = self.scan;
-        self.zn.clear();
-        self.zn
-            .extend(self.minus.iter().map(|&q| self.z[q as usize]));
-        for &p in &self.plus {
-            let p = p as usize;
-            let zp = self.z[p];
-            self.cand_idx.clear();
-            scan.candidates(zp, &self.zn, need, &mut self.cand_idx);
-            for &qi in &self.cand_idx {
-                let common = zp & self.zn[qi as usize];
-                self.pairs_tested += 1;
-                if scan.count_supersets(common, &self.z[..n]) > 2 {
-                    continue;
-                }
-                let q = self.minus[qi as usize] as usize;
-                Self::push_combination(&self.slack, &self.x, &mut self.next_x, [p, q, k])?;
-                self.next_z.push(common | bit);
-            }
-        }
-        self.n = self.next_z.len();
-        std::mem::swap(&mut self.x, &mut self.next_x);
-        std::mem::swap(&mut self.z, &mut self.next_z);
-        Ok(())
-    }
 }
 
 /// The dimension: `K` when fixed at compile time, else `k`.
 #[inline(always)]
-fn dim<const K: usize>(k: usize) -> usize {
+pub(super) fn dim<const K: usize>(k: usize) -> usize {
     if K == 0 {
         k
     } else {
         debug_assert_eq!(k, K);
         K
     }
-}
-
-/// Pairs `(i, j)` of `plus` and `minus` zero sets (`words` words each, contiguous) sharing at
-/// least `need` bits, appended to `out`. Uses the `popcnt` instruction when the CPU has it.
-fn candidate_pairs(zp: &[u64], zn: &[u64], words: usize, need: u32, out: &mut Vec<(u32, u32)>) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("popcnt") {
-            // SAFETY: the CPU supports `popcnt`, checked just above.
-            unsafe { candidate_pairs_popcnt(zp, zn, words, need, out) };
-            return;
-        }
-    }
-    candidate_pairs_portable(zp, zn, words, need, out);
-}
-
-#[inline(always)]
-fn candidate_pairs_portable(
-    zp: &[u64],
-    zn: &[u64],
-    words: usize,
-    need: u32,
-    out: &mut Vec<(u32, u32)>,
-) {
-    if words == 1 {
-        for (i, &a) in zp.iter().enumerate() {
-            for (j, &b) in zn.iter().enumerate() {
-                if (a & b).count_ones() >= need {
-                    out.push((i as u32, j as u32));
-                }
-            }
-        }
-        return;
-    }
-    for (i, a) in zp.chunks_exact(words).enumerate() {
-        for (j, b) in zn.chunks_exact(words).enumerate() {
-            let c: u32 = a.iter().zip(b).map(|(x, y)| (x & y).count_ones()).sum();
-            if c >= need {
-                out.push((i as u32, j as u32));
-            }
-        }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "popcnt")]
-unsafe fn candidate_pairs_popcnt(
-    zp: &[u64],
-    zn: &[u64],
-    words: usize,
-    need: u32,
-    out: &mut Vec<(u32, u32)>,
-) {
-    candidate_pairs_portable(zp, zn, words, need, out)
 }
 
 #[cfg(test)]

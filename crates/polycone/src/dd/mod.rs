@@ -24,6 +24,12 @@
 //!    re-packed into more words when the row count crosses a multiple of 64). This is how
 //!    [`crate::Continuation`] adds generators to a converted cone.
 //!
+//! Steps 2 and 3 are written once (`step.rs`), for every width of zero set and every
+//! dimension (monomorphized for `k = 3..8`); the run (`core.rs`) does step 1 and calls it per
+//! row, as do the continuation (`resume.rs`) and the certificate's per-facet conversions. The
+//! exact engine (`crate::exact`) takes the same decisions in integers and shares the
+//! combinatorial test.
+//!
 //! Signs are decided with the tolerance [`crate::tol::Tolerances::incidence`] on slacks of unit
 //! vectors (the tolerance contract of the crate docs).
 
@@ -31,10 +37,10 @@ pub(crate) mod bitset;
 mod core;
 mod resume;
 mod scan;
-mod small;
+mod step;
 #[cfg(test)]
 mod testing;
 
 pub(crate) use self::core::{DdCore, DdFailure};
 pub(crate) use self::scan::Scan;
-pub(crate) use self::small::SmallDd;
+pub(crate) use self::step::{adjacent, candidate_pairs};
