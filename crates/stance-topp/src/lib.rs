@@ -128,7 +128,7 @@ pub use constraints::{CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
 pub use solver::{
-    end_speed_range, solve, solve_with, Discretization, Solution, SolveOptions, SolveStats, Status,
-    Workspace,
+    end_speed_range, solve, solve_with, Discretization, Solution, SolutionReport, SolveOptions,
+    SolveStats, Status, Workspace,
 };
 pub use tol::Tolerances;

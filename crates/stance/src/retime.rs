@@ -305,12 +305,12 @@ pub struct Timings {
 /// The retimed motion.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Retiming {
-    /// `"optimal"` or the reason there is no profile (see [`stance_topp::Status`]).
-    pub status: &'static str,
+    /// Optimal, or the reason there is no profile (serialized as its name, `"optimal"`, ...).
+    pub status: stance_topp::Status,
     /// The grid point of a failure.
     pub index: Option<usize>,
     /// The discretization that ran.
-    pub discretization: &'static str,
+    pub discretization: Discretization,
     /// Duration (s) when optimal.
     pub duration: Option<f64>,
     /// Grid `s_i`.
@@ -442,9 +442,9 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         None => (None, Vec::new(), Vec::new(), Vec::new(), Vec::new()),
     };
     Ok(Retiming {
-        status: sol.status.name(),
+        status: sol.status,
         index,
-        discretization: disc.name(),
+        discretization: disc,
         duration: sol.duration().filter(|d| d.is_finite()),
         s: s_final,
         sd,

@@ -11,7 +11,7 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use stance::stance_topp::{
     solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace,
 };
@@ -61,20 +61,6 @@ struct ReferenceMetadata {
     reference: Option<serde_json::Value>,
 }
 
-#[derive(Serialize)]
-struct ToppOutput {
-    status: &'static str,
-    discretization: &'static str,
-    index: Option<usize>,
-    duration: Option<f64>,
-    sd: Option<Vec<f64>>,
-    sdd: Option<Vec<f64>>,
-    t: Option<Vec<f64>>,
-    controllable_sets: Vec<Option<[f64; 2]>>,
-    max_residual: Option<f64>,
-    hit_box: bool,
-}
-
 pub fn run(args: ToppArgs) -> Result<()> {
     let input: ToppInput = read_input(&args.file)?;
     let k = CanonicalConstraints::from_dense(&input.s, &input.a, &input.b, &input.c)?;
@@ -84,37 +70,5 @@ pub fn run(args: ToppArgs) -> Result<()> {
         .with_end(input.sd_end);
     let mut ws = Workspace::new();
     let sol = args.common.repeated(|| solve_with(&k, &opts, &mut ws))?;
-    let index = sol.status.grid_index();
-    let finite = |v: f64| v.is_finite().then_some(v);
-    let out = match &sol.profile {
-        Some(p) => ToppOutput {
-            status: sol.status.name(),
-            discretization: disc.name(),
-            index,
-            duration: finite(p.duration()),
-            sd: Some(p.sd()),
-            sdd: Some(p.u().to_vec()),
-            // Infinite times (a stalled profile) cannot be written in JSON.
-            t: p.times()
-                .iter()
-                .all(|t| t.is_finite())
-                .then(|| p.times().to_vec()),
-            controllable_sets: sol.controllable.clone(),
-            max_residual: Some(p.residuals(&k, disc).max_normalized()),
-            hit_box: sol.hit_box,
-        },
-        None => ToppOutput {
-            status: sol.status.name(),
-            discretization: disc.name(),
-            index,
-            duration: None,
-            sd: None,
-            sdd: None,
-            t: None,
-            controllable_sets: sol.controllable.clone(),
-            max_residual: None,
-            hit_box: sol.hit_box,
-        },
-    };
-    write_output(&args.common, &out)
+    write_output(&args.common, &sol.report(&k))
 }

@@ -20,6 +20,8 @@
 
 mod options;
 mod reachability;
+mod report;
 
 pub use options::{Discretization, Solution, SolveOptions, SolveStats, Status};
 pub use reachability::{end_speed_range, solve, solve_with, Workspace};
+pub use report::SolutionReport;

@@ -244,6 +244,34 @@ impl Status {
     }
 }
 
+impl std::fmt::Display for Status {
+    /// The machine-readable [`Status::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A status equals its machine-readable [`Status::name`]:
+///
+/// ```
+/// use stance_topp::Status;
+/// assert_eq!(Status::Optimal, "optimal");
+/// assert_ne!(Status::Stalled { index: 3 }, "optimal");
+/// ```
+impl PartialEq<&str> for Status {
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
+    }
+}
+
+/// Serialized as its [`Status::name`] (the grid point is a separate field of the results that
+/// carry a status).
+impl Serialize for Status {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 /// Work counters of a solve (to measure the warm start honestly).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SolveStats {

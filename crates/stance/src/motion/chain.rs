@@ -77,11 +77,60 @@ pub struct SegmentSolve {
     pub resolve_mismatch: f64,
 }
 
+/// What stopped the retiming of a motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FailureStatus {
+    /// The TOPP solver's outcome on the whole motion or a segment (never
+    /// [`Status::Optimal`]).
+    Solver(Status),
+    /// The acceleration-level IK could not track a segment's path (a joint limit, or a
+    /// via-point out of reach).
+    IkFailed,
+}
+
+impl FailureStatus {
+    /// Machine-readable name: the solver's ([`Status::name`]) or `"ik_failed"`.
+    ///
+    /// ```
+    /// use stance::motion::chain::FailureStatus;
+    /// use stance_topp::Status;
+    /// assert_eq!(FailureStatus::IkFailed.name(), "ik_failed");
+    /// assert_eq!(FailureStatus::Solver(Status::Stalled { index: 2 }), "stalled");
+    /// ```
+    pub fn name(&self) -> &'static str {
+        match self {
+            FailureStatus::Solver(s) => s.name(),
+            FailureStatus::IkFailed => "ik_failed",
+        }
+    }
+}
+
+impl std::fmt::Display for FailureStatus {
+    /// The machine-readable [`FailureStatus::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A failure status equals its machine-readable [`FailureStatus::name`].
+impl PartialEq<&str> for FailureStatus {
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
+    }
+}
+
+/// Serialized as its [`FailureStatus::name`].
+impl serde::Serialize for FailureStatus {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 /// Why the motion cannot be retimed, located.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct RetimeFailure {
-    /// The solver's status name.
-    pub status: &'static str,
+    /// What stopped it (serialized as its name).
+    pub status: FailureStatus,
     /// Segment index (0-based).
     pub segment: usize,
     /// Grid point within the segment.
@@ -249,7 +298,7 @@ fn solve_layout(
             .find(|&k| l.seg_start[k] <= global)
             .unwrap_or(0);
         RetimeFailure {
-            status: status.name(),
+            status: FailureStatus::Solver(*status),
             segment: seg,
             grid_point: global - l.seg_start[seg],
             s: l.constraints.grid()[global.min(l.constraints.num_points() - 1)],

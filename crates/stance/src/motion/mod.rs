@@ -47,7 +47,7 @@ pub mod trajectory;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use chain::{retime, RetimeFailure, Retimed, RetimingMode};
+use chain::{retime, FailureStatus, RetimeFailure, Retimed, RetimingMode};
 use ik_stage::{run_segment, IkStageWorkspace, SegmentPath};
 use plan::MotionPlan;
 use result::{
@@ -162,7 +162,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     // the result
     let status = match (&failure, &profile) {
         (None, Some(_)) => MotionStatus::Optimal,
-        (Some(f), _) if f.status == "ik_failed" => MotionStatus::IkFailed,
+        (Some(f), _) if f.status == FailureStatus::IkFailed => MotionStatus::IkFailed,
         _ => MotionStatus::NotRetimable,
     };
     let times = profile.as_ref().map(|p| p.times().to_vec());
@@ -257,7 +257,7 @@ fn ik_paths(
         previous = path.contacts.clone();
         if let Some((i, status)) = &path.failure {
             failure = Some(RetimeFailure {
-                status: "ik_failed",
+                status: FailureStatus::IkFailed,
                 segment: k,
                 grid_point: i / substeps,
                 s: path.references.length() * *i as f64 / (grid * substeps) as f64,
