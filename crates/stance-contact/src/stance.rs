@@ -129,35 +129,48 @@ impl Stance {
         a
     }
 
-    /// `V_all` (6n x N): the block diagonal of the surface cones, generators as **columns**
-    /// (the paper's layout), so that `A_stance V_all` spans the GIWC.
+    /// `V_all` with one generator per **row** (N x 6n, the project's layout): row `g` holds
+    /// generator `g` of contact `i`'s surface cone in columns `6i..6i + 6`, so that
+    /// `V_all A_stance^T` spans the GIWC (the paper writes `A_stance V_all` with generators as
+    /// columns).
     ///
     /// ```
     /// # use stance_contact::examples;
     /// let s = examples::double_support_flat().stance().unwrap();
-    /// assert_eq!(s.v_all().shape(), (12, 32));
+    /// let v = s.v_all_rows();
+    /// assert_eq!(v.shape(), (32, 12));
+    /// assert!((s.giwc_span() - &v * s.a_stance().transpose()).amax() < 1e-12);
     /// ```
-    pub fn v_all(&self) -> DMatrix<f64> {
+    pub fn v_all_rows(&self) -> DMatrix<f64> {
         let blocks: Vec<DMatrix<f64>> = self
             .contacts
             .iter()
             .map(|c| c.v_surf(&self.friction_model))
             .collect();
         let n: usize = blocks.iter().map(|b| b.nrows()).sum();
-        let mut v = DMatrix::zeros(6 * self.contacts.len(), n);
-        let mut col = 0;
+        let mut v = DMatrix::zeros(n, 6 * self.contacts.len());
+        let mut row = 0;
         for (i, b) in blocks.iter().enumerate() {
-            for g in 0..b.nrows() {
-                for k in 0..6 {
-                    v[(6 * i + k, col)] = b[(g, k)];
-                }
-                col += 1;
-            }
+            v.view_mut((row, 6 * i), (b.nrows(), 6)).copy_from(b);
+            row += b.nrows();
         }
         v
     }
 
-    /// Span form of the GIWC, one generator per **row** (`(A_stance V_all)^T`, the layout of
+    /// `V_all` (6n x N) with generators as **columns**, the paper's layout.
+    ///
+    /// ```
+    /// # use stance_contact::examples;
+    /// let s = examples::double_support_flat().stance().unwrap();
+    /// # #[allow(deprecated)]
+    /// assert_eq!(s.v_all().shape(), (12, 32));
+    /// ```
+    #[deprecated(note = "generators are rows in this project: use v_all_rows (its transpose)")]
+    pub fn v_all(&self) -> DMatrix<f64> {
+        self.v_all_rows().transpose()
+    }
+
+    /// Span form of the GIWC, one generator per **row** (`V_all A_stance^T`, the layout of
     /// polycone): for each contact vertex `q` (world) and pyramid edge `e` (world), the row
     /// `-(e, q x e)`. Wrench at the world origin, paper's convention.
     ///
@@ -166,7 +179,7 @@ impl Stance {
     /// let s = examples::double_support_flat().stance().unwrap();
     /// let span = s.giwc_span();
     /// assert_eq!(span.shape(), (32, 6));
-    /// assert!((span - (s.a_stance() * s.v_all()).transpose()).amax() < 1e-12);
+    /// assert!((span - s.v_all_rows() * s.a_stance().transpose()).amax() < 1e-12);
     /// ```
     pub fn giwc_span(&self) -> DMatrix<f64> {
         let n: usize = self

@@ -11,7 +11,7 @@ use stance::polycone::{self, DdOptions};
 use stance::stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace};
 use stance::stance_robot::{centroidal_map, Data};
 use stance::stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
+    CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
 };
 
 use crate::{arrays, contact, errors};
@@ -108,7 +108,7 @@ pub fn _bench_rust(
                     // What `stance.topp` does per call: the constraints, a workspace, the solve.
                     let k = CanonicalConstraints::new(s.clone(), offsets.clone(), rows.clone());
                     if let Ok(k) = k {
-                        std::hint::black_box(solve_with(&k, &opts, &mut Workspace::new()).ok());
+                        std::hint::black_box(Workspace::new().solve(&k, &opts).ok());
                     }
                 })
             }))

@@ -7,7 +7,7 @@ use pyo3::types::{PyDict, PyTuple};
 
 use stance::retime::{AngularSpec, Interpolation, MotionSpec, PathSpec, SceneRef};
 use stance::stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
+    CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
 };
 
 use crate::contact::Stance;
@@ -203,7 +203,7 @@ pub fn topp(
         .with_end(sd_end);
     let k = CanonicalConstraints::new(grid, offsets, rows).map_err(errors::topp)?;
     let sol = arrays::detach_if(py, k.rows().len() > 64, || {
-        solve_with(&k, &opts, &mut Workspace::new())
+        Workspace::new().solve(&k, &opts)
     })
     .map_err(errors::topp)?;
     let controllable: Vec<[f64; 2]> = sol

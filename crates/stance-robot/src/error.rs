@@ -139,4 +139,9 @@ pub enum RobotError {
     /// A frame name the model does not know.
     #[error("no frame named '{0}' in the model (frames are the URDF's link and joint names)")]
     UnknownFrame(String),
+    /// A joint name the model does not know (or a joint the model locked).
+    #[error(
+        "no movable joint named '{0}' in the model (a locked joint is not a joint of the model)"
+    )]
+    UnknownJoint(String),
 }

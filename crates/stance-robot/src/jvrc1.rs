@@ -23,18 +23,33 @@ pub const SOLE_PARENT_FRAMES: [&str; 2] = ["R_ANKLE_P_S", "L_ANKLE_P_S"];
 /// The hand frames (wrist links).
 pub const HAND_FRAMES: [&str; 2] = ["r_wrist", "l_wrist"];
 
-/// A sole rectangle: its centre in the ankle frame and its size; the rectangle's axes are the
-/// ankle frame's axes, its normal the ankle frame's `+z` (pointing into the robot).
+/// A sole rectangle: its centre in the ankle frame and its half sizes (the project's
+/// convention, as `stance_contact::Shape::Rectangle`); the rectangle's axes are the ankle
+/// frame's axes, its normal the ankle frame's `+z` (pointing into the robot).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SoleRectangle {
     /// The ankle frame name.
     pub frame: &'static str,
     /// Centre of the rectangle in that frame (m).
     pub center_in_ankle: [f64; 3],
-    /// Length along the ankle x axis (m).
-    pub length: f64,
-    /// Width along the ankle y axis (m).
-    pub width: f64,
+    /// Half the length, along the ankle x axis (m).
+    pub half_length: f64,
+    /// Half the width, along the ankle y axis (m).
+    pub half_width: f64,
+}
+
+impl SoleRectangle {
+    /// The full length (the fields were full sizes before; the project uses half sizes).
+    #[deprecated(note = "use 2.0 * half_length")]
+    pub fn length(&self) -> f64 {
+        2.0 * self.half_length
+    }
+
+    /// The full width (see [`SoleRectangle::length`]).
+    #[deprecated(note = "use 2.0 * half_width")]
+    pub fn width(&self) -> f64 {
+        2.0 * self.half_width
+    }
 }
 
 /// JVRC-1's sole rectangles, 0.20 x 0.08 m, centred at (0.0303, -0.0012, -0.1077) in each
@@ -43,14 +58,14 @@ pub struct SoleRectangle {
 /// ```
 /// let soles = stance_robot::jvrc1::sole_rectangles();
 /// assert_eq!(soles[0].frame, "R_ANKLE_P_S");
-/// assert_eq!(soles[1].length * soles[1].width, 0.2 * 0.08);
+/// assert_eq!((soles[1].half_length, soles[1].half_width), (0.10, 0.04));
 /// ```
 pub fn sole_rectangles() -> [SoleRectangle; 2] {
     SOLE_PARENT_FRAMES.map(|frame| SoleRectangle {
         frame,
         center_in_ankle: [0.0303, -0.0012, -0.1077],
-        length: 0.20,
-        width: 0.08,
+        half_length: 0.10,
+        half_width: 0.04,
     })
 }
 

@@ -29,8 +29,8 @@ fn models_file_matches_the_rust_module() {
             .map(|x| x.as_f64().unwrap())
             .collect();
         assert_eq!(c, s.center_in_ankle.to_vec());
-        assert_eq!(j["length"].as_f64(), Some(s.length));
-        assert_eq!(j["width"].as_f64(), Some(s.width));
+        assert_eq!(j["length"].as_f64(), Some(2.0 * s.half_length));
+        assert_eq!(j["width"].as_f64(), Some(2.0 * s.half_width));
     }
     let hands: Vec<&str> = v["hands"]
         .as_array()

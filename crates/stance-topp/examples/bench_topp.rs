@@ -9,7 +9,7 @@ use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::factored::{FactoredRows, FillKernel};
 use stance_topp::path::{PathCurve, PathPoint};
 use stance_topp::tol::DEFAULT_BETWEEN_GRID_FRACTION;
-use stance_topp::{solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace};
+use stance_topp::{CanonicalConstraints, Discretization, SolveOptions, Workspace};
 
 mod common;
 use common::{timed_us, Input};
@@ -30,17 +30,17 @@ fn main() {
         for disc in [Discretization::Collocation, Discretization::Interpolation] {
             let mut ws = Workspace::new();
             let opts = SolveOptions::new(disc);
-            let sol = solve_with(&k, &opts, &mut ws).unwrap();
+            let sol = ws.solve(&k, &opts).unwrap();
             let warm_us = timed_us(reps, || {
-                std::hint::black_box(solve_with(&k, &opts, &mut ws).unwrap());
+                std::hint::black_box(ws.solve(&k, &opts).unwrap());
             });
             let cold_opts = SolveOptions {
                 warm_start: false,
                 ..opts
             };
-            let cold = solve_with(&k, &cold_opts, &mut ws).unwrap();
+            let cold = ws.solve(&k, &cold_opts).unwrap();
             let cold_us = timed_us(reps, || {
-                std::hint::black_box(solve_with(&k, &cold_opts, &mut ws).unwrap());
+                std::hint::black_box(ws.solve(&k, &cold_opts).unwrap());
             });
             let profile = sol.profile.as_ref().unwrap();
             let res = profile.residuals(&k, disc);

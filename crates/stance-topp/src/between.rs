@@ -21,7 +21,7 @@ use crate::error::ToppError;
 use crate::factored::{eq14_vectors, FactoredRows};
 use crate::path::{AngularTerms, PathCurve, PathPoint};
 use crate::profile::Profile;
-use crate::solver::{solve_with, Solution, SolveOptions, Status, Workspace};
+use crate::solver::{Solution, SolveOptions, Status, Workspace};
 
 /// Constraints given as functions of the path parameter.
 pub trait ContinuousConstraints {
@@ -332,7 +332,7 @@ pub fn refine_until(
         }
         let offsets = (0..=grid.len()).map(|i| i * m).collect();
         let k = CanonicalConstraints::new(grid.clone(), offsets, rows)?;
-        let solution = solve_with(&k, opts, &mut ws)?;
+        let solution = ws.solve(&k, opts)?;
         let done = |solution: Solution, between, converged, grid: Vec<f64>| RefineReport {
             points_added: grid.len() - n0,
             solution,

@@ -127,8 +127,10 @@ pub mod tol;
 pub use constraints::{CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
+#[allow(deprecated)]
+pub use solver::solve_with;
 pub use solver::{
-    end_speed_range, solve, solve_with, Discretization, Solution, SolutionReport, SolveOptions,
-    SolveStats, Status, Workspace,
+    end_speed_range, solve, Discretization, Solution, SolutionReport, SolveOptions, SolveStats,
+    Status, Workspace,
 };
 pub use tol::Tolerances;

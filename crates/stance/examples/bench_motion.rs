@@ -91,7 +91,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let solve_us: Vec<f64> = (0..200)
             .map(|_| {
                 let t = Instant::now();
-                std::hint::black_box(stance_topp::solve_with(k, &opts, &mut ws).ok());
+                std::hint::black_box(ws.solve(k, &opts).ok());
                 t.elapsed().as_secs_f64() * 1e6
             })
             .collect();

@@ -16,7 +16,7 @@
 //! ```
 //!
 //! produced by [`stance_topp::factored`] and solved by reachability analysis
-//! ([`stance_topp::solve_with`]). The rows of unit-norm `U` are in newtons, so the largest row
+//! ([`stance_topp::Workspace::solve`]). The rows of unit-norm `U` are in newtons, so the largest row
 //! value between grid points ([`stance_topp::between`]) is a violation in newtons, reported also
 //! as a fraction of the weight `m |g|`; optionally the grid is refined until it is below a bound.
 //!
@@ -30,9 +30,7 @@ use stance_contact::{GiwcOptions, Scene};
 use stance_topp::between::{check_between, refine_until, PathRows};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEnds};
-use stance_topp::{
-    solve_with, CanonicalConstraints, Profile, Solution, SolveOptions, Tolerances, Workspace,
-};
+use stance_topp::{CanonicalConstraints, Profile, Solution, SolveOptions, Tolerances, Workspace};
 
 use crate::name_or::NameOr;
 use crate::StanceError;
@@ -413,7 +411,7 @@ pub fn retime(spec: &MotionSpec) -> Result<Retiming, StanceError> {
         .with_end(spec.sd_end);
     let mut ws = Workspace::new();
     let t2 = Instant::now();
-    let sol = solve_with(&k, &opts, &mut ws)?;
+    let sol = ws.solve(&k, &opts)?;
     let t_topp = t2.elapsed();
 
     let weight = scene.mass * scene.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();

@@ -12,9 +12,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use serde::Deserialize;
-use stance::stance_topp::{
-    solve_with, CanonicalConstraints, Discretization, SolveOptions, Workspace,
-};
+use stance::stance_topp::{CanonicalConstraints, Discretization, SolveOptions, Workspace};
 
 use super::io::{read_input, write_output, Common};
 
@@ -69,6 +67,6 @@ pub fn run(args: ToppArgs) -> Result<()> {
         .with_start(input.sd_start)
         .with_end(input.sd_end);
     let mut ws = Workspace::new();
-    let sol = args.common.repeated(|| solve_with(&k, &opts, &mut ws))?;
+    let sol = args.common.repeated(|| ws.solve(&k, &opts))?;
     write_output(&args.common, &sol.report(&k))
 }

@@ -246,15 +246,20 @@ impl Model {
             .ok_or_else(|| crate::RobotError::UnknownFrame(name.to_string()))
     }
 
-    /// Index of the movable joint called `name`, if any.
+    /// Index of the movable joint called `name` in [`Model::joints`] (an error for a name the
+    /// model does not have, like [`Model::frame_id`]; it returned an `Option` before).
     ///
     /// ```
     /// let m = stance_robot::Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF,
     ///     &Default::default()).unwrap();
-    /// assert_eq!(m.joint_id("root_joint"), Some(1));
+    /// assert_eq!(m.joint_id("root_joint").unwrap(), 1);
+    /// assert!(m.joint_id("nope").is_err());
     /// ```
-    pub fn joint_id(&self, name: &str) -> Option<usize> {
-        self.joints.iter().position(|j| j.name == name)
+    pub fn joint_id(&self, name: &str) -> Result<usize, crate::RobotError> {
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .ok_or_else(|| crate::RobotError::UnknownJoint(name.to_string()))
     }
 
     /// Names of the movable joints in order (without the universe), as Pinocchio's

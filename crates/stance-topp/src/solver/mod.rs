@@ -23,5 +23,7 @@ mod reachability;
 mod report;
 
 pub use options::{Discretization, Solution, SolveOptions, SolveStats, Status};
-pub use reachability::{end_speed_range, solve, solve_with, Workspace};
+#[allow(deprecated)]
+pub use reachability::solve_with;
+pub use reachability::{end_speed_range, solve, Workspace};
 pub use report::SolutionReport;

@@ -20,6 +20,27 @@ pub struct Workspace {
 const K_LINES: usize = 2;
 
 impl Workspace {
+    /// [`solve`] with this reusable workspace.
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row, SolveOptions, Workspace};
+    /// let rows = vec![Row { a: 1.0, b: 0.0, c: -1.0 }, Row { a: -1.0, b: 0.0, c: -1.0 }];
+    /// let s: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+    /// let offsets: Vec<usize> = (0..=11).map(|i| 2 * i).collect();
+    /// let k = CanonicalConstraints::new(s, offsets, rows.repeat(11)).unwrap();
+    /// let mut ws = Workspace::new();
+    /// let d1 = ws.solve(&k, &SolveOptions::default()).unwrap().duration().unwrap();
+    /// let d2 = ws.solve(&k, &SolveOptions::default()).unwrap().duration().unwrap();
+    /// assert_eq!(d1, d2);
+    /// ```
+    pub fn solve(
+        &mut self,
+        k: &CanonicalConstraints,
+        opts: &SolveOptions,
+    ) -> Result<Solution, ToppError> {
+        solve_in(k, opts)
+    }
+
     /// An empty workspace.
     ///
     /// ```
@@ -102,29 +123,23 @@ fn assemble<'a>(
 /// assert!((sol.duration().unwrap() - 5.0).abs() < 1e-9);
 /// ```
 pub fn solve(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
-    solve_with(k, opts, &mut Workspace::new())
+    Workspace::new().solve(k, opts)
 }
 
-/// [`solve`] with a reusable [`Workspace`].
-///
-/// ```
-/// use stance_topp::{solve_with, CanonicalConstraints, Row, SolveOptions, Workspace};
-/// let rows = vec![Row { a: 1.0, b: 0.0, c: -1.0 }, Row { a: -1.0, b: 0.0, c: -1.0 }];
-/// let s: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
-/// let offsets: Vec<usize> = (0..=11).map(|i| 2 * i).collect();
-/// let k = CanonicalConstraints::new(s, offsets, rows.repeat(11)).unwrap();
-/// let mut ws = Workspace::new();
-/// let d1 = solve_with(&k, &SolveOptions::default(), &mut ws).unwrap().duration().unwrap();
-/// let d2 = solve_with(&k, &SolveOptions::default(), &mut ws).unwrap().duration().unwrap();
-/// assert_eq!(d1, d2);
-/// ```
+/// [`solve`] with a reusable [`Workspace`], argument order of the old API (the workspace last;
+/// the project puts it first or as the receiver).
+#[deprecated(note = "use ws.solve(k, opts) (Workspace::solve)")]
 pub fn solve_with(
     k: &CanonicalConstraints,
     opts: &SolveOptions,
     ws: &mut Workspace,
 ) -> Result<Solution, ToppError> {
+    ws.solve(k, opts)
+}
+
+/// The body of [`Workspace::solve`].
+fn solve_in(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
     opts.validate()?;
-    let _ = ws;
     // Solved on s~ = (s - s_0) / L (L a power of two, s~_N in (0.5, 1]) when the grid is far
     // from unit range or origin: the answer does not depend on the unit or the origin of the
     // path parameter.
@@ -163,7 +178,7 @@ pub fn solve_with(
     })
 }
 
-/// [`solve_with`] on a grid the solver works on as it is (`s_0 = 0`, `s_N` in `(0.5, 1]`).
+/// [`Workspace::solve`] on a grid the solver works on as it is (`s_0 = 0`, `s_N` in `(0.5, 1]`).
 fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
     let tol = opts.tol;
     let disc = opts.discretization;
@@ -475,7 +490,7 @@ pub fn end_speed_range(
     opts: &SolveOptions,
 ) -> Result<Option<[f64; 2]>, ToppError> {
     opts.validate()?;
-    // On the unit grid, as in `solve_with`: speeds s' = L s~'.
+    // On the unit grid, as in `Workspace::solve`: speeds s' = L s~'.
     let Some((k_unit, l)) = k.on_unit_grid()? else {
         return end_speed_range_unit(k, opts);
     };

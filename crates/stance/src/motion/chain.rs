@@ -29,9 +29,7 @@
 
 use std::time::{Duration, Instant};
 
-use stance_topp::{
-    solve_with, CanonicalConstraints, Profile, Row, Solution, SolveOptions, Status, Workspace,
-};
+use stance_topp::{CanonicalConstraints, Profile, Row, Solution, SolveOptions, Status, Workspace};
 
 use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
 use super::plan::MotionPlan;
@@ -311,7 +309,7 @@ fn solve_layout(
     match mode {
         RetimingMode::Chained => {
             let t1 = Instant::now();
-            let sol: Solution = solve_with(&l.constraints, opts, ws)?;
+            let sol: Solution = ws.solve(&l.constraints, opts)?;
             let t = t1.elapsed();
             controllable.clone_from(&sol.controllable);
             match (&sol.status, sol.profile) {
@@ -329,7 +327,7 @@ fn solve_layout(
             for k in 0..nseg {
                 let kk = segment_constraints(l, k)?;
                 let t2 = Instant::now();
-                let sol = solve_with(&kk, opts, ws)?;
+                let sol = ws.solve(&kk, opts)?;
                 let t = t2.elapsed();
                 total += t;
                 for (i, c) in sol.controllable.iter().enumerate() {
@@ -471,7 +469,7 @@ pub fn retime(
             let kk = segment_constraints(&l, k)?;
             let o = opts.with_start(sd[a]).with_end(sd[b]);
             let t2 = Instant::now();
-            let again = solve_with(&kk, &o, &mut ws)?;
+            let again = ws.solve(&kk, &o)?;
             let t = t2.elapsed();
             let d = again.duration().unwrap_or(f64::INFINITY);
             segments.push(SegmentSolve {

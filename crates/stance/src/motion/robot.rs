@@ -168,7 +168,7 @@ fn jvrc1() -> Result<MotionRobot, StanceError> {
             name,
             sole.frame,
             sole.center_in_ankle,
-            rect(0.5 * sole.length, 0.5 * sole.width),
+            rect(sole.half_length, sole.half_width),
         ));
     }
     surfaces.push(surface(
@@ -245,7 +245,7 @@ fn finish(
     }
     let mut q = model.neutral();
     for (joint, value) in posture {
-        let j = model.joint_id(joint).ok_or_else(|| {
+        let j = model.joint_id(joint).map_err(|_| {
             StanceError::BadMotion(format!(
                 "posture names the joint {joint:?}, which the robot does not have (or is locked)"
             ))
