@@ -123,7 +123,7 @@ fn polygon_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<()
         if direct.polygon.vertices.len() != poly.vertices.len() {
             bail!("{name}: the direct polygon and the one through U_stance differ");
         }
-        super::contact::plot::polygon(
+        super::plot::equilibrium::polygon(
             &out.join(format!("polygon-{name}.svg")),
             &scene.stance()?,
             &poly,
@@ -162,7 +162,7 @@ fn robust_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<()>
     let t = Instant::now();
     let region = RobustRegion::new(fig3_giwc, &gravities, &Default::default())?;
     let region_ms = t.elapsed().as_secs_f64() * 1e3;
-    super::contact::plot::region(
+    super::plot::equilibrium::region(
         &out.join("region-robust-equilibrium.svg"),
         &fig3_scene.stance()?,
         &region,
