@@ -10,9 +10,7 @@ use pyo3::prelude::*;
 use stance::polycone::{self, DdOptions};
 use stance::stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace};
 use stance::stance_robot::{centroidal_map, Data};
-use stance::stance_topp::{
-    CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
-};
+use stance::stance_topp::{CanonicalConstraints, Discretization, Row, SolveOptions, Workspace};
 
 use crate::{arrays, contact, errors};
 

@@ -7,7 +7,6 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
-use stance::polycone::polytope::RegionStatus;
 use stance::stance_contact::equilibrium::{
     EquilibriumOptions, PolygonWorkspace, RobustRegion as RustRobust, StaticEquilibrium,
     StaticPolygon,
@@ -20,14 +19,6 @@ use stance::stance_contact::{
 use crate::{arrays, errors, json};
 
 const EYE: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-
-fn status_name(s: RegionStatus) -> &'static str {
-    match s {
-        RegionStatus::Empty => "empty",
-        RegionStatus::Bounded => "bounded",
-        RegionStatus::Unbounded => "unbounded",
-    }
-}
 
 /// One contact: a pose `world_from_contact` (the z axis is the surface normal, pointing into the
 /// robot), a convex shape in the contact frame and a friction coefficient.
@@ -326,7 +317,7 @@ impl Polygon {
         let a: Vec<[f64; 2]> = p.halfplanes.iter().map(|h| h.0).collect();
         let b: Vec<f64> = p.halfplanes.iter().map(|h| h.1).collect();
         Polygon {
-            status: status_name(p.status),
+            status: p.status.name(),
             dim: p.dim,
             vertices: arrays::rows_to_array2(py, &p.vertices).unbind(),
             a: arrays::rows_to_array2(py, &a).unbind(),
@@ -431,7 +422,7 @@ impl RobustRegion {
     /// `"bounded"`, `"empty"` or `"unbounded"`.
     #[getter]
     fn status(&self) -> &'static str {
-        status_name(self.region.polyhedron.status)
+        self.region.polyhedron.status.name()
     }
 
     /// Dimension of the region (3 for a solid).

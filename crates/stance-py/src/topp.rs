@@ -6,9 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use stance::retime::{AngularSpec, Interpolation, MotionSpec, PathSpec, SceneRef};
-use stance::stance_topp::{
-    CanonicalConstraints, Discretization, Row, SolveOptions, Workspace,
-};
+use stance::stance_topp::{CanonicalConstraints, Discretization, Row, SolveOptions, Workspace};
 
 use crate::contact::Stance;
 use crate::{arrays, errors, json};

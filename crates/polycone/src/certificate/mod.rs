@@ -162,6 +162,25 @@ pub struct Certificate {
 }
 
 impl Certificate {
+    /// Which arithmetic and route gave the answer: `"tolerance"`, `"exact"` (asked for) or
+    /// `"exact_fallback"` (the floating-point answer failed its certificate; see
+    /// [`Certificate::fallback`]).
+    ///
+    /// ```
+    /// use polycone::{DdOptions, Workspace};
+    /// use nalgebra::DMatrix;
+    /// let v = DMatrix::<f64>::identity(3, 3);
+    /// let r = Workspace::new().span_to_face(&v, &DdOptions::default()).unwrap();
+    /// assert_eq!(r.certificate.route(), "tolerance");
+    /// ```
+    pub fn route(&self) -> &'static str {
+        match (self.arithmetic, &self.fallback) {
+            (Arithmetic::Tolerance, _) => "tolerance",
+            (Arithmetic::Exact, None) => "exact",
+            (Arithmetic::Exact, Some(_)) => "exact_fallback",
+        }
+    }
+
     /// A short explanation of the failed checks (empty when certified).
     pub fn failure_reason(&self) -> String {
         let mut r = Vec::new();

@@ -103,6 +103,28 @@ pub enum RegionStatus {
     Unbounded,
 }
 
+impl RegionStatus {
+    /// Machine-readable name: `"empty"`, `"bounded"` or `"unbounded"`.
+    ///
+    /// ```
+    /// assert_eq!(polycone::polytope::RegionStatus::Bounded.name(), "bounded");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            RegionStatus::Empty => "empty",
+            RegionStatus::Bounded => "bounded",
+            RegionStatus::Unbounded => "unbounded",
+        }
+    }
+}
+
+impl std::fmt::Display for RegionStatus {
+    /// The machine-readable [`RegionStatus::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Errors of the polytope routines: bad input, with what to fix.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PolytopeError {

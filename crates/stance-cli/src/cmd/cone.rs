@@ -174,7 +174,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     lineality: rows(&r.lineality),
                     extreme_generators: r.extreme_generators,
                     certified: r.certificate.certified,
-                    arithmetic: arithmetic_name(&r.certificate),
+                    arithmetic: r.certificate.route(),
                     fallback_reason: r.certificate.fallback.clone(),
                     merged_rows: r.certificate.merged_rows,
                     merge_distance: (r.certificate.merged_rows > 0)
@@ -208,7 +208,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                     lineality: rows(&r.span.lineality),
                     irredundant_facets: r.irredundant_facets,
                     certified: r.certificate.certified,
-                    arithmetic: arithmetic_name(&r.certificate),
+                    arithmetic: r.certificate.route(),
                     fallback_reason: r.certificate.fallback.clone(),
                     merged_rows: r.certificate.merged_rows,
                     merge_distance: (r.certificate.merged_rows > 0)
@@ -221,14 +221,4 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
 
 fn polycone_error(e: polycone::ConeError) -> anyhow::Error {
     anyhow::Error::new(e)
-}
-
-/// How the answer was computed, for the output: the arithmetic, and whether the exact one was
-/// a fallback.
-fn arithmetic_name(c: &polycone::Certificate) -> &'static str {
-    match (c.arithmetic, &c.fallback) {
-        (polycone::Arithmetic::Tolerance, _) => "tolerance",
-        (polycone::Arithmetic::Exact, None) => "exact",
-        (polycone::Arithmetic::Exact, Some(_)) => "exact_fallback",
-    }
 }

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
-use stance::polycone::polytope::RegionStatus;
 use stance::stance_contact::equilibrium::{PolygonRoute, PolygonWorkspace, RobustRegion};
 use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
 
@@ -135,14 +134,6 @@ fn stance_and_giwc(scene: &Scene) -> Result<(Stance, Giwc)> {
 
 fn rows(m: &stance::stance_contact::nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
     m.row_iter().map(|r| r.iter().copied().collect()).collect()
-}
-
-fn status_str(s: RegionStatus) -> &'static str {
-    match s {
-        RegionStatus::Empty => "empty",
-        RegionStatus::Bounded => "bounded",
-        RegionStatus::Unbounded => "unbounded",
-    }
 }
 
 #[derive(Serialize)]
@@ -321,7 +312,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             write_output(
                 &a.common,
                 &PolygonOut {
-                    status: status_str(poly.status),
+                    status: poly.status.name(),
                     route,
                     dim: poly.dim,
                     halfplanes: poly
@@ -351,7 +342,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             write_output(
                 &a.common,
                 &RegionOut {
-                    status: status_str(p.status),
+                    status: p.status.name(),
                     vertices: p.vertices.clone(),
                     faces: p.faces.clone(),
                     halfspaces: region

@@ -249,7 +249,7 @@ impl PolygonView {
     /// The view of a static polygon at `height` (vertices rounded to 0.1 mm).
     fn of(p: &stance_contact::equilibrium::StaticPolygon, height: f64) -> Self {
         Self {
-            status: region_status(p.status),
+            status: p.status.name(),
             vertices: p
                 .vertices
                 .iter()
@@ -341,15 +341,6 @@ fn round(x: f64) -> f64 {
 
 fn round3(p: [f64; 3]) -> [f64; 3] {
     [round(p[0]), round(p[1]), round(p[2])]
-}
-
-fn region_status(s: polycone::polytope::RegionStatus) -> &'static str {
-    use polycone::polytope::RegionStatus;
-    match s {
-        RegionStatus::Empty => "empty",
-        RegionStatus::Bounded => "bounded",
-        RegionStatus::Unbounded => "unbounded",
-    }
 }
 
 /// A length for pyramids and axes: half the widest contact polygon (a foot's pyramids about

@@ -5,8 +5,7 @@ use stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace, RobustRe
 use stance_contact::{GiwcOptions, Scene};
 
 use super::{
-    region_status, round3, scale_of, ContactView, PolygonView, RegionView, StanceView, TableView,
-    ViewData,
+    round3, scale_of, ContactView, PolygonView, RegionView, StanceView, TableView, ViewData,
 };
 use crate::StanceError;
 
@@ -110,7 +109,7 @@ pub fn scene_view(
         });
     let region = match region {
         Ok(p) => Some(RegionView {
-            status: region_status(p.status),
+            status: p.status.name(),
             gravities: gravities.clone(),
             vertices: p.vertices.iter().map(|&p| round3(p)).collect(),
             faces: p.faces.clone(),
