@@ -151,14 +151,16 @@ fn union_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
     u
 }
 
-/// Corners (vertices on three or more facets) and boundary edges `(facet, start, end, facet
-/// beyond)` sorted by facet then start vertex, for the facet of each triangle `face_of`.
-#[allow(clippy::type_complexity)]
+/// A boundary edge of a facet: `(facet, start vertex, end vertex, facet beyond)`.
+type Edge = (usize, u32, u32, usize);
+
+/// Corners (vertices on three or more facets) and boundary edges sorted by facet then start
+/// vertex, for the facet of each triangle `face_of`.
 fn lattice(
     tris: &[Tri],
     face_of: &[usize],
     n_points: usize,
-) -> Result<(Vec<bool>, Vec<(usize, u32, u32, usize)>), &'static str> {
+) -> Result<(Vec<bool>, Vec<Edge>), &'static str> {
     // Facets around each vertex (the first three distinct ones).
     let mut around: Vec<[usize; 3]> = vec![[usize::MAX; 3]; n_points];
     for (t, tri) in tris.iter().enumerate() {
@@ -171,7 +173,7 @@ fn lattice(
         }
     }
     let corner: Vec<bool> = around.iter().map(|a| a[2] != usize::MAX).collect();
-    let mut boundary: Vec<(usize, u32, u32, usize)> = Vec::with_capacity(3 * tris.len());
+    let mut boundary: Vec<Edge> = Vec::with_capacity(3 * tris.len());
     for (t, tri) in tris.iter().enumerate() {
         for k in 0..3 {
             let s = tri.nb[k];
@@ -202,7 +204,9 @@ fn find(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
-/// Facets and face lattice of the triangulated hull `tris` of `pts` (see the module doc).
+/// Facets and face lattice of the triangulated hull `tris` of `pts` (see the module doc), in
+/// phases: facets grown from the largest triangles, adjacent facets merged while their union
+/// fits one slab, sliver facets dissolved, then each facet's boundary walked into a face.
 /// `marginal`: the points outside the exact hull by at most `dist_tol` ([`exact_hull`]).
 /// `Err` names the first structural problem found.
 pub(crate) fn polyhedron_from_triangles(
@@ -216,10 +220,63 @@ pub(crate) fn polyhedron_from_triangles(
     support.extend_from_slice(marginal);
     support.sort_unstable();
     support.dedup();
+    let (group, mut facets) = grow_facets(pts, tris, &support, tol)?;
+    let mut parent = merge_facets(pts, tris, &support, &group, &mut facets, tol);
+    // Final facet ids 0..F.
+    let mut id = vec![usize::MAX; facets.len()];
+    let mut roots = Vec::new();
+    for g in 0..facets.len() {
+        let r = find(&mut parent, g);
+        if id[r] == usize::MAX {
+            id[r] = roots.len();
+            roots.push(r);
+        }
+    }
+    let face_of: Vec<usize> = group.iter().map(|&g| id[find(&mut parent, g)]).collect();
+    let lattice = dissolve_slivers(pts, tris, face_of, roots.len())?;
+    let faces = walk_faces(&lattice)?;
+    let Lattice { corner, alive, .. } = lattice;
+    // Corners, renumbered in input order.
+    let mut index = vec![usize::MAX; pts.len()];
+    let mut vertices = Vec::new();
+    for v in 0..pts.len() {
+        if corner[v] {
+            index[v] = vertices.len();
+            vertices.push(pts[v]);
+        }
+    }
+    let faces: Vec<Vec<usize>> = faces
+        .into_iter()
+        .map(|f| f.into_iter().map(|v| index[v as usize]).collect())
+        .collect();
+    let planes = roots
+        .iter()
+        .zip(&alive)
+        .filter(|(_, &a)| a)
+        .map(|(&r, _)| (facets[r].n, facets[r].d))
+        .collect();
+    Ok(Polyhedron {
+        status: RegionStatus::Bounded,
+        dim: 3,
+        vertices,
+        active: vec![None; faces.len()],
+        faces,
+        planes,
+    })
+}
+
+/// Pass 1: facets grown from the largest triangles: a neighbour joins while the facet's
+/// vertices stay within a slab of width `tol` along the seed's normal. Returns each
+/// triangle's facet and the facets (with their best supporting planes).
+fn grow_facets(
+    pts: &[[f64; 3]],
+    tris: &[Tri],
+    support: &[u32],
+    tol: f64,
+) -> Result<(Vec<usize>, Vec<Facet>), &'static str> {
     let planes: Vec<([f64; 3], f64)> = tris.iter().map(|t| tri_plane(pts, t.v)).collect();
     let mut order: Vec<usize> = (0..tris.len()).collect();
     order.sort_by(|&a, &b| planes[b].1.total_cmp(&planes[a].1));
-    // Pass 1: growth from the largest triangles.
     let mut group = vec![usize::MAX; tris.len()];
     let mut facets: Vec<Facet> = Vec::new();
     let mut stack: Vec<usize> = Vec::new();
@@ -264,12 +321,25 @@ pub(crate) fn polyhedron_from_triangles(
         let mut verts: Vec<u32> = members.iter().flat_map(|&t| tris[t].v).collect();
         verts.sort_unstable();
         verts.dedup();
-        let (n, d) = best_plane(pts, &support, &verts, n0, tol)
+        let (n, d) = best_plane(pts, support, &verts, n0, tol)
             .ok_or("a facet's vertices do not fit a supporting slab of width dist_tol")?;
         let area = members.iter().map(|&t| planes[t].1).sum();
         facets.push(Facet { verts, n, d, area });
     }
-    // Pass 2: merge adjacent facets whose union fits one slab, most parallel pairs first.
+    Ok((group, facets))
+}
+
+/// Pass 2: adjacent facets merged while their union fits one slab, most parallel pairs first,
+/// until no pair merges. Returns the union-find forest over `facets` (roots are the merged
+/// facets, which hold the union's vertices and plane).
+fn merge_facets(
+    pts: &[[f64; 3]],
+    tris: &[Tri],
+    support: &[u32],
+    group: &[usize],
+    facets: &mut [Facet],
+    tol: f64,
+) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..facets.len()).collect();
     loop {
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
@@ -298,7 +368,7 @@ pub(crate) fn polyhedron_from_triangles(
                 (b, a)
             };
             let verts = union_sorted(&facets[big].verts, &facets[small].verts);
-            if let Some((n, d)) = best_plane(pts, &support, &verts, facets[big].n, tol) {
+            if let Some((n, d)) = best_plane(pts, support, &verts, facets[big].n, tol) {
                 parent[small] = big;
                 facets[big].area += facets[small].area;
                 facets[big].verts = verts;
@@ -308,29 +378,32 @@ pub(crate) fn polyhedron_from_triangles(
             }
         }
         if !merged {
-            break;
+            return parent;
         }
     }
-    // Final facet ids 0..F.
-    let mut id = vec![usize::MAX; facets.len()];
-    let mut roots = Vec::new();
-    for g in 0..facets.len() {
-        let r = find(&mut parent, g);
-        if id[r] == usize::MAX {
-            id[r] = roots.len();
-            roots.push(r);
-        }
-    }
-    let face_of: Vec<usize> = group.iter().map(|&g| id[find(&mut parent, g)]).collect();
-    let nf = roots.len();
-    let mut face_of = face_of;
+}
+
+/// The face lattice of the merged facets: which points are corners, the facets' boundary edges
+/// (see [`lattice`]), and which facets are alive (not dissolved).
+struct Lattice {
+    corner: Vec<bool>,
+    boundary: Vec<Edge>,
+    alive: Vec<bool>,
+}
+
+/// The corners and facet boundaries of the lattice ([`lattice`]), after dissolving each facet
+/// with fewer than three corners (a sliver between two faces, all its vertices on their two
+/// common lines) into a neighbour: its vertices lie below every plane within `dist_tol` (the
+/// slabs support all points), and the check verifies the result.
+fn dissolve_slivers(
+    pts: &[[f64; 3]],
+    tris: &[Tri],
+    mut face_of: Vec<usize>,
+    nf: usize,
+) -> Result<Lattice, &'static str> {
     let mut alive = vec![true; nf];
-    let (corner, boundary) = loop {
+    loop {
         let (corner, boundary) = lattice(tris, &face_of, pts.len())?;
-        // A facet with fewer than three corners (a sliver between two faces, all its
-        // vertices on their two common lines) is dissolved into a neighbour: its vertices lie
-        // below every plane within dist_tol (the slabs support all points), and the check
-        // verifies the result.
         let mut lo = 0;
         let mut dissolve = None;
         while lo < boundary.len() {
@@ -347,7 +420,13 @@ pub(crate) fn polyhedron_from_triangles(
             lo = hi;
         }
         match dissolve {
-            None => break (corner, boundary),
+            None => {
+                return Ok(Lattice {
+                    corner,
+                    boundary,
+                    alive,
+                })
+            }
             Some((f, g)) => {
                 for x in face_of.iter_mut().filter(|x| **x == f) {
                     *x = g;
@@ -355,10 +434,21 @@ pub(crate) fn polyhedron_from_triangles(
                 alive[f] = false;
             }
         }
-    };
-    let mut faces: Vec<Vec<u32>> = Vec::with_capacity(nf);
+    }
+}
+
+/// Each live facet's face: its boundary walked from a corner, keeping the corners in order;
+/// an error when a boundary is not one closed loop through at least three corners, or two
+/// facets meet at a vertex that is not a corner.
+fn walk_faces(lattice: &Lattice) -> Result<Vec<Vec<u32>>, &'static str> {
+    let Lattice {
+        corner,
+        boundary,
+        alive,
+    } = lattice;
+    let mut faces: Vec<Vec<u32>> = Vec::with_capacity(alive.len());
     let mut lo = 0;
-    for f in (0..nf).filter(|&f| alive[f]) {
+    for f in (0..alive.len()).filter(|&f| alive[f]) {
         let hi = lo + boundary[lo..].iter().take_while(|e| e.0 == f).count();
         let edges = &boundary[lo..hi];
         lo = hi;
@@ -402,31 +492,5 @@ pub(crate) fn polyhedron_from_triangles(
         }
         faces.push(face);
     }
-    // Corners, renumbered in input order.
-    let mut index = vec![usize::MAX; pts.len()];
-    let mut vertices = Vec::new();
-    for v in 0..pts.len() {
-        if corner[v] {
-            index[v] = vertices.len();
-            vertices.push(pts[v]);
-        }
-    }
-    let faces: Vec<Vec<usize>> = faces
-        .into_iter()
-        .map(|f| f.into_iter().map(|v| index[v as usize]).collect())
-        .collect();
-    let planes = roots
-        .iter()
-        .zip(&alive)
-        .filter(|(_, &a)| a)
-        .map(|(&r, _)| (facets[r].n, facets[r].d))
-        .collect();
-    Ok(Polyhedron {
-        status: RegionStatus::Bounded,
-        dim: 3,
-        vertices,
-        active: vec![None; faces.len()],
-        faces,
-        planes,
-    })
+    Ok(faces)
 }
