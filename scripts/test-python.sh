@@ -27,3 +27,12 @@ echo "-- stance-py: stubs against the module, types"
 (cd "$(mktemp -d)" && "$py" -m mypy.stubtest stance && "$py" -m mypy --strict -p stance)
 echo "-- stance-py: tests"
 "$py" -m pytest -q "$pkg/tests"
+# The goldens the Rust tests compare with, recomputed with the peers that made them.
+if "$py" -c "import cdd, toppra, scipy" 2>/dev/null; then
+  for g in cones topp; do
+    echo "-- goldens: testdata/$g"
+    "$py" "$root/testdata/$g/regenerate.py" --check
+  done
+else
+  echo "-- goldens: not checked (no pycddlib/toppra: scripts/setup-venv.sh --peers)"
+fi
