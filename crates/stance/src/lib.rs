@@ -76,6 +76,7 @@ pub mod error;
 pub mod input;
 pub mod motion;
 mod name_or;
+pub mod report;
 pub mod retime;
 pub mod sim;
 mod strict;

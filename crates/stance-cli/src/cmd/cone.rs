@@ -18,8 +18,9 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use stance::polycone::{self, nalgebra::DMatrix, Arithmetic, DdOptions, FaceForm, Workspace};
+use stance::report::{FaceToSpanReport, SpanToFaceReport};
 
 use super::io::{read_input, write_output, Common};
 
@@ -66,49 +67,6 @@ struct FaceInput {
     dim: Option<usize>,
 }
 
-#[derive(Serialize)]
-struct SpanToFaceOutput {
-    dim: usize,
-    facets: Vec<Vec<f64>>,
-    equations: Vec<Vec<f64>>,
-    lineality: Vec<Vec<f64>>,
-    extreme_generators: Vec<usize>,
-    certified: bool,
-    /// `"tolerance"`, `"exact"` (asked for) or `"exact_fallback"`.
-    arithmetic: &'static str,
-    /// Why the floating-point answer was replaced by the exact one (exact fallback only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    fallback_reason: Option<String>,
-    /// Exact-fallback rows merged into a kept row within `merge_distance` (unit rows): any
-    /// unit vector the output admits violates a merged row by at most that.
-    #[serde(skip_serializing_if = "is_zero")]
-    merged_rows: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    merge_distance: Option<f64>,
-}
-
-fn is_zero(n: &usize) -> bool {
-    *n == 0
-}
-
-#[derive(Serialize)]
-struct FaceToSpanOutput {
-    dim: usize,
-    generators: Vec<Vec<f64>>,
-    lineality: Vec<Vec<f64>>,
-    irredundant_facets: Vec<usize>,
-    certified: bool,
-    /// As in [`SpanToFaceOutput`].
-    arithmetic: &'static str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    fallback_reason: Option<String>,
-    /// As in [`SpanToFaceOutput`] (generators merged).
-    #[serde(skip_serializing_if = "is_zero")]
-    merged_rows: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    merge_distance: Option<f64>,
-}
-
 /// Rows -> matrix, checking the row lengths and finiteness; `dim` from the rows or the option.
 fn to_matrix(what: &str, rows: &[Vec<f64>], dim: Option<usize>) -> Result<DMatrix<f64>> {
     let d = match (rows.first(), dim) {
@@ -136,12 +94,6 @@ fn to_matrix(what: &str, rows: &[Vec<f64>], dim: Option<usize>) -> Result<DMatri
     Ok(DMatrix::from_fn(rows.len(), d, |i, j| rows[i][j]))
 }
 
-fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
-    (0..m.nrows())
-        .map(|i| m.row(i).iter().copied().collect())
-        .collect()
-}
-
 fn options(exact: bool, wrench: bool) -> DdOptions {
     DdOptions {
         wrench,
@@ -165,22 +117,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                 .common
                 .repeated(|| ws.span_to_face(&v, &opts))
                 .context("span-to-face")?;
-            write_output(
-                &a.common,
-                &SpanToFaceOutput {
-                    dim: r.face.dim,
-                    facets: rows(&r.face.facets),
-                    equations: rows(&r.face.equations),
-                    lineality: rows(&r.lineality),
-                    extreme_generators: r.extreme_generators,
-                    certified: r.certificate.certified,
-                    arithmetic: r.certificate.route(),
-                    fallback_reason: r.certificate.fallback.clone(),
-                    merged_rows: r.certificate.merged_rows,
-                    merge_distance: (r.certificate.merged_rows > 0)
-                        .then_some(r.certificate.merge_distance),
-                },
-            )
+            write_output(&a.common, &SpanToFaceReport::new(&r))
         }
         ConeCommand::FaceToSpan(a) => {
             let input: FaceInput = read_input(&a.file)?;
@@ -200,21 +137,7 @@ pub fn run(cmd: ConeCommand) -> Result<()> {
                 .common
                 .repeated(|| ws.face_to_span(&face, &opts))
                 .context("face-to-span")?;
-            write_output(
-                &a.common,
-                &FaceToSpanOutput {
-                    dim: r.span.dim,
-                    generators: rows(&r.span.generators),
-                    lineality: rows(&r.span.lineality),
-                    irredundant_facets: r.irredundant_facets,
-                    certified: r.certificate.certified,
-                    arithmetic: r.certificate.route(),
-                    fallback_reason: r.certificate.fallback.clone(),
-                    merged_rows: r.certificate.merged_rows,
-                    merge_distance: (r.certificate.merged_rows > 0)
-                        .then_some(r.certificate.merge_distance),
-                },
-            )
+            write_output(&a.common, &FaceToSpanReport::new(&r))
         }
     }
 }

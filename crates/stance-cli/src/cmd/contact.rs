@@ -7,9 +7,11 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
-use serde::{Deserialize, Serialize};
-use stance::stance_contact::equilibrium::{PolygonRoute, PolygonWorkspace, RobustRegion};
+use serde::Deserialize;
+use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion};
 use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
+
+use stance::report::{GiwcReport, PolygonReport, RegionReport, StabilityReport};
 
 use super::io::{read_input, write_output, Common};
 use super::plot;
@@ -132,26 +134,6 @@ fn stance_and_giwc(scene: &Scene) -> Result<(Stance, Giwc)> {
     Ok((stance, giwc))
 }
 
-fn rows(m: &stance::stance_contact::nalgebra::DMatrix<f64>) -> Vec<Vec<f64>> {
-    m.row_iter().map(|r| r.iter().copied().collect()).collect()
-}
-
-#[derive(Serialize)]
-struct FaceOut {
-    facets: Vec<Vec<f64>>,
-    equations: Vec<Vec<f64>>,
-    lineality: Vec<Vec<f64>>,
-}
-
-#[derive(Serialize)]
-struct GiwcOut {
-    giwc: FaceOut,
-    span: Vec<Vec<f64>>,
-    convention: &'static str,
-    certified: bool,
-    contacts: Vec<String>,
-}
-
 pub fn run_giwc(a: GiwcArgs) -> Result<()> {
     let scene = load_scene(&a.scene)?;
     let stance = scene.stance().context("invalid scene")?;
@@ -164,62 +146,10 @@ pub fn run_giwc(a: GiwcArgs) -> Result<()> {
         .common
         .repeated(|| stance.u_stance_with(&mut ws, &opts))
         .context("cannot compute the GIWC")?;
-    let (facets, convention) = if a.net_contact_wrench {
-        (
-            giwc.net_contact_wrench_face().0,
-            "net contact wrench: rows u with u . w_c <= 0, w_c = -w_GI, wrench at the world origin (force, torque)",
-        )
-    } else {
-        (
-            giwc.facets.clone(),
-            "GIWC (paper): rows u with u . w_GI <= 0, wrench at the world origin (force, torque)",
-        )
-    };
-    let span = if a.net_contact_wrench {
-        -stance.giwc_span()
-    } else {
-        stance.giwc_span()
-    };
     write_output(
         &a.common,
-        &GiwcOut {
-            giwc: FaceOut {
-                facets: rows(&facets),
-                equations: rows(&giwc.equations),
-                lineality: rows(&giwc.lineality),
-            },
-            span: rows(&span),
-            convention,
-            certified: giwc.certified,
-            contacts: stance
-                .contacts()
-                .iter()
-                .map(|c| c.name().to_string())
-                .collect(),
-        },
+        &GiwcReport::new(&stance, &giwc, a.net_contact_wrench),
     )
-}
-
-#[derive(Serialize)]
-struct PolygonOut {
-    status: &'static str,
-    /// "direct", or "u_stance" with the reason when the direct route gave way.
-    route: String,
-    /// 2 for a proper polygon, 1 for a segment, 0 for a point (or empty).
-    dim: usize,
-    vertices: Vec<[f64; 2]>,
-    halfplanes: Vec<[f64; 3]>,
-    height: f64,
-    gravity: [f64; 3],
-}
-
-#[derive(Serialize)]
-struct RegionOut {
-    status: &'static str,
-    vertices: Vec<[f64; 3]>,
-    faces: Vec<Vec<usize>>,
-    halfspaces: Vec<[f64; 4]>,
-    gravities: Vec<[f64; 3]>,
 }
 
 #[derive(Deserialize)]
@@ -274,14 +204,6 @@ fn com_points(coms: Vec<Com>) -> Result<Vec<[f64; 3]>> {
     Ok(points)
 }
 
-#[derive(Serialize)]
-struct TestOut {
-    stable: Vec<bool>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    margin: Option<Vec<f64>>,
-    gravities: Vec<[f64; 3]>,
-}
-
 pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
     let opts = Default::default();
     match c {
@@ -296,14 +218,10 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             let (poly, route) = a.common.repeated(|| -> Result<_> {
                 Ok(if a.via_u_stance {
                     let p = ws.static_polygon_via_u_stance(&stance, g, a.height, &opts)?;
-                    (p, "u_stance (requested)".to_string())
+                    (p, None)
                 } else {
                     let d = ws.static_polygon(&stance, g, a.height, &opts)?;
-                    let route = match d.route {
-                        PolygonRoute::Direct => "direct".to_string(),
-                        PolygonRoute::ViaUStance(why) => format!("u_stance ({why:?})"),
-                    };
-                    (d.polygon, route)
+                    (d.polygon, Some(d.route))
                 })
             })?;
             if let Some(path) = &a.plot {
@@ -311,19 +229,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             }
             write_output(
                 &a.common,
-                &PolygonOut {
-                    status: poly.status.name(),
-                    route,
-                    dim: poly.dim,
-                    halfplanes: poly
-                        .halfplanes
-                        .iter()
-                        .map(|(n, b)| [n[0], n[1], *b])
-                        .collect(),
-                    vertices: poly.vertices,
-                    height: a.height,
-                    gravity: g,
-                },
+                &PolygonReport::new(&poly, route.as_ref(), a.height, g),
             )
         }
         EquilibriumCommand::Region(a) => {
@@ -338,23 +244,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             if let Some(path) = &a.plot {
                 plot::equilibrium::region(path, &stance, &region)?;
             }
-            let p = &region.polyhedron;
-            write_output(
-                &a.common,
-                &RegionOut {
-                    status: p.status.name(),
-                    vertices: p.vertices.clone(),
-                    faces: p.faces.clone(),
-                    halfspaces: region
-                        .halfspaces
-                        .normals
-                        .iter()
-                        .zip(&region.halfspaces.offsets)
-                        .map(|(n, d)| [n[0], n[1], n[2], *d])
-                        .collect(),
-                    gravities: gs,
-                },
-            )
+            write_output(&a.common, &RegionReport::new(&region))
         }
         EquilibriumCommand::Test(a) => {
             let scene = load_scene(&a.scene)?;
@@ -376,7 +266,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
                 .then(|| points.iter().map(|&p| region.margin(p)).collect());
             write_output(
                 &a.common,
-                &TestOut {
+                &StabilityReport {
                     stable,
                     margin,
                     gravities: gs,

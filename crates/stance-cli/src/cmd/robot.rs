@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use serde::Serialize;
+use stance::report::CentroidalReport;
 use stance::stance_robot::{centroidal_map_dot_v, Data, Model, UrdfOptions};
 
 use super::io::{write_output, Common};
@@ -37,18 +37,6 @@ pub struct CentroidalArgs {
     pub quiet_urdf: bool,
     #[command(flatten)]
     pub common: Common,
-}
-
-#[derive(Serialize)]
-struct CentroidalOutput {
-    mass: f64,
-    com: Vec<f64>,
-    com_jacobian: Vec<Vec<f64>>,
-    centroidal_map: Vec<Vec<f64>>,
-    centroidal_map_dot_v: Vec<f64>,
-    joint_names: Vec<String>,
-    nq: usize,
-    nv: usize,
 }
 
 pub fn run(cmd: RobotCommand) -> Result<()> {
@@ -109,20 +97,6 @@ fn centroidal(args: CentroidalArgs) -> Result<()> {
     let dh = args
         .common
         .repeated(|| centroidal_map_dot_v(&model, &mut data, &q, &v))?;
-    let rows = |m: &dyn Fn(usize, usize) -> f64, r: usize| -> Vec<Vec<f64>> {
-        (0..r)
-            .map(|i| (0..model.nv).map(|j| m(i, j)).collect())
-            .collect()
-    };
-    let out = CentroidalOutput {
-        mass: data.mass,
-        com: data.com.as_slice().to_vec(),
-        com_jacobian: rows(&|i, j| data.com_jacobian[(i, j)], 3),
-        centroidal_map: rows(&|i, j| data.centroidal_map[(i, j)], 6),
-        centroidal_map_dot_v: dh.as_slice().to_vec(),
-        joint_names: model.joint_names(),
-        nq: model.nq,
-        nv: model.nv,
-    };
+    let out = CentroidalReport::new(&model, &data, dh.as_slice());
     write_output(&args.common, &out)
 }
