@@ -645,56 +645,86 @@ fn open_ridges(
     Ok(open)
 }
 
-/// Exact span -> face of the rows of `v` (finite, `d >= 1` columns).
+/// The identity rows of `R^d`, as integers.
+fn identity(d: usize) -> Vec<Vec<BigInt>> {
+    (0..d)
+        .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
+        .collect()
+}
+
+/// The generators as primitive integer rows: `kept` the indices of the non-zero input rows,
+/// `ints` their integer rows, `distinct` the indices into `ints` of the distinct rays
+/// (primitive integer rows are equal iff positively parallel).
+struct IntGenerators {
+    kept: Vec<usize>,
+    ints: Vec<Vec<BigInt>>,
+    distinct: Vec<usize>,
+}
+
+impl IntGenerators {
+    fn of(v: &DMatrix<f64>) -> Self {
+        let mut kept: Vec<usize> = Vec::new();
+        let mut ints: Vec<Vec<BigInt>> = Vec::new();
+        for i in 0..v.nrows() {
+            let row: Vec<f64> = v.row(i).iter().copied().collect();
+            let r = row_to_int(&row);
+            if r.iter().any(|x| !x.is_zero()) {
+                kept.push(i);
+                ints.push(r);
+            }
+        }
+        let mut distinct: Vec<usize> = Vec::new();
+        for i in 0..ints.len() {
+            if !distinct.iter().any(|&j| ints[j] == ints[i]) {
+                distinct.push(i);
+            }
+        }
+        IntGenerators {
+            kept,
+            ints,
+            distinct,
+        }
+    }
+}
+
+/// Exact span -> face of the rows of `v` (finite, `d >= 1` columns), in phases: integer
+/// generators, a basis `B` of their span (`r` rows) and the equations (its orthogonal
+/// complement), the double description in the coordinates `y = B x`, the facets back in
+/// `x`-space and the lineality, then the exact certificate ([`certify_exact`]) and the extreme
+/// generators.
 pub(crate) fn exact_span_to_face(
     v: &DMatrix<f64>,
     tol: &Tolerances,
 ) -> Result<ExactResult, ConeError> {
-    let (n, d) = v.shape();
-    let mut kept: Vec<usize> = Vec::new();
-    let mut ints: Vec<Vec<BigInt>> = Vec::new();
-    for i in 0..n {
-        let row: Vec<f64> = v.row(i).iter().copied().collect();
-        let r = row_to_int(&row);
-        if r.iter().any(|x| !x.is_zero()) {
-            kept.push(i);
-            ints.push(r);
-        }
-    }
-    // Distinct rays (primitive integer rows are equal iff positively parallel).
-    let mut distinct: Vec<usize> = Vec::new();
-    for i in 0..ints.len() {
-        if !distinct.iter().any(|&j| ints[j] == ints[i]) {
-            distinct.push(i);
-        }
-    }
-    let dist_rows: Vec<Vec<BigInt>> = distinct.iter().map(|&i| ints[i].clone()).collect();
+    let d = v.ncols();
+    let gens = IntGenerators::of(v);
+    let dist_rows: Vec<Vec<BigInt>> = gens
+        .distinct
+        .iter()
+        .map(|&i| gens.ints[i].clone())
+        .collect();
     let bsel = row_basis(&dist_rows, d);
     let r = bsel.len();
     let b: Vec<Vec<BigInt>> = if r == d {
         // Full-dimensional: any basis of R^d will do, and the standard one keeps the integers
         // as they are (basis rows would multiply their size).
-        (0..d)
-            .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
-            .collect()
+        identity(d)
     } else {
         bsel.iter().map(|&i| dist_rows[i].clone()).collect()
     };
     let eq_int = if r == 0 {
-        (0..d)
-            .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
-            .collect()
+        identity(d)
     } else {
         null_space(&b, d)
     };
     // Generators in the basis coordinates.
-    let g: Vec<Vec<BigInt>> = ints
+    let g: Vec<Vec<BigInt>> = gens
+        .ints
         .iter()
         .map(|x| b.iter().map(|bc| dot(x, bc)).collect())
         .collect();
-    let gd: Vec<Vec<BigInt>> = distinct.iter().map(|&i| g[i].clone()).collect();
+    let gd: Vec<Vec<BigInt>> = gens.distinct.iter().map(|&i| g[i].clone()).collect();
     let rays = exact_dd(&gd, r)?;
-    let nf = rays.len();
     // Facets in x-space: u = B^T y.
     let u_int: Vec<Vec<BigInt>> = rays
         .iter()
@@ -713,9 +743,7 @@ pub(crate) fn exact_span_to_face(
     let mut stacked = u_int.clone();
     stacked.extend(eq_int.iter().cloned());
     let lin_int = if stacked.is_empty() {
-        (0..d)
-            .map(|i| (0..d).map(|j| BigInt::from((i == j) as i32)).collect())
-            .collect()
+        identity(d)
     } else {
         // The null space of the rows is that of a row basis (at most `d` rows): the
         // elimination then runs on those rows only, not on every facet.
@@ -726,91 +754,8 @@ pub(crate) fn exact_span_to_face(
         null_space(&sel, d)
     };
     let l = lin_int.len();
-    let t = r - l.min(r);
-    // Exact incidence, over all kept generators.
-    let ng = ints.len();
-    let slack: Vec<Vec<BigInt>> = rays
-        .iter()
-        .map(|ray| g.iter().map(|gi| dot(gi, &ray.x)).collect())
-        .collect();
-    let sound = slack.iter().all(|row| row.iter().all(|s| !s.is_positive()));
-    let tight = |f: usize, i: usize| slack[f][i].is_zero();
-    let in_l: Vec<bool> = (0..ng).map(|i| (0..nf).all(|f| tight(f, i))).collect();
-    // Support: the tight generators of each facet have rank r - 1.
-    let mut unsupported = Vec::new();
-    for f in 0..nf {
-        let rows: Vec<Vec<BigInt>> = (0..ng)
-            .filter(|&i| tight(f, i))
-            .map(|i| g[i].clone())
-            .collect();
-        if row_basis(&rows, r).len() + 1 != r {
-            unsupported.push(f);
-        }
-    }
-    // Lineality: the generators in L positively span L.
-    let mut lineality_ok = true;
-    if l > 0 {
-        let rows: Vec<Vec<BigInt>> = (0..ng)
-            .filter(|&i| in_l[i])
-            .map(|i| ints[i].clone())
-            .collect();
-        match facets_of(&rows, l)? {
-            Some(f) => lineality_ok = f.is_empty(),
-            None => lineality_ok = false,
-        }
-        // facets_of runs the double description of the polar of cone(rows) in its span: no
-        // ray means the cone is the whole span.
-    }
-    // Completeness: ridges, in coordinates modulo L (generators evaluated on t independent
-    // facets).
-    let mut open = 0usize;
-    let dims_ok = match t {
-        0 => nf == 0,
-        1 => nf == 1,
-        2 => nf == 2,
-        _ => nf >= t,
-    };
-    if !dims_ok {
-        open = usize::MAX;
-    } else if t >= 3 {
-        let ghat: Vec<Vec<BigInt>> = if l == 0 {
-            // Pointed: the basis coordinates already are coordinates modulo L = {0}.
-            g.clone()
-        } else {
-            let ys: Vec<Vec<BigInt>> = rays.iter().map(|r| r.x.clone()).collect();
-            let yb = row_basis(&ys, t);
-            g.iter()
-                .map(|gi| yb.iter().map(|&f| dot(gi, &ys[f])).collect())
-                .collect()
-        };
-        let tight_sets: Vec<Vec<bool>> = (0..nf)
-            .map(|f| (0..ng).map(|i| tight(f, i)).collect())
-            .collect();
-        let candidates: Vec<usize> = distinct.iter().copied().filter(|&i| !in_l[i]).collect();
-        open = open_ridges(&ghat, &tight_sets, &candidates, t)?;
-    }
-    // Extreme generators: not in L, no generator tight on a strict superset of facets.
-    let tight_set = |i: usize| -> Vec<bool> { (0..nf).map(|f| tight(f, i)).collect() };
-    let mut extreme_kept: Vec<usize> = Vec::new();
-    if t > 0 {
-        let sets: Vec<Vec<bool>> = (0..ng).map(tight_set).collect();
-        for &gi in &distinct {
-            if in_l[gi] {
-                continue;
-            }
-            let dominated = distinct.iter().any(|&h| {
-                h != gi
-                    && !in_l[h]
-                    && sets[h] != sets[gi]
-                    && sets[gi].iter().zip(&sets[h]).all(|(a, b)| !a || *b)
-            });
-            if !dominated && !extreme_kept.iter().any(|&o| sets[o] == sets[gi]) {
-                extreme_kept.push(gi);
-            }
-        }
-    }
-    let mut extreme: Vec<usize> = extreme_kept.iter().map(|&i| kept[i]).collect();
-    extreme.sort_unstable();
+    let exact = certify_exact(&gens, &g, &rays, r, l)?;
+    let extreme = extreme_generators(&gens, &exact.tight, &exact.in_l, r - l.min(r));
     // Output in f64.
     let mut facets: Vec<Vec<f64>> = u_int.iter().map(|u| to_f64_dir(u)).collect();
     facets.sort_by(|a, b| {
@@ -826,25 +771,25 @@ pub(crate) fn exact_span_to_face(
     // Informative float violation (the decision above is exact).
     let mut max_violation: f64 = 0.0;
     for f in 0..facets_m.nrows() {
-        for &i in &kept {
+        for &i in &gens.kept {
             let row = v.row(i);
             let nv = row.norm();
             max_violation = max_violation.max(facets_m.row(f).dot(&row) / nv);
         }
     }
-    let support = unsupported.is_empty();
-    let completeness = open == 0;
+    let support = exact.unsupported.is_empty();
+    let completeness = exact.open == 0;
     let certificate = Certificate {
-        certified: sound && support && lineality_ok && completeness,
+        certified: exact.sound && support && exact.lineality && completeness,
         arithmetic: Arithmetic::Exact,
         max_violation,
         max_equation_residual: 0.0,
-        soundness: sound,
+        soundness: exact.sound,
         support,
-        unsupported_facets: unsupported,
-        lineality: lineality_ok,
+        unsupported_facets: exact.unsupported,
+        lineality: exact.lineality,
         completeness,
-        open_ridges: open,
+        open_ridges: exact.open,
         fallback: None,
         merged_rows: 0,
         merge_distance: 0.0,
@@ -856,6 +801,137 @@ pub(crate) fn exact_span_to_face(
         extreme,
         certificate,
     })
+}
+
+/// The exact certificate of an exact conversion, and the incidence it was decided on.
+struct ExactChecks {
+    /// `tight[f][i]`: generator `i` (of `IntGenerators::ints`) is on facet `f`.
+    tight: Vec<Vec<bool>>,
+    /// Generators in the lineality space (tight on every facet).
+    in_l: Vec<bool>,
+    /// Soundness: no generator strictly outside a facet.
+    sound: bool,
+    /// Facets whose tight generators do not have rank `r - 1`.
+    unsupported: Vec<usize>,
+    /// The generators in the lineality space positively span it.
+    lineality: bool,
+    /// Ridges not shared by exactly two facets (`usize::MAX`: the facet count cannot be right).
+    open: usize,
+}
+
+/// The certificate's four checks in exact arithmetic, for the facets `rays` (coordinates `y`)
+/// of the generators `g` (same coordinates) spanning dimension `r`, lineality dimension `l`.
+fn certify_exact(
+    gens: &IntGenerators,
+    g: &[Vec<BigInt>],
+    rays: &[Ray],
+    r: usize,
+    l: usize,
+) -> Result<ExactChecks, ConeError> {
+    let (nf, ng) = (rays.len(), g.len());
+    let t = r - l.min(r);
+    let slack: Vec<Vec<BigInt>> = rays
+        .iter()
+        .map(|ray| g.iter().map(|gi| dot(gi, &ray.x)).collect())
+        .collect();
+    let sound = slack.iter().all(|row| row.iter().all(|s| !s.is_positive()));
+    let tight: Vec<Vec<bool>> = slack
+        .iter()
+        .map(|row| row.iter().map(|s| s.is_zero()).collect())
+        .collect();
+    let in_l: Vec<bool> = (0..ng).map(|i| (0..nf).all(|f| tight[f][i])).collect();
+    // Support: the tight generators of each facet have rank r - 1.
+    let mut unsupported = Vec::new();
+    for (f, on_f) in tight.iter().enumerate() {
+        let rows: Vec<Vec<BigInt>> = (0..ng).filter(|&i| on_f[i]).map(|i| g[i].clone()).collect();
+        if row_basis(&rows, r).len() + 1 != r {
+            unsupported.push(f);
+        }
+    }
+    // Lineality: the generators in L positively span L. facets_of runs the double description
+    // of the polar of cone(rows) in its span: no ray means the cone is the whole span.
+    let mut lineality = true;
+    if l > 0 {
+        let rows: Vec<Vec<BigInt>> = (0..ng)
+            .filter(|&i| in_l[i])
+            .map(|i| gens.ints[i].clone())
+            .collect();
+        lineality = matches!(facets_of(&rows, l)?, Some(f) if f.is_empty());
+    }
+    // Completeness: ridges, in coordinates modulo L (generators evaluated on t independent
+    // facets).
+    let dims_ok = match t {
+        0 => nf == 0,
+        1 => nf == 1,
+        2 => nf == 2,
+        _ => nf >= t,
+    };
+    let open = if !dims_ok {
+        usize::MAX
+    } else if t >= 3 {
+        let ghat: Vec<Vec<BigInt>> = if l == 0 {
+            // Pointed: the basis coordinates already are coordinates modulo L = {0}.
+            g.to_vec()
+        } else {
+            let ys: Vec<Vec<BigInt>> = rays.iter().map(|r| r.x.clone()).collect();
+            let yb = row_basis(&ys, t);
+            g.iter()
+                .map(|gi| yb.iter().map(|&f| dot(gi, &ys[f])).collect())
+                .collect()
+        };
+        let candidates: Vec<usize> = gens
+            .distinct
+            .iter()
+            .copied()
+            .filter(|&i| !in_l[i])
+            .collect();
+        open_ridges(&ghat, &tight, &candidates, t)?
+    } else {
+        0
+    };
+    Ok(ExactChecks {
+        tight,
+        in_l,
+        sound,
+        unsupported,
+        lineality,
+        open,
+    })
+}
+
+/// Input indices of the extreme generators: not in L, and no generator tight on a strict
+/// superset of their facets (one per set of facets). None when the cone is a linear space
+/// (`t = 0`, the dimension modulo the lineality).
+fn extreme_generators(
+    gens: &IntGenerators,
+    tight: &[Vec<bool>],
+    in_l: &[bool],
+    t: usize,
+) -> Vec<usize> {
+    let ng = gens.ints.len();
+    let mut extreme_kept: Vec<usize> = Vec::new();
+    if t > 0 {
+        let sets: Vec<Vec<bool>> = (0..ng)
+            .map(|i| tight.iter().map(|on_f| on_f[i]).collect())
+            .collect();
+        for &gi in &gens.distinct {
+            if in_l[gi] {
+                continue;
+            }
+            let dominated = gens.distinct.iter().any(|&h| {
+                h != gi
+                    && !in_l[h]
+                    && sets[h] != sets[gi]
+                    && sets[gi].iter().zip(&sets[h]).all(|(a, b)| !a || *b)
+            });
+            if !dominated && !extreme_kept.iter().any(|&o| sets[o] == sets[gi]) {
+                extreme_kept.push(gi);
+            }
+        }
+    }
+    let mut extreme: Vec<usize> = extreme_kept.iter().map(|&i| gens.kept[i]).collect();
+    extreme.sort_unstable();
+    extreme
 }
 
 #[cfg(test)]
