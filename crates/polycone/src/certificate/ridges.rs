@@ -55,7 +55,8 @@ pub(super) fn covered(
 }
 
 /// The ridge check of completeness (see the module doc), for `t >= 3` (smaller `t` are decided by
-/// [`ok_dims`]). Returns the number of ridges not covered by exactly two facets.
+/// [`ok_dims`]). Returns the number of ridges not covered by exactly two facets; facets that
+/// fail support are added to `unsupported`.
 pub(super) fn count_open_ridges(
     incd: &Incidence,
     tol: &Tolerances,
@@ -66,187 +67,233 @@ pub(super) fn count_open_ridges(
     if t < 3 {
         return 0;
     }
-    let Incidence { nf, gw, .. } = *incd;
-    let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
     let scan = Scan::detect();
+    most_incident_facets(incd, w.skip);
+    w.vbuf.clear();
+    w.vbuf.resize(t, 0.0);
+    w.lambda.clear();
+    w.lambda.resize(t, 0.0);
     let mut open = 0;
-    // The `t - 2` facets with the most tight generators beyond `t` (ties: the first).
-    w.skip.clear();
+    for f in 0..incd.nf {
+        let facet = facet_ridges(incd, f, tol, w, scan);
+        open += facet.open;
+        if facet.unsupported {
+            unsupported.push(f);
+        }
+    }
+    open
+}
+
+/// The `t - 2` facets with the most tight generators beyond `t` (ties: the first), into `skip`:
+/// by Balinski's theorem (module doc) they need only support.
+fn most_incident_facets(incd: &Incidence, skip: &mut Vec<usize>) {
+    let Incidence { nf, gw, t, .. } = *incd;
+    let inc = incd.inc;
+    skip.clear();
     let mut sizes = [0usize; 64];
     for f in 0..nf {
         let m = (0..gw).map(|wi| inc[f * gw + wi].count_ones()).sum::<u32>() as usize;
         if m <= t {
             continue;
         }
-        if w.skip.len() < (t - 2).min(sizes.len()) {
-            sizes[w.skip.len()] = m;
-            w.skip.push(f);
-        } else if let Some(low) = (0..w.skip.len()).min_by_key(|&q| sizes[q]) {
+        if skip.len() < (t - 2).min(sizes.len()) {
+            sizes[skip.len()] = m;
+            skip.push(f);
+        } else if let Some(low) = (0..skip.len()).min_by_key(|&q| sizes[q]) {
             if m > sizes[low] {
                 sizes[low] = m;
-                w.skip[low] = f;
+                skip[low] = f;
             }
         }
     }
-    w.vbuf.clear();
-    w.vbuf.resize(t, 0.0);
-    w.lambda.clear();
-    w.lambda.resize(t, 0.0);
-    for f in 0..nf {
-        let members = &mut *w.members;
-        members.clear();
-        for wi in 0..gw {
-            let mut word = inc[f * gw + wi];
-            while word != 0 {
-                members.push(wi * 64 + word.trailing_zeros() as usize);
-                word &= word - 1;
-            }
+}
+
+/// What the ridge check found on one facet.
+struct FacetRidges {
+    /// Ridges of the facet not covered by exactly two facets (1 for a facet that fails).
+    open: usize,
+    /// The facet's tight generators do not span its hyperplane.
+    unsupported: bool,
+}
+
+impl FacetRidges {
+    const CLOSED: FacetRidges = FacetRidges {
+        open: 0,
+        unsupported: false,
+    };
+    const UNSUPPORTED: FacetRidges = FacetRidges {
+        open: 1,
+        unsupported: true,
+    };
+    const WRONG: FacetRidges = FacetRidges {
+        open: 1,
+        unsupported: false,
+    };
+}
+
+/// The ridge check of facet `f`: its ridges found by the first rule that applies (claimed
+/// neighbours, Balinski skip, simplicial, near-simplicial closed form, double description in
+/// its hyperplane), each counted open unless exactly two facets cover it.
+fn facet_ridges(
+    incd: &Incidence,
+    f: usize,
+    tol: &Tolerances,
+    w: &mut RidgeWork,
+    scan: Scan,
+) -> FacetRidges {
+    let Incidence { gw, t, .. } = *incd;
+    let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
+    let members = &mut *w.members;
+    members.clear();
+    for wi in 0..gw {
+        let mut word = inc[f * gw + wi];
+        while word != 0 {
+            members.push(wi * 64 + word.trailing_zeros() as usize);
+            word &= word - 1;
         }
-        if members.len() < t - 1 {
-            unsupported.push(f);
-            open += 1;
-            continue;
+    }
+    if members.len() < t - 1 {
+        return FacetRidges::UNSUPPORTED;
+    }
+    // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
+    // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
+    // are orthonormal coordinates of g in u^perp.
+    let u = &fp[f * t..(f + 1) * t];
+    let j = (0..t)
+        .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+        .unwrap_or(0);
+    let v = &mut w.vbuf[..];
+    v.copy_from_slice(u);
+    v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
+    let vv = dot(v, v);
+    let k = t - 1;
+    let hp = Hyperplane {
+        v: &w.vbuf[..],
+        vv,
+        j,
+    };
+    // The other facets that may share a ridge with this one (one-word rows only).
+    // Balinski's theorem (module doc): up to `t - 2` facets need only support; those with
+    // the most tight generators (beyond `t`) are the expensive ones.
+    let skip = !force_dd() && w.skip.contains(&f);
+    if gw == 1 && !skip {
+        w.cand.clear();
+        scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
+        if members.len() > t
+            && !force_dd()
+            && neighbours_prove_facet(incd, f, w.cand, &hp, tol, w.nb)
+        {
+            // Completeness (and support) from the claimed neighbours (`neighbours`).
+            record!(neighbours);
+            return FacetRidges::CLOSED;
         }
-        // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
-        // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
-        // are orthonormal coordinates of g in u^perp.
-        let u = &fp[f * t..(f + 1) * t];
-        let j = (0..t)
-            .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
-            .unwrap_or(0);
-        let v = &mut w.vbuf[..];
-        v.copy_from_slice(u);
-        v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
-        let vv = dot(v, v);
-        let k = t - 1;
-        let hp = Hyperplane {
-            v: &w.vbuf[..],
-            vv,
-            j,
+    }
+    w.neighbours.clear();
+    if gw == 1 && !skip {
+        w.neighbours.extend(
+            w.cand
+                .iter()
+                .filter(|&&g| g as usize != f)
+                .map(|&g| inc[g as usize]),
+        );
+    }
+    let rows = &mut *w.rows;
+    rows.clear();
+    rows.resize(members.len() * k, 0.0);
+    for (&i, out) in members.iter().zip(rows.chunks_exact_mut(k)) {
+        hp.project(&gp[i * t..(i + 1) * t], out);
+        // No normalization needed: H is orthogonal and the dropped coordinate is
+        // `±u . g`, at most `incidence` for a tight generator, so the row's norm is 1 to
+        // within `incidence^2 / 2` (1e-18 by default), far below every threshold.
+    }
+    if skip {
+        record!(skipped);
+        return if spans(rows, members.len(), k, tol.support_rank, w.buf) {
+            FacetRidges::CLOSED
+        } else {
+            FacetRidges::UNSUPPORTED
         };
-        // The other facets that may share a ridge with this one (one-word rows only).
-        // Balinski's theorem (module doc): up to `t - 2` facets need only support; those with
-        // the most tight generators (beyond `t`) are the expensive ones.
-        let skip = !force_dd() && w.skip.contains(&f);
-        if gw == 1 && !skip {
-            w.cand.clear();
-            scan.candidates(inc[f], inc, (t - 2) as u32, w.cand);
-            if members.len() > t
-                && !force_dd()
-                && neighbours_prove_facet(incd, f, w.cand, &hp, tol, w.nb)
-            {
-                // Completeness (and support) from the claimed neighbours (`neighbours`).
-                record!(neighbours);
-                continue;
-            }
+    }
+    // Each candidate ridge (generator indices) counts open unless exactly two facets hold it.
+    let ridge = &mut *w.ridge;
+    let mut open = 0;
+    let mut count = |ridge: &[usize], acc: &mut Vec<u64>| {
+        if covered(incd, t, ridge, w.neighbours, acc, scan) != 2 {
+            open += 1;
         }
-        w.neighbours.clear();
-        if gw == 1 && !skip {
-            w.neighbours.extend(
-                w.cand
-                    .iter()
-                    .filter(|&&g| g as usize != f)
-                    .map(|&g| inc[g as usize]),
-            );
+    };
+    if members.len() == t - 1 {
+        // Simplicial facet (when its generators are independent: support): its ridges drop
+        // one generator each.
+        if !spans(&rows[..k * k], k, k, tol.support_rank, w.buf) {
+            return FacetRidges::UNSUPPORTED;
         }
-        let rows = &mut *w.rows;
-        rows.clear();
-        rows.resize(members.len() * k, 0.0);
-        for (&i, out) in members.iter().zip(rows.chunks_exact_mut(k)) {
-            hp.project(&gp[i * t..(i + 1) * t], out);
-            // No normalization needed: H is orthogonal and the dropped coordinate is
-            // `±u . g`, at most `incidence` for a tight generator, so the row's norm is 1 to
-            // within `incidence^2 / 2` (1e-18 by default), far below every threshold.
-        }
-        if skip {
-            if !spans(rows, members.len(), k, tol.support_rank, w.buf) {
-                unsupported.push(f);
-                open += 1;
-            }
-            record!(skipped);
-            continue;
-        }
-        let ridge = &mut *w.ridge;
-        if members.len() == t - 1 {
-            // Simplicial facet (when its generators are independent: support): its ridges drop
-            // one generator each.
-            if !spans(&rows[..k * k], k, k, tol.support_rank, w.buf) {
-                unsupported.push(f);
-                open += 1;
-                continue;
-            }
-            record!(simplicial);
-            for drop in 0..members.len() {
-                ridge.clear();
-                ridge.extend(
-                    members
-                        .iter()
-                        .enumerate()
-                        .filter(|&(k, _)| k != drop)
-                        .map(|(_, &i)| i),
-                );
-                if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
-                    open += 1;
-                }
-            }
-            continue;
-        }
-        if members.len() == t && !force_dd() {
-            // One generator more than simplicial: closed form (module doc, "Near-simplicial
-            // facets"), unless the dependency has an entry near zero: then the DD below decides.
-            let m = members.len();
-            match near_simplicial_ridges(rows, k, tol, w.lambda, w.buf, w.drops) {
-                Some(true) => {
-                    record!(closed_form);
-                    for &(a, b) in w.drops.iter() {
-                        ridge.clear();
-                        ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
-                        if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
-                            open += 1;
-                        }
-                    }
-                    continue;
-                }
-                Some(false) => {
-                    // The facet's generators positively span its hyperplane: not a face of a
-                    // pointed cone, so the claimed form is wrong.
-                    record!(closed_form);
-                    open += 1;
-                    continue;
-                }
-                None => {}
-            }
-        }
-        record!(dd);
-        // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows).
-        let m = members.len();
-        let small = &mut *w.small;
-        match small.run(rows, m, k, tol.incidence, tol.support_rank) {
-            Ok(()) => {}
-            Err(DdFailure::RankDeficient) => {
-                unsupported.push(f);
-                open += 1;
-                continue;
-            }
-            Err(_) => {
-                open += 1;
-                continue;
-            }
-        }
-        for q in 0..small.n {
-            let z_hi = |loc: usize| small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1;
+        record!(simplicial);
+        for drop in 0..members.len() {
             ridge.clear();
-            for (loc, &i) in members.iter().enumerate() {
-                if z_hi(loc) {
-                    ridge.push(i);
+            ridge.extend(
+                members
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| k != drop)
+                    .map(|(_, &i)| i),
+            );
+            count(ridge, w.acc);
+        }
+        return FacetRidges {
+            open,
+            unsupported: false,
+        };
+    }
+    if members.len() == t && !force_dd() {
+        // One generator more than simplicial: closed form (module doc, "Near-simplicial
+        // facets"), unless the dependency has an entry near zero: then the DD below decides.
+        let m = members.len();
+        match near_simplicial_ridges(rows, k, tol, w.lambda, w.buf, w.drops) {
+            Some(true) => {
+                record!(closed_form);
+                for &(a, b) in w.drops.iter() {
+                    ridge.clear();
+                    ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
+                    count(ridge, w.acc);
                 }
+                return FacetRidges {
+                    open,
+                    unsupported: false,
+                };
             }
-            if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
-                open += 1;
+            Some(false) => {
+                // The facet's generators positively span its hyperplane: not a face of a
+                // pointed cone, so the claimed form is wrong.
+                record!(closed_form);
+                return FacetRidges::WRONG;
             }
+            None => {}
         }
     }
-    open
+    record!(dd);
+    // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows).
+    let m = members.len();
+    let small = &mut *w.small;
+    match small.run(rows, m, k, tol.incidence, tol.support_rank) {
+        Ok(()) => {}
+        Err(DdFailure::RankDeficient) => return FacetRidges::UNSUPPORTED,
+        Err(_) => return FacetRidges::WRONG,
+    }
+    for q in 0..small.n {
+        let z_hi = |loc: usize| small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1;
+        ridge.clear();
+        for (loc, &i) in members.iter().enumerate() {
+            if z_hi(loc) {
+                ridge.push(i);
+            }
+        }
+        count(ridge, w.acc);
+    }
+    FacetRidges {
+        open,
+        unsupported: false,
+    }
 }
 
 /// How the ridges of each facet were found in one certificate (test builds only).
