@@ -138,22 +138,9 @@ def path_at(s, p0, p1, bow):
 
 # ----------------------------------------------------------------------------- solvers
 
-class Rows(tc.LinearConstraint):
-    """Precomputed rows a u + b x + c <= 0 as a toppra constraint (F = I, g = 0, the same at every
-    grid point); toppra converts them to first-order interpolation itself when asked."""
-
-    def __init__(self, a, b, c, disc):
-        super().__init__()
-        self.a, self.b, self.c = a, b, c
-        self.F, self.g = np.eye(a.shape[1]), np.zeros(a.shape[1])
-        self.identical = True
-        self.set_discretization_type(disc)
-
-    def compute_constraint_params(self, path, gridpoints, *args, **kwargs):
-        if self.discretization_type == tc.DiscretizationType.Interpolation:
-            return tc.canlinear_colloc_to_interpolate(
-                self.a, self.b, self.c, self.F, self.g, None, None, gridpoints, identical=True)
-        return self.a, self.b, self.c, self.F, self.g, None, None
+# The rows as a toppra constraint: the same wrapper the peer benchmark uses (one definition).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "bench", "peers"))
+from topp import CanonicalRows as Rows  # noqa: E402
 
 
 def duration(s, sd):
