@@ -4,12 +4,12 @@
 //! ARCHITECTURE.md) or the name of a built-in example: `single-support`, `double-support`,
 //! `stairs`, `box-climbing`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion};
-use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene, Stance};
+use stance::stance_contact::{Giwc, GiwcOptions, Scene, Stance};
 
 use stance::report::{GiwcReport, PolygonReport, RegionReport, StabilityReport};
 
@@ -112,19 +112,6 @@ pub struct TestArgs {
     pub common: Common,
 }
 
-/// Loads a scene from a file, or a built-in example by name.
-fn load_scene(scene: &str) -> Result<Scene> {
-    let path = Path::new(scene);
-    if path.exists() {
-        return read_input(path);
-    }
-    examples::by_name(scene).ok_or_else(|| {
-        anyhow!(
-            "`{scene}` is neither a file nor a built-in example ({})",
-            examples::NAMES.join(", ")
-        )
-    })
-}
 
 fn stance_and_giwc(scene: &Scene) -> Result<(Stance, Giwc)> {
     let stance = scene.stance().context("invalid scene")?;
@@ -135,7 +122,7 @@ fn stance_and_giwc(scene: &Scene) -> Result<(Stance, Giwc)> {
 }
 
 pub fn run_giwc(a: GiwcArgs) -> Result<()> {
-    let scene = load_scene(&a.scene)?;
+    let scene = stance::input::scene(&a.scene)?;
     let stance = scene.stance().context("invalid scene")?;
     let mut opts = GiwcOptions::default();
     if a.exact {
@@ -208,7 +195,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
     let opts = Default::default();
     match c {
         EquilibriumCommand::Polygon(a) => {
-            let scene = load_scene(&a.scene)?;
+            let scene = stance::input::scene(&a.scene)?;
             let g = a.gravity.unwrap_or(scene.gravity);
             if !a.height.is_finite() {
                 bail!("--height must be finite");
@@ -233,7 +220,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             )
         }
         EquilibriumCommand::Region(a) => {
-            let scene = load_scene(&a.scene)?;
+            let scene = stance::input::scene(&a.scene)?;
             let gs = if a.gravity.is_empty() {
                 vec![scene.gravity]
             } else {
@@ -247,7 +234,7 @@ pub fn run_equilibrium(c: EquilibriumCommand) -> Result<()> {
             write_output(&a.common, &RegionReport::new(&region))
         }
         EquilibriumCommand::Test(a) => {
-            let scene = load_scene(&a.scene)?;
+            let scene = stance::input::scene(&a.scene)?;
             let pts: PointsIn = read_input(&a.points)?;
             let points = com_points(pts.points)
                 .with_context(|| format!("in the points file {}", a.points.display()))?;
