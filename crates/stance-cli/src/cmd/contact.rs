@@ -112,7 +112,6 @@ pub struct TestArgs {
     pub common: Common,
 }
 
-
 fn stance_and_giwc(scene: &Scene) -> Result<(Stance, Giwc)> {
     let stance = scene.stance().context("invalid scene")?;
     let giwc = stance
