@@ -9,7 +9,8 @@ use polycone::polytope::RegionStatus;
 use proptest::prelude::*;
 use stance_contact::equilibrium::{RobustRegion, StaticEquilibrium};
 use stance_contact::{
-    supporting_forces, w_gi_static, Contact, ForcesOutcome, FrictionModel, Shape, Stance,
+    supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Shape,
+    Stance,
 };
 
 const G: [f64; 3] = [0.0, 0.0, -9.81];
@@ -462,4 +463,108 @@ fn robust_region_vertices_match_brute_force_over_all_rows() {
             .iter()
             .any(|v| (Vector3::from(*v) - Vector3::from(*q)).norm() < 1e-7));
     }
+}
+
+/// Regression (heavy agreement sweep, seed 20261121): a rectangle and two point contacts whose
+/// robust region M made the 3-D clipping of `polyhedron_from_halfspaces` run for minutes.
+#[test]
+fn robust_region_of_a_three_contact_sweep_case_ends() {
+    let rect = Contact::new(
+        "rect",
+        [0.10982279579743626, -0.3925687074512466, 0.2065511719246182],
+        [
+            [
+                -0.7987471630911659,
+                -0.37019771509149685,
+                0.47429592154566275,
+            ],
+            [
+                0.36913319696461616,
+                -0.9240266828573178,
+                -0.0995759622920299,
+            ],
+            [0.47512488079713994, 0.09554235243459745, 0.8747159576335436],
+        ],
+        Shape::Rectangle {
+            half_length: 0.14428849446583045,
+            half_width: 0.05065259478288799,
+        },
+        0.3091549115882365,
+        &Default::default(),
+    )
+    .unwrap();
+    let p1 = Contact::new(
+        "p1",
+        [
+            -0.08346296251980546,
+            0.13036765535731948,
+            0.14398922514974122,
+        ],
+        [
+            [
+                -0.5485703323868691,
+                0.46845788957012957,
+                -0.6925444362093021,
+            ],
+            [0.4670832545820175, -0.5152960926492869, -0.7185423927573429],
+            [
+                -0.6934722948424328,
+                -0.7176469484362611,
+                0.06386731312723493,
+            ],
+        ],
+        Shape::Point,
+        0.967781043764694,
+        &Default::default(),
+    )
+    .unwrap();
+    let p2 = Contact::new(
+        "p2",
+        [0.1403431221379, -0.3572088332045055, 0.462471009835796],
+        [
+            [0.4360769235579881, 0.8654265339555056, -0.2467262269519811],
+            [-0.4053783515497753, 0.43368592176645104, 0.8047266078342199],
+            [0.8034334501593691, -0.25090523228371236, 0.5399456042766428],
+        ],
+        Shape::Point,
+        0.23213325845426963,
+        &Default::default(),
+    )
+    .unwrap();
+    let model = FrictionModel {
+        sides: 8,
+        approximation: Approximation::Inner,
+    };
+    let stance = Stance::new(vec![rect, p1, p2], model).unwrap();
+    let giwc = stance.u_stance(&Default::default()).unwrap();
+    let gs = [
+        [0.15, 0.0, -9.81],
+        [-0.15, 0.0, -9.81],
+        [0.0, 0.15, -9.81],
+        [0.0, -0.15, -9.81],
+    ];
+    let t = std::time::Instant::now();
+    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let took = t.elapsed();
+    assert!(took.as_secs_f64() < 5.0, "took {took:?}");
+    // Independent check (exact double description, no clipping): M = {p : a_i . p <= d_i} is
+    // empty iff the cone {(p, s) : a_i . p - d_i s <= 0, s >= 0} has no ray with s > 0.
+    let h = &m.halfspaces;
+    let mut rows: Vec<f64> = Vec::new();
+    for (a, d) in h.normals.iter().zip(&h.offsets) {
+        rows.extend_from_slice(&[a[0], a[1], a[2], -d]);
+    }
+    rows.extend_from_slice(&[0.0, 0.0, 0.0, -1.0]);
+    let face = polycone::FaceForm::new(
+        DMatrix::from_row_slice(rows.len() / 4, 4, &rows),
+        DMatrix::zeros(0, 4),
+    )
+    .unwrap();
+    let exact = polycone::DdOptions {
+        arithmetic: polycone::Arithmetic::Exact,
+        ..Default::default()
+    };
+    let span = polycone::face_to_span(&face, &exact).unwrap().span;
+    let has_point = span.generators.row_iter().any(|r| r[3] > 0.0);
+    assert_eq!(m.polyhedron.status == RegionStatus::Empty, !has_point);
 }

@@ -1,7 +1,7 @@
 //! Half-spaces `a_i . p <= b_i` in `R^3` -> convex polyhedron (face-by-face clipping of the far
 //! box with a cap face per cut, see the module doc of [`crate::polytope`]).
 
-use super::tol::{POLISH_MAX_MOVE, REFINE_MARGIN, REFINE_TRIES};
+use super::tol::{BOX_ROUNDING, POLISH_MAX_MOVE, REFINE_MARGIN, REFINE_TRIES};
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polyhedron, the result of [`polyhedron_from_halfspaces`].
@@ -183,7 +183,13 @@ fn clip_box(
     let mut dist: Vec<f64> = Vec::with_capacity(64);
     // Edge (i, j) with i < j -> index of its intersection vertex, for the current cut.
     let mut edge_cache: Vec<((usize, usize), usize)> = Vec::with_capacity(32);
-    let tol = opts.dist_tol;
+    // Decisions finer than the rounding of points at the box's scale are noise: in the huge
+    // boxes of the search for an empty first pass's region, they split every face loop
+    // (millions of vertices, minutes of work). At the default box this is `dist_tol` itself.
+    let extent = (0..3)
+        .map(|k| bounds[0][k].abs().max(bounds[1][k].abs()))
+        .fold(0.0, f64::max);
+    let tol = opts.dist_tol.max(BOX_ROUNDING * extent);
     for (i, (a, &b)) in normals.iter().zip(offsets).enumerate() {
         let na = norm(*a);
         if na < opts.zero_normal {

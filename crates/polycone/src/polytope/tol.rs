@@ -20,6 +20,14 @@ pub const DEFAULT_MERGE_TOL: f64 = 1e-9;
 /// box this size keep about 1e-10 absolute accuracy in double precision.
 pub const DEFAULT_FAR: f64 = 1e6;
 
+/// Rounding of clipped points relative to the size of the box being clipped (dimensionless;
+/// `1e-15`, about 4.5 units in the last place): the 3-D clipping decides inside/outside with
+/// `max(dist_tol, BOX_ROUNDING * box half-size)`. At the default box (`1e6`) that is
+/// [`DEFAULT_DIST_TOL`] itself; the far larger boxes of the search for a region the default
+/// box misses (up to `1e300`) would otherwise decide on rounding noise. A numerical floor, not
+/// an option.
+pub const BOX_ROUNDING: f64 = 1e-15;
+
 /// Default threshold on the norm of a normal vector (dimensionless; default `1e-12`): a row
 /// `a . p <= b` with `|a|` below this is treated as the constant constraint `0 <= b`.
 /// Reason: such rows carry no direction and dividing by their norm would amplify noise 1e12x.
