@@ -1,7 +1,7 @@
 //! Half-planes `a_i . p <= b_i` in `R^2` -> convex polygon (Sutherland-Hodgman clipping of the
 //! far box, see the module doc of [`crate::polytope`]).
 
-use super::tol::POLISH_MAX_MOVE;
+use super::tol::{BOX_ROUNDING, POLISH_MAX_MOVE};
 use super::{check_rows, PolytopeError, PolytopeOptions, RegionStatus};
 
 /// A convex polygon given by its vertices, the result of [`polygon_from_halfplanes`].
@@ -125,6 +125,8 @@ fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -
         active: Vec::new(),
     };
     let f = opts.far;
+    // Decisions finer than the rounding at the box's scale are noise (see `BOX_ROUNDING`).
+    let tol = opts.dist_tol.max(BOX_ROUNDING * f);
     let mut poly: Vec<Vx> = [[-f, -f], [f, -f], [f, f], [-f, f]]
         .iter()
         .map(|&p| Vx { p, edge: None })
@@ -146,7 +148,7 @@ fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -
         .collect();
     for (i, &(a, b)) in lines.iter().enumerate() {
         if a == [0.0, 0.0] {
-            if b < -opts.dist_tol {
+            if b < -tol {
                 return empty;
             }
             continue;
@@ -154,7 +156,7 @@ fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -
         let (ax, ay) = (a[0], a[1]);
         dist.clear();
         dist.extend(poly.iter().map(|v| ax * v.p[0] + ay * v.p[1] - b));
-        if dist.iter().all(|&s| s <= opts.dist_tol) {
+        if dist.iter().all(|&s| s <= tol) {
             continue;
         }
         next.clear();
@@ -163,7 +165,7 @@ fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -
             let cur = poly[k];
             let nxt = poly[(k + 1) % n];
             let (sc, sn) = (dist[k], dist[(k + 1) % n]);
-            let (ic, inx) = (sc <= opts.dist_tol, sn <= opts.dist_tol);
+            let (ic, inx) = (sc <= tol, sn <= tol);
             if ic {
                 next.push(cur);
             }

@@ -21,7 +21,7 @@ pub const DEFAULT_MERGE_TOL: f64 = 1e-9;
 pub const DEFAULT_FAR: f64 = 1e6;
 
 /// Rounding of clipped points relative to the size of the box being clipped (dimensionless;
-/// `1e-15`, about 4.5 units in the last place): the 3-D clipping decides inside/outside with
+/// `1e-15`, about 4.5 units in the last place): the 2-D and 3-D clippings decide inside/outside with
 /// `max(dist_tol, BOX_ROUNDING * box half-size)`. At the default box (`1e6`) that is
 /// [`DEFAULT_DIST_TOL`] itself; the far larger boxes of the search for a region the default
 /// box misses (up to `1e300`) would otherwise decide on rounding noise. A numerical floor, not
