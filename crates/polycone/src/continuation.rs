@@ -377,7 +377,7 @@ fn from_scratch(
                 .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))?;
             p.certificate.fallback = Some(reason);
             // As a conversion from scratch does: the rounded input's slivers merged.
-            crate::convert::merge_near_parallel(&mut p, opts.tol.certificate);
+            crate::merge::merge_fallback_rows(&mut p, opts);
             Ok((polar_into_result(p, d), Whitened::default(), false))
         }
         Err(e) => Err(e),

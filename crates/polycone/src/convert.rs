@@ -323,7 +323,7 @@ impl Workspace {
                     ConeError::Uncertified(format!("{reason}; exact fallback: {e}"))
                 })?;
                 p.certificate.fallback = Some(reason);
-                merge_near_parallel(&mut p, opts.tol.certificate);
+                crate::merge::merge_fallback_rows(&mut p, opts);
                 Ok(p)
             }
             other => other,
@@ -698,50 +698,4 @@ pub fn span_to_face(generators: &DMatrix<f64>, opts: &DdOptions) -> Result<SpanT
 /// ```
 pub fn face_to_span(face: &FaceForm, opts: &DdOptions) -> Result<FaceToSpan, ConeError> {
     Workspace::new().face_to_span(face, opts)
-}
-
-/// Merges output rows of an exact fallback that are closer than `delta` (unit rows) to an
-/// earlier kept row: the slivers the rounded input splits off the intended geometry (two feet
-/// 1e-5 m apart in height: 126 exact facets, 42 after merging). What this guarantees is in
-/// [`Certificate::merged_rows`]. Equations and lineality are kept as they are.
-pub(crate) fn merge_near_parallel(p: &mut Polar, delta: f64) {
-    let (m, d) = p.facets.shape();
-    if m < 2 {
-        return;
-    }
-    let unit: Vec<Vec<f64>> = (0..m)
-        .map(|i| {
-            let r = p.facets.row(i);
-            let n = r.norm();
-            r.iter().map(|x| x / n).collect()
-        })
-        .collect();
-    let mut kept: Vec<usize> = Vec::with_capacity(m);
-    let mut worst = 0.0f64;
-    for i in 0..m {
-        let near = kept
-            .iter()
-            .map(|&k| {
-                unit[i]
-                    .iter()
-                    .zip(&unit[k])
-                    .map(|(a, b)| (a - b) * (a - b))
-                    .sum::<f64>()
-                    .sqrt()
-            })
-            .filter(|&dist| dist <= delta)
-            .fold(None, |best: Option<f64>, dist| {
-                Some(best.map_or(dist, |b| b.min(dist)))
-            });
-        match near {
-            Some(dist) => worst = worst.max(dist),
-            None => kept.push(i),
-        }
-    }
-    if kept.len() == m {
-        return;
-    }
-    p.facets = DMatrix::from_fn(kept.len(), d, |i, j| p.facets[(kept[i], j)]);
-    p.certificate.merged_rows = m - kept.len();
-    p.certificate.merge_distance = worst;
 }

@@ -65,11 +65,13 @@
 //! `1e-6` band. When the certificate fails, the conversion falls back to exact arithmetic
 //! ([`DdOptions::exact_fallback`], on by default), and returns [`ConeError::Uncertified`] if
 //! that fails too: a wrong cone is never returned as certified. The exact answer of the
-//! rounded input keeps the slivers rounding split off the intended geometry; output rows
-//! closer than [`tol::Tolerances::certificate`] to a kept row are then merged into it, which
-//! enlarges the cone by at most that distance: no unit vector the answer admits violates a
-//! merged row by more than the recorded [`Certificate::merge_distance`]
-//! ([`Certificate::merged_rows`]; the tests check it against the exact answer's face -> span).
+//! rounded input keeps the slivers rounding split off the intended geometry; rows of it closer
+//! than [`tol::Tolerances::certificate`] to a kept row, then rows whose removal enlarges the
+//! cone by at most that tolerance, are dropped: no unit vector the answer admits violates a
+//! row of the exact answer by more than the recorded [`Certificate::merge_distance`]
+//! ([`Certificate::merged_rows`]; the tests check it against the exact answer's face -> span,
+//! and check that two feet 1e-9 to 1e-5 m apart in height get at most the 42 facets of the
+//! exact cone of the intended, unrounded geometry, and the coplanar 16 at 1e-9 m).
 //!
 //! # Exact semantics ([`Arithmetic::Exact`])
 //!
@@ -110,7 +112,11 @@
 //! - [`face_to_span`] runs the double description on the polar, whose constraints are the
 //!   facets: with hundreds of facets it is much slower than [`span_to_face`] of the same cone.
 //! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
-//!   fail certification (an error, never a wrong certified cone).
+//!   fail certification (an error, never a wrong certified cone). The fallback's slivers are
+//!   merged (see above) at a cost: two feet 1e-9 to 1e-5 m apart take 22 to 61 ms instead of
+//!   about 20 ms, and answers of more than 64 rows get only the near-parallel merge (a
+//!   three-contact stance rolled by 0.01 degree keeps 222 rows where the same stance rolled by
+//!   0.1 degree has 218 in floating point).
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
 //!   relative to the input as given (after each row is scaled by a power of two: no decision
@@ -156,6 +162,7 @@ mod error;
 mod exact;
 mod forms;
 mod linalg;
+mod merge;
 pub mod polytope;
 pub mod precondition;
 pub mod tol;

@@ -171,6 +171,13 @@ pub(crate) const JACOBI_MAX_SWEEPS: usize = 30;
 /// its squares neither underflow nor overflow.
 pub(crate) const QR_NEGLIGIBLE: f64 = f64::from_bits((1023 - 900) << 52);
 
+/// Largest number of rows (after the near-parallel merge) on which an exact fallback's answer
+/// gets the shallow-row merge (module `merge`). Unit: rows. Value 64: the merge's guesses
+/// cost one floating-point conversion of `m` rows per row, about 10 ms at 40 rows in 6-D and
+/// over a second at 220; the exact fallback itself costs about 20 ms. A cost bound, not a
+/// tolerance: not an option.
+pub(crate) const SHALLOW_MERGE_MAX_ROWS: usize = 64;
+
 /// Relative margin by which a squared residual must beat the best one so far (a running
 /// comparison) for the double description to pick its row for the initial basis: the row
 /// picked is within this factor of the largest, and earlier rows win exact and near ties.

@@ -291,12 +291,22 @@ proptest! {
 /// The contact wrench generators `(e, p x e)` of two flat rectangular feet (0.22 x 0.13 m,
 /// 0.2 m apart, friction pyramid of apothem 0.7) with the right one raised by `dz`.
 fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
+    two_feet_scaled(dz, 1.0, 1.0)
+}
+
+/// [`two_feet_wrench_span`] with lengths in units of `1 / ps` and forces in units of `1 / fs`,
+/// rounded to integers when the scales are not 1: with `ps = 1e9`, `fs = 10` every entry is an
+/// integer below `2^53`, so the exact conversion of this input is the cone of the *intended*
+/// geometry (decimal sizes, no rounding), up to the linear change of units, which keeps the
+/// number of facets.
+fn two_feet_scaled(dz: f64, ps: f64, fs: f64) -> DMatrix<f64> {
+    let q = |x: f64, s: f64| if s == 1.0 { x } else { (x * s).round() };
     let mut rows = Vec::new();
     for (y, z) in [(0.1, 0.0), (-0.1, dz)] {
         for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-            let p = [0.11 * sx, y + 0.065 * sy, z];
+            let p = [q(0.11 * sx, ps), q(y + 0.065 * sy, ps), q(z, ps)];
             for (a, b) in [(0.7, 0.7), (-0.7, 0.7), (-0.7, -0.7), (0.7, -0.7)] {
-                let e = [a, b, 1.0];
+                let e = [q(a, fs), q(b, fs), q(1.0, fs)];
                 let t = [
                     p[1] * e[2] - p[2] * e[1],
                     p[2] * e[0] - p[0] * e[2],
@@ -332,17 +342,28 @@ fn a_continuation_merges_the_slivers_of_its_exact_fallback() {
 }
 
 /// After an exact fallback the default mode merges the slivers of the rounded input: no two
-/// rows within the tolerance, and the certificate's bound holds. Checked against the exact
-/// answer (no merging): the merged cone contains it, and every extreme ray of the merged cone
-/// (exact face -> span) violates the exact facets by at most the stated merge distance.
+/// rows within the tolerance, at most as many rows as the exact cone of the intended
+/// (unrounded) geometry, and the certificate's bound holds. Checked against the exact answer
+/// (no merging): the merged cone contains it, and every extreme ray of the merged cone (exact
+/// face -> span) violates the exact facets by at most the stated merge distance.
 #[test]
 fn slivers_of_an_exact_fallback_are_merged_within_the_stated_bound() {
-    for dz in [1e-5, 1e-7, 1e-9] {
+    let exact_opts = DdOptions {
+        arithmetic: Arithmetic::Exact,
+        ..DdOptions::default()
+    };
+    // The coplanar feet: 16 facets intended, 40 for the rounded input, 16 by default.
+    let flat = span_to_face(&two_feet_scaled(0.0, 1e9, 10.0), &exact_opts).unwrap();
+    assert_eq!(flat.face.facets.nrows(), 16);
+    let flat_default = span_to_face(&two_feet_wrench_span(0.0), &DdOptions::default()).unwrap();
+    assert_eq!(flat_default.face.facets.nrows(), 16);
+    for dz in [1e-5, 1e-7, 1e-8, 1e-9] {
+        let intended = span_to_face(&two_feet_scaled(dz, 1e9, 10.0), &exact_opts)
+            .unwrap()
+            .face
+            .facets
+            .nrows();
         let v = two_feet_wrench_span(dz);
-        let exact_opts = DdOptions {
-            arithmetic: Arithmetic::Exact,
-            ..DdOptions::default()
-        };
         let exact = span_to_face(&v, &exact_opts).unwrap();
         let merged = span_to_face(&v, &DdOptions::default()).unwrap();
         let c = &merged.certificate;
@@ -352,10 +373,19 @@ fn slivers_of_an_exact_fallback_are_merged_within_the_stated_bound() {
         }
         let (m, n) = (merged.face.facets.nrows(), exact.face.facets.nrows());
         eprintln!(
-            "dz = {dz}: {n} exact facets, {m} after merging {} (distance {:.1e})",
+            "dz = {dz}: intended geometry {intended} facets, rounded input {n}, \
+             {m} after merging {} (distance {:.1e})",
             c.merged_rows, c.merge_distance
         );
         assert_eq!(m + c.merged_rows, n);
+        assert!(
+            m <= intended,
+            "{dz}: {m} rows, the intended geometry has {intended}"
+        );
+        if dz <= 1e-9 {
+            // Feet this close are coplanar within the tolerance: the coplanar answer.
+            assert_eq!(m, 16, "{dz}");
+        }
         assert!(c.merged_rows > 0 && c.merge_distance <= DdOptions::default().tol.certificate);
         let unit = |r: nalgebra::DMatrixView<f64>| r.clone_owned() / r.norm();
         let f = &merged.face.facets;

@@ -148,16 +148,17 @@ pub struct Certificate {
     /// why the floating-point answer was not kept (its failed certificate). `None` when the
     /// arithmetic of [`Self::arithmetic`] was the one asked for.
     pub fallback: Option<String>,
-    /// After an exact fallback in the default mode: how many output rows were merged into a
-    /// kept row closer than [`Tolerances::certificate`] (unit rows, input coordinates). The
-    /// exact answer of the rounded input keeps slivers of the intended geometry as separate,
-    /// nearly parallel rows; a merged row `u` within distance `delta` of a kept row `k` is
-    /// violated by at most `delta` by any unit vector the kept rows admit (`u . x = k . x +
-    /// (u - k) . x <= delta`): the merged answer is the exact one within the tolerance
+    /// After an exact fallback in the default mode: how many rows of the exact answer were
+    /// dropped as slivers of the rounded input (module `merge` in the source): rows closer than
+    /// [`Tolerances::certificate`] to a kept row (unit rows, input coordinates), then rows whose
+    /// removal enlarges the cone by at most that tolerance (proven on the exact cone of the kept
+    /// rows). Only rows are dropped, so the answer contains the exact cone, and no unit vector
+    /// the answer admits violates a row of the exact answer by more than
+    /// [`Self::merge_distance`]: the merged answer is the exact one within the tolerance
     /// contract. 0 when nothing was merged.
     pub merged_rows: usize,
-    /// The largest distance between a merged row and the kept row it was merged into (the
-    /// bound above; 0 when nothing was merged).
+    /// The proven bound of [`Self::merged_rows`]: the largest violation of a row of the exact
+    /// answer (unit) by a unit vector of the merged cone (0 when nothing was merged).
     pub merge_distance: f64,
 }
 
