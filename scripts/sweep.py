@@ -174,6 +174,65 @@ def cone_cases():
     return cases
 
 
+def feet_generators(dz, ps=1.0, fs=1.0):
+    """Contact wrench generators of two flat feet (0.22 x 0.13 m, 0.2 m apart, friction pyramid
+    of apothem 0.7), the right one raised by dz. With lengths in units of 1/ps and forces in
+    units of 1/fs rounded to integers (ps = 1e9, fs = 10: every entry an integer below 2^53), the
+    exact conversion gives the cone of the intended, unrounded geometry (up to the change of
+    units, which keeps the number of facets)."""
+    q = (lambda x, s: x if s == 1.0 else float(round(x * s)))
+    rows = []
+    for y, z in [(0.1, 0.0), (-0.1, dz)]:
+        for sx, sy in [(1, 1), (-1, 1), (-1, -1), (1, -1)]:
+            p = [q(0.11 * sx, ps), q(y + 0.065 * sy, ps), q(z, ps)]
+            for a, b in [(0.7, 0.7), (-0.7, 0.7), (-0.7, -0.7), (0.7, -0.7)]:
+                e = [q(a, fs), q(b, fs), q(1.0, fs)]
+                rows.append(e + cross(p, e))
+    return rows
+
+
+def near_degenerate_cases():
+    """Two feet almost coplanar (a perception system never gives exactly coplanar feet): the
+    default answer has at most the facets of the intended geometry, no two rows within the
+    tolerance, contains every generator, and its rays violate the exact cone of the input by at
+    most the tolerance (checked with --exact on the output)."""
+    cases = []
+    for dz in [0.0, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5]:
+        cases.append(Case("degenerate", f"feet_out_of_plane_{dz:g}", ["cone", "span-to-face", "{f}"],
+                          {"f": {"generators": feet_generators(dz)}}, oracle=sliver_free(dz)))
+    return cases
+
+
+def sliver_free(dz, tol=1e-8):
+    def check(out, run):
+        intended = run(["cone", "span-to-face", "--exact",
+                        run.write(f"intended_{dz:g}", {"generators": feet_generators(dz, 1e9, 10.0)})])
+        exact = run(["cone", "span-to-face", "--exact", run.last_file])
+        if intended is None or exact is None:
+            return "the exact conversion failed"
+        f = out["facets"]
+        if len(f) > len(intended["facets"]):
+            return f"{len(f)} facets, the intended geometry has {len(intended['facets'])}"
+        uf = [unit(r) for r in f]
+        for i in range(len(uf)):
+            for k in range(i):
+                if math.dist(uf[i], uf[k]) <= tol:
+                    return f"rows {i} and {k} within {tol:g}"
+        for g in feet_generators(dz):
+            ng = math.sqrt(sum(x * x for x in g))
+            if any(sum(a * b for a, b in zip(u, g)) > 1e-12 * ng for u in uf):
+                return "a generator is outside the answer"
+        rays = run(["cone", "face-to-span", "--exact", run.write(f"answer_{dz:g}", {"facets": f})])
+        if rays is None:
+            return "the exact face-to-span of the answer failed"
+        worst = max((sum(a * b for a, b in zip(unit(u), unit(r)))
+                     for u in exact["facets"] for r in rays["generators"]), default=0.0)
+        if worst > tol:
+            return f"a ray of the answer violates the exact cone by {worst:.2e} > {tol:g}"
+        return None
+    return check
+
+
 def agrees_with_exact(direction):
     def check(out, run):
         exact = run(["cone", direction, "--exact", run.last_file])
@@ -411,6 +470,13 @@ class Runner:
             return None
         return json.loads(p.stdout)
 
+    def write(self, name, content):
+        """Writes an oracle's extra input file; its path."""
+        path = os.path.join(self.tmp, f"oracle_{name}.json")
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(content, f)
+        return path
+
 
 def run_case(case, runner, tmp):
     args = []
@@ -476,7 +542,7 @@ def main():
     ap.add_argument("--report", help="write every case's outcome as JSON")
     ap.add_argument("--check", action="store_true", help="exit 1 on wrong, panic or crash")
     args = ap.parse_args()
-    cases = cone_cases() + topp_cases() + retime_cases() + equilibrium_cases() + robot_cases() + cli_cases()
+    cases = cone_cases() + near_degenerate_cases() + topp_cases() + retime_cases() + equilibrium_cases() + robot_cases() + cli_cases()
     tmp = tempfile.mkdtemp(prefix="stance-sweep-")
     runner = Runner(args.stance, tmp)
     counts = {k: 0 for k in ("ok", "unclear", "wrong", "panic", "crash")}
