@@ -14,6 +14,13 @@ use stance_contact::{
 };
 
 const G: [f64; 3] = [0.0, 0.0, -9.81];
+/// The four gravity-like vectors of the robust region (the paper's tilted gravities).
+const GS: [[f64; 3]; 4] = [
+    [0.15, 0.0, -9.81],
+    [-0.15, 0.0, -9.81],
+    [0.0, 0.15, -9.81],
+    [0.0, -0.15, -9.81],
+];
 const EYE: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 fn point(name: &str, p: [f64; 3], mu: f64) -> Contact {
@@ -230,18 +237,12 @@ fn robust_region_sign_sanity_of_eq_12() {
     // docs/math.md section 4: one flat foot at the origin, CoM (0, 0, 0.8) stable, (0.2, 0, 0.8) not.
     let stance = fixture_stance(&fixture("single_support_flat"));
     let giwc = stance.u_stance(&Default::default()).unwrap();
-    let gs = [
-        [0.15, 0.0, -9.81],
-        [-0.15, 0.0, -9.81],
-        [0.0, 0.15, -9.81],
-        [0.0, -0.15, -9.81],
-    ];
-    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let m = RobustRegion::new(&giwc, &GS, &Default::default()).unwrap();
     assert_eq!(m.polyhedron.status, RegionStatus::Bounded);
     assert!(m.contains([0.0, 0.0, 0.8]));
     assert!(!m.contains([0.2, 0.0, 0.8]));
     // Eq. (12) as printed (>= 0 with g pointing down) would accept the opposite.
-    let w = w_gi_static(1.0, gs[0], [0.0, 0.0, 0.8]);
+    let w = w_gi_static(1.0, GS[0], [0.0, 0.0, 0.8]);
     assert!(giwc.max_violation(&w) <= 0.0);
 }
 
@@ -343,19 +344,13 @@ friction = 0.7
 /// middle of each face is not supported under some g_k.
 #[test]
 fn robust_region_faces_against_the_qp() {
-    let gs = [
-        [0.15, 0.0, -9.81],
-        [-0.15, 0.0, -9.81],
-        [0.0, 0.15, -9.81],
-        [0.0, -0.15, -9.81],
-    ];
     for name in ["box-climbing", "stairs"] {
         let stance = stance_contact::examples::by_name(name)
             .unwrap()
             .stance()
             .unwrap();
         let giwc = stance.u_stance(&Default::default()).unwrap();
-        let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+        let m = RobustRegion::new(&giwc, &GS, &Default::default()).unwrap();
         assert_eq!(m.polyhedron.status, RegionStatus::Bounded, "{name}");
         let v = &m.polyhedron.vertices;
         let n = v.len() as f64;
@@ -367,7 +362,7 @@ fn robust_region_faces_against_the_qp() {
                 .unwrap()
                 .outcome
         };
-        for g in gs {
+        for g in GS {
             assert_eq!(
                 qp(c, g),
                 ForcesOutcome::Feasible,
@@ -386,7 +381,7 @@ fn robust_region_faces_against_the_qp() {
             ];
             assert!(!m.contains(out));
             assert!(
-                gs.iter().any(|&g| qp(out, g) == ForcesOutcome::Infeasible),
+                GS.iter().any(|&g| qp(out, g) == ForcesOutcome::Infeasible),
                 "{name}: 5 mm outside a face of M, yet supported under every g_k"
             );
             let inside = [
@@ -395,7 +390,7 @@ fn robust_region_faces_against_the_qp() {
                 mid[2] - 0.005 * nrm[2],
             ];
             if m.margin(inside) > 1e-4 {
-                for g in gs {
+                for g in GS {
                     assert_eq!(
                         qp(inside, g),
                         ForcesOutcome::Feasible,
@@ -411,21 +406,15 @@ fn robust_region_faces_against_the_qp() {
 /// (every feasible triple intersection), not only of the prisms' irredundant rows.
 #[test]
 fn robust_region_vertices_match_brute_force_over_all_rows() {
-    let gs = [
-        [0.15, 0.0, -9.81],
-        [-0.15, 0.0, -9.81],
-        [0.0, 0.15, -9.81],
-        [0.0, -0.15, -9.81],
-    ];
     let giwc = stance_contact::examples::double_support_flat()
         .stance()
         .unwrap()
         .u_stance(&Default::default())
         .unwrap();
-    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let m = RobustRegion::new(&giwc, &GS, &Default::default()).unwrap();
     let mut a = vec![];
     let mut d = vec![];
-    for g in gs {
+    for g in GS {
         let h = stance_contact::com_halfspaces(&giwc, g, 1e-12, 1e-9).unwrap();
         a.extend(h.normals);
         d.extend(h.offsets);
@@ -537,14 +526,8 @@ fn robust_region_of_a_three_contact_sweep_case_ends() {
     };
     let stance = Stance::new(vec![rect, p1, p2], model).unwrap();
     let giwc = stance.u_stance(&Default::default()).unwrap();
-    let gs = [
-        [0.15, 0.0, -9.81],
-        [-0.15, 0.0, -9.81],
-        [0.0, 0.15, -9.81],
-        [0.0, -0.15, -9.81],
-    ];
     let t = std::time::Instant::now();
-    let m = RobustRegion::new(&giwc, &gs, &Default::default()).unwrap();
+    let m = RobustRegion::new(&giwc, &GS, &Default::default()).unwrap();
     let took = t.elapsed();
     assert!(took.as_secs_f64() < 5.0, "took {took:?}");
     // Independent check (exact double description, no clipping): M = {p : a_i . p <= d_i} is
