@@ -192,25 +192,39 @@ def feet_generators(dz, ps=1.0, fs=1.0):
 
 
 def near_degenerate_cases():
-    """Two feet almost coplanar (a perception system never gives exactly coplanar feet): the
-    default answer has at most the facets of the intended geometry, no two rows within the
-    tolerance, contains every generator, and its rays violate the exact cone of the input by at
-    most the tolerance (checked with --exact on the output)."""
+    """Two feet almost coplanar (a perception system never gives exactly coplanar feet), as a
+    cone and as a scene's GIWC: the default answer has at most the facets of the intended
+    geometry, no two rows within the tolerance, contains every generator, its rays violate the
+    exact cone of the input by at most the tolerance (checked with --exact on the output), and
+    it says which arithmetic gave it."""
     cases = []
     for dz in [0.0, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5]:
         cases.append(Case("degenerate", f"feet_out_of_plane_{dz:g}", ["cone", "span-to-face", "{f}"],
-                          {"f": {"generators": feet_generators(dz)}}, oracle=sliver_free(dz)))
+                          {"f": {"generators": feet_generators(dz)}},
+                          oracle=sliver_free(dz, lambda out: (out["facets"], out))))
+        scene = rect_scene([("l", [0, 0.1, 0], 0.11, 0.065), ("r", [0, -0.1, dz], 0.11, 0.065)])
+        cases.append(Case("degenerate", f"giwc_feet_out_of_plane_{dz:g}", ["giwc", "{f}"],
+                          {"f": scene},
+                          oracle=sliver_free(dz, lambda out: (out["giwc"]["facets"], out["route"]),
+                                             lambda out: out["span"])))
     return cases
 
 
-def sliver_free(dz, tol=1e-8):
+def sliver_free(dz, answer, generators=None, tol=1e-8):
+    """`answer(out)`: (facet rows, the route's report); `generators(out)`: the generators of the
+    answer's cone (default: those of feet_generators(dz), the input)."""
     def check(out, run):
+        f, route = answer(out)
+        gens = generators(out) if generators else feet_generators(dz)
         intended = run(["cone", "span-to-face", "--exact",
                         run.write(f"intended_{dz:g}", {"generators": feet_generators(dz, 1e9, 10.0)})])
-        exact = run(["cone", "span-to-face", "--exact", run.last_file])
+        exact = run(["cone", "span-to-face", "--exact", run.write(f"input_{dz:g}", {"generators": gens})])
         if intended is None or exact is None:
             return "the exact conversion failed"
-        f = out["facets"]
+        if route.get("arithmetic") not in ("tolerance", "exact_fallback"):
+            return f"arithmetic {route.get('arithmetic')!r}"
+        if route.get("merged_rows", 0) and not route.get("merge_distance", 1.0) <= tol:
+            return f"merge distance {route.get('merge_distance')} above the tolerance"
         if len(f) > len(intended["facets"]):
             return f"{len(f)} facets, the intended geometry has {len(intended['facets'])}"
         uf = [unit(r) for r in f]
@@ -218,7 +232,7 @@ def sliver_free(dz, tol=1e-8):
             for k in range(i):
                 if math.dist(uf[i], uf[k]) <= tol:
                     return f"rows {i} and {k} within {tol:g}"
-        for g in feet_generators(dz):
+        for g in gens:
             ng = math.sqrt(sum(x * x for x in g))
             if any(sum(a * b for a, b in zip(u, g)) > 1e-12 * ng for u in uf):
                 return "a generator is outside the answer"

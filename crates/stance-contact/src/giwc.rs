@@ -22,6 +22,10 @@ pub struct Giwc {
     pub lineality: DMatrix<f64>,
     /// Whether the cone conversion certified its result.
     pub certified: bool,
+    /// The conversion's certificate: which arithmetic and route gave the rows (tolerance,
+    /// exact, or exact fallback and why) and what was merged ([`polycone::Certificate::route`],
+    /// [`polycone::Certificate::merged_rows`]). `None` for a cone built from a face form.
+    pub certificate: Option<polycone::Certificate>,
 }
 
 fn unit_rows(m: &DMatrix<f64>, what: &str) -> Result<DMatrix<f64>, ContactError> {
@@ -85,6 +89,7 @@ impl Giwc {
             equations: unit_rows(equations, "the equation matrix E")?,
             lineality: DMatrix::zeros(0, 6),
             certified: false,
+            certificate: None,
         })
     }
 

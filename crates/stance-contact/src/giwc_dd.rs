@@ -68,6 +68,7 @@ pub(crate) fn giwc_at_origin(out: &polycone::SpanToFace, c: [f64; 3]) -> Giwc {
         equations: orthonormal_rows(back(&out.face.equations)),
         lineality: orthonormal_rows(lineality),
         certified: out.certificate.certified,
+        certificate: Some(out.certificate.clone()),
     }
 }
 

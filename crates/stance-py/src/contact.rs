@@ -280,6 +280,8 @@ pub fn giwc_from_state(state: &Bound<'_, PyDict>) -> PyResult<Giwc> {
             equations: m("equations")?,
             lineality: m("lineality")?,
             certified: get("certified")?.extract()?,
+            // The certificate's details are not pickled, only its verdict.
+            certificate: None,
         }),
     })
 }
@@ -408,6 +410,7 @@ pub fn robust_from_state(state: &Bound<'_, PyDict>) -> PyResult<RobustRegion> {
         equations: e,
         lineality: stance::polycone::nalgebra::DMatrix::zeros(0, 6),
         certified: true,
+        certificate: None,
     });
     let region =
         RustRobust::new(&giwc, &gs, &EquilibriumOptions::default()).map_err(errors::contact)?;

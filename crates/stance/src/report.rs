@@ -145,6 +145,9 @@ pub struct GiwcReport {
     pub convention: &'static str,
     /// Whether the face form is certified.
     pub certified: bool,
+    /// How the face form was computed: arithmetic and route, fallback reason, merged rows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub route: Option<ConversionRoute>,
     /// The contacts' names, in order.
     pub contacts: Vec<String>,
 }
@@ -175,6 +178,7 @@ impl GiwcReport {
             span: rows(&span),
             convention,
             certified: giwc.certified,
+            route: giwc.certificate.as_ref().map(ConversionRoute::of),
             contacts: stance
                 .contacts()
                 .iter()
