@@ -116,9 +116,11 @@
 //!   merged (see above) at a cost: two feet 1e-9 to 1e-5 m apart take 22 to 61 ms instead of
 //!   about 20 ms, and answers of more than 64 rows get only the near-parallel merge (a
 //!   three-contact stance rolled by 0.01 degree keeps 222 rows where the same stance rolled by
-//!   0.1 degree has 218 in floating point; the stairs stance with 10 um square patches keeps
-//!   177 of its 271 exact rows, where the issue that asked for the merge counts 168 for the
-//!   intended geometry: without the bound, the shallow pass took 0.5 s there and dropped none).
+//!   0.1 degree has 218 in floating point; the stairs stance with square patches of 10 to
+//!   100 um keeps 176 to 180 rows, where 1 mm and 1 cm patches give 168 in floating point).
+//!   The shallow pass's floating-point guesses are themselves unreliable on such inputs: with
+//!   the bound lifted, they proposed dropping 87 of the 180 stairs rows, and the exact check
+//!   rejected it (the kept rows' cone reached 0.21 beyond the exact one), in 0.5 s.
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
 //!   relative to the input as given (after each row is scaled by a power of two: no decision

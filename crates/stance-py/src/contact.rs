@@ -193,6 +193,22 @@ impl Contact {
 #[pyclass(frozen, module = "stance._stance")]
 pub struct Giwc {
     pub giwc: Arc<RustGiwc>,
+    /// The certificate's route (`None`: built from a face form), kept through pickling.
+    arithmetic: Option<&'static str>,
+    /// The certificate's merged rows, kept through pickling.
+    merged_rows: usize,
+}
+
+impl Giwc {
+    /// Wraps a cone, its route read from its certificate.
+    pub fn wrap(giwc: Arc<RustGiwc>) -> Self {
+        let c = giwc.certificate.as_ref();
+        Self {
+            arithmetic: c.map(|c| c.route()),
+            merged_rows: c.map_or(0, |c| c.merged_rows),
+            giwc,
+        }
+    }
 }
 
 #[pymethods]
@@ -207,9 +223,7 @@ impl Giwc {
             _ => stance::polycone::nalgebra::DMatrix::zeros(0, 6),
         };
         let giwc = RustGiwc::from_face(&u, &e).map_err(errors::contact)?;
-        Ok(Self {
-            giwc: Arc::new(giwc),
-        })
+        Ok(Self::wrap(Arc::new(giwc)))
     }
 
     /// `U_stance`, `(m, 6)` unit rows.
@@ -236,6 +250,21 @@ impl Giwc {
         self.giwc.certified
     }
 
+    /// Which arithmetic gave the rows: `"tolerance"`, `"exact"` or `"exact_fallback"` (the
+    /// floating-point answer failed its certificate); `None` for a cone built from a face form
+    /// (the route, not the rest of the certificate, is kept through pickling).
+    #[getter]
+    fn arithmetic(&self) -> Option<&'static str> {
+        self.arithmetic
+    }
+
+    /// Rows of an exact fallback's answer dropped as slivers of the rounded input (0 otherwise);
+    /// no unit wrench the rows admit violates a dropped row by more than the tolerance `1e-8`.
+    #[getter]
+    fn merged_rows(&self) -> usize {
+        self.merged_rows
+    }
+
     /// Largest `U w / |w|` (and equation residual) of a wrench `w` `(6,)` at the world origin:
     /// `<= 0` inside the cone.
     fn max_violation(&self, w: &Bound<'_, PyAny>) -> PyResult<f64> {
@@ -256,6 +285,8 @@ impl Giwc {
         state.set_item("equations", arrays::to_array2(py, &self.giwc.equations))?;
         state.set_item("lineality", arrays::to_array2(py, &self.giwc.lineality))?;
         state.set_item("certified", self.giwc.certified)?;
+        state.set_item("arithmetic", self.arithmetic)?;
+        state.set_item("merged_rows", self.merged_rows)?;
         json::reduce_state(py, "Giwc", state.into_any())
     }
 
@@ -274,15 +305,29 @@ impl Giwc {
 pub fn giwc_from_state(state: &Bound<'_, PyDict>) -> PyResult<Giwc> {
     let get = |k: &str| json::state_item(state, "Giwc", k);
     let m = |k: &str| arrays::matrix(&get(k)?, k, Some(6), "GIWC rows");
+    let arithmetic: Option<String> = get("arithmetic")?.extract()?;
+    let arithmetic = match arithmetic.as_deref() {
+        None => None,
+        Some("tolerance") => Some("tolerance"),
+        Some("exact") => Some("exact"),
+        Some("exact_fallback") => Some("exact_fallback"),
+        Some(other) => {
+            return Err(errors::input(format!(
+            "pickled Giwc with arithmetic {other:?}: expected tolerance, exact or exact_fallback"
+        )))
+        }
+    };
     Ok(Giwc {
         giwc: Arc::new(RustGiwc {
             facets: m("facets")?,
             equations: m("equations")?,
             lineality: m("lineality")?,
             certified: get("certified")?.extract()?,
-            // The certificate's details are not pickled, only its verdict.
+            // The certificate's details are not pickled: its verdict and route are.
             certificate: None,
         }),
+        arithmetic,
+        merged_rows: get("merged_rows")?.extract()?,
     })
 }
 
@@ -729,9 +774,7 @@ impl Stance {
 
     /// The gravito-inertial wrench cone `U_stance` (computed once per stance; GIL released).
     fn giwc(&self, py: Python<'_>) -> PyResult<Giwc> {
-        Ok(Giwc {
-            giwc: self.giwc_arc(py)?,
-        })
+        Ok(Giwc::wrap(self.giwc_arc(py)?))
     }
 
     /// The static-equilibrium polygon at height `height` (m) for `gravity` (default: the

@@ -38,6 +38,26 @@ def test_giwc_equals_cdd_exact(case: str) -> None:
     assert giwc.lineality.shape[0] == d["reference_lineality_dim"]
 
 
+@pytest.mark.parametrize("dz", [0.0, 1e-9, 1e-5])
+def test_giwc_says_which_arithmetic_gave_it(dz: float) -> None:
+    # Two flat feet, the right one raised by dz: coplanar, the floating-point answer (16 rows);
+    # 1e-9 m and 1e-5 m, an exact fallback whose slivers are merged (16 and 42 rows, the
+    # intended geometries' counts, as the Rust tests check).
+    feet = [
+        stance.Contact.rectangle([0.0, y, z], np.eye(3), 0.11, 0.065, 0.7, name=n)
+        for n, y, z in [("l", 0.1, 0.0), ("r", -0.1, dz)]
+    ]
+    giwc = stance.Stance(feet, mass=60.0).giwc()
+    assert giwc.certified
+    if dz == 0.0:
+        assert (giwc.arithmetic, giwc.merged_rows, giwc.facets.shape[0]) == ("tolerance", 0, 16)
+    else:
+        assert giwc.arithmetic == "exact_fallback"
+        assert giwc.merged_rows > 0
+        assert giwc.facets.shape[0] <= 42
+    assert stance.Giwc(giwc.facets).arithmetic is None
+
+
 def double_support() -> stance.Stance:
     foot = dict(rotation=np.eye(3), half_length=0.11, half_width=0.065, friction=0.7)
     return stance.Stance(
