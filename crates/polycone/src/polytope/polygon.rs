@@ -148,7 +148,7 @@ fn about_origin(normals: &[[f64; 2]], offsets: &[f64], opts: &PolytopeOptions) -
         .collect();
     for (i, &(a, b)) in lines.iter().enumerate() {
         if a == [0.0, 0.0] {
-            if b < -tol {
+            if b < -opts.dist_tol {
                 return empty;
             }
             continue;

@@ -193,7 +193,7 @@ fn clip_box(
     for (i, (a, &b)) in normals.iter().zip(offsets).enumerate() {
         let na = norm(*a);
         if na < opts.zero_normal {
-            if b < -tol {
+            if b < -opts.dist_tol {
                 return (empty, bounds);
             }
             continue;

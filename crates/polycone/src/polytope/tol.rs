@@ -25,7 +25,8 @@ pub const DEFAULT_FAR: f64 = 1e6;
 /// `max(dist_tol, BOX_ROUNDING * box half-size)`. At the default box (`1e6`) that is
 /// [`DEFAULT_DIST_TOL`] itself; the far larger boxes of the search for a region the default
 /// box misses (up to `1e300`) would otherwise decide on rounding noise. A numerical floor, not
-/// an option.
+/// an option. Constant rows (`0 <= b`, a zero normal) keep `dist_tol`: their offset is not a
+/// rounded point.
 pub const BOX_ROUNDING: f64 = 1e-15;
 
 /// Default threshold on the norm of a normal vector (dimensionless; default `1e-12`): a row
