@@ -174,51 +174,114 @@ def cone_cases():
     return cases
 
 
-def feet_generators(dz, ps=1.0, fs=1.0):
-    """Contact wrench generators of two flat feet (0.22 x 0.13 m, 0.2 m apart, friction pyramid
-    of apothem 0.7), the right one raised by dz. With lengths in units of 1/ps and forces in
-    units of 1/fs rounded to integers (ps = 1e9, fs = 10: every entry an integer below 2^53), the
-    exact conversion gives the cone of the intended, unrounded geometry (up to the change of
-    units, which keeps the number of facets)."""
-    q = (lambda x, s: x if s == 1.0 else float(round(x * s)))
-    rows = []
-    for y, z in [(0.1, 0.0), (-0.1, dz)]:
+IDENTITY = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+
+
+def rational_stance(contacts, unit_m):
+    """Contact wrench generators (e, p x e) of a stance with rational geometry. `contacts`: list
+    of (centre, half-sizes, frame, denominator), centre and half-sizes integer multiples of
+    `unit_m` metres, the contact frame `frame / denominator` with integer entries (a rotation,
+    or a rotation times sqrt(1 + s^2) for I + s J, which turns the friction pyramid alike),
+    friction pyramid of apothem 0.7. Returns (rows in metres computed in floating point as a
+    user's program does, so rounded; the same rows with integer entries below 2^53): the row of
+    a contact with denominator D is (D f, p' x f), f = frame (+-7, +-7, 10), p' = D c + frame h,
+    that is 10 D^2 (e, p x e / unit_m), a positive row scaling and a change of the torque unit,
+    which keep the number of facets. So `--exact` on the second gives the cone of the intended,
+    unrounded geometry."""
+    def exact(x):
+        assert abs(x) < 2 ** 53, f"{x} is not exact in a double"
+        return float(x)
+    rows, ints = [], []
+    for c, h, frame, den in contacts:
+        fr = [[x / den for x in row] for row in frame]
+        apply = (lambda m: lambda v: [sum(a * b for a, b in zip(row, v)) for row in m])
         for sx, sy in [(1, 1), (-1, 1), (-1, -1), (1, -1)]:
-            p = [q(0.11 * sx, ps), q(y + 0.065 * sy, ps), q(z, ps)]
-            for a, b in [(0.7, 0.7), (-0.7, 0.7), (-0.7, -0.7), (0.7, -0.7)]:
-                e = [q(a, fs), q(b, fs), q(1.0, fs)]
+            corner = [sx * h[0], sy * h[1], 0]
+            off = apply(fr)([x * unit_m for x in corner])
+            p = [ci * unit_m + o for ci, o in zip(c, off)]
+            p_int = [den * ci + o for ci, o in zip(c, apply(frame)(corner))]
+            for a, b in [(1, 1), (-1, 1), (-1, -1), (1, -1)]:
+                e = apply(fr)([0.7 * a, 0.7 * b, 1.0])
                 rows.append(e + cross(p, e))
-    return rows
+                f_int = apply(frame)([7 * a, 7 * b, 10])
+                ints.append([exact(den * x) for x in f_int] + [exact(x) for x in cross(p_int, f_int)])
+    return rows, ints
+
+
+def two_feet(dz):
+    """Two flat feet (0.22 x 0.13 m, 0.2 m apart), the right one raised by dz (a multiple of
+    1 nm), in nanometres."""
+    h = [110_000_000, 65_000_000]
+    return rational_stance([([0, 100_000_000, 0], h, IDENTITY, 1),
+                            ([0, -100_000_000, round(dz * 1e9)], h, IDENTITY, 1)], 1e-9)
+
+
+STAIRS_TURN = [[6351, -1120, 0], [1120, 6351, 0], [0, 0, 6449]]  # 10.0004 degrees about z, / 6449
+
+
+def stairs_with_patches(half):
+    """The stairs stance (left foot at (0, 0.1, 0), right foot at (0.28, -0.1, 0.24) turned by
+    10.0004 degrees about z) with square patches of half-size `half` (a multiple of 0.1 um)."""
+    h = [round(half * 1e7)] * 2
+    return rational_stance([([0, 1_000_000, 0], h, IDENTITY, 1),
+                            ([2_800_000, -1_000_000, 2_400_000], h, STAIRS_TURN, 6449)], 1e-7)
+
+
+def three_contacts_rolled():
+    """Three flat feet (0.22 x 0.13 m), the third rolled about x by atan(1 / 5730) = 0.0099995
+    degrees (frame I + J / 5730), in millimetres."""
+    h = [110, 65]
+    return rational_stance([([0, 100, 0], h, IDENTITY, 1), ([50, -100, 0], h, IDENTITY, 1),
+                            ([300, 0, 0], h, [[5730, 0, 0], [0, 5730, -1], [0, 1, 5730]], 5730)], 1e-3)
 
 
 def near_degenerate_cases():
-    """Two feet almost coplanar (a perception system never gives exactly coplanar feet), as a
-    cone and as a scene's GIWC: the default answer has at most the facets of the intended
-    geometry, no two rows within the tolerance, contains every generator, its rays violate the
-    exact cone of the input by at most the tolerance (checked with --exact on the output), and
-    it says which arithmetic gave it."""
+    """Near-degenerate stances (a perception system never gives exactly coplanar feet): two
+    feet almost coplanar, the stairs with contact patches of 10 to 100 um, three contacts with
+    one rolled by 0.01 degree; as cones (with and without --wrench) and as a scene's GIWC. The
+    default answer has at most the facets of the intended geometry, no two rows within the
+    tolerance, contains every generator, its rays violate the exact cone of the input by at
+    most the tolerance (checked with --exact on the output), and it says which arithmetic gave
+    it."""
     cases = []
+    from_cone = (lambda out: (out["facets"], out))
+    from_giwc = (lambda out: (out["giwc"]["facets"], out["route"]))
     for dz in [0.0, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5]:
+        stance = two_feet(dz)
         cases.append(Case("degenerate", f"feet_out_of_plane_{dz:g}", ["cone", "span-to-face", "{f}"],
-                          {"f": {"generators": feet_generators(dz)}},
-                          oracle=sliver_free(dz, lambda out: (out["facets"], out))))
+                          {"f": {"generators": stance[0]}}, oracle=sliver_free(stance, from_cone)))
         scene = rect_scene([("l", [0, 0.1, 0], 0.11, 0.065), ("r", [0, -0.1, dz], 0.11, 0.065)])
         cases.append(Case("degenerate", f"giwc_feet_out_of_plane_{dz:g}", ["giwc", "{f}"],
                           {"f": scene},
-                          oracle=sliver_free(dz, lambda out: (out["giwc"]["facets"], out["route"]),
-                                             lambda out: out["span"])))
+                          oracle=sliver_free(stance, from_giwc, lambda out: out["span"])))
+    for half in [5e-6, 1e-5, 5e-5]:
+        stance = stairs_with_patches(half)
+        for flags in [[], ["--wrench"]]:
+            cases.append(Case("degenerate", f"stairs_patches_{half:g}{''.join(flags)}",
+                              ["cone", "span-to-face", *flags, "{f}"],
+                              {"f": {"generators": stance[0]}}, oracle=sliver_free(stance, from_cone)))
+        turn = [[x / 6449 for x in row] for row in STAIRS_TURN]
+        scene = rect_scene([("l", [0, 0.1, 0], half, half), ("r", [0.28, -0.1, 0.24], half, half)])
+        scene["contacts"][1]["rotation"] = turn
+        cases.append(Case("degenerate", f"giwc_stairs_patches_{half:g}", ["giwc", "{f}"], {"f": scene},
+                          oracle=sliver_free(stance, from_giwc, lambda out: out["span"])))
+    stance = three_contacts_rolled()
+    for flags in [[], ["--wrench"]]:
+        cases.append(Case("degenerate", f"three_contacts_rolled{''.join(flags)}",
+                          ["cone", "span-to-face", *flags, "{f}"],
+                          {"f": {"generators": stance[0]}}, oracle=sliver_free(stance, from_cone)))
     return cases
 
 
-def sliver_free(dz, answer, generators=None, tol=1e-8):
-    """`answer(out)`: (facet rows, the route's report); `generators(out)`: the generators of the
-    answer's cone (default: those of feet_generators(dz), the input)."""
+def sliver_free(stance, answer, generators=None, tol=1e-8):
+    """`stance`: (input generators, integer generators of the intended geometry), from
+    rational_stance; `answer(out)`: (facet rows, the route's report); `generators(out)`: the
+    generators of the answer's cone (default: the input's)."""
     def check(out, run):
         f, route = answer(out)
-        gens = generators(out) if generators else feet_generators(dz)
-        intended = run(["cone", "span-to-face", "--exact",
-                        run.write(f"intended_{dz:g}", {"generators": feet_generators(dz, 1e9, 10.0)})])
-        exact = run(["cone", "span-to-face", "--exact", run.write(f"input_{dz:g}", {"generators": gens})])
+        gens = generators(out) if generators else stance[0]
+        intended = run(["cone", "span-to-face", "--exact", run.write("intended", {"generators": stance[1]})])
+        exact = run(["cone", "span-to-face", "--exact", run.write("input", {"generators": gens})])
         if intended is None or exact is None:
             return "the exact conversion failed"
         if route.get("arithmetic") not in ("tolerance", "exact_fallback"):
@@ -228,15 +291,22 @@ def sliver_free(dz, answer, generators=None, tol=1e-8):
         if len(f) > len(intended["facets"]):
             return f"{len(f)} facets, the intended geometry has {len(intended['facets'])}"
         uf = [unit(r) for r in f]
+        # The wrench route compares rows in its frame too, (u_f - o x u_t, L u_t): a row is
+        # dropped only when both distances are within the tolerance.
+        frame = route.get("wrench_frame")
+        if frame:
+            o, length = frame["center"], frame["length"]
+            ug = [unit([a - b for a, b in zip(r[:3], cross(o, r[3:]))] + [length * x for x in r[3:]])
+                  for r in f]
         for i in range(len(uf)):
             for k in range(i):
-                if math.dist(uf[i], uf[k]) <= tol:
+                if math.dist(uf[i], uf[k]) <= tol and (not frame or math.dist(ug[i], ug[k]) <= tol):
                     return f"rows {i} and {k} within {tol:g}"
         for g in gens:
             ng = math.sqrt(sum(x * x for x in g))
             if any(sum(a * b for a, b in zip(u, g)) > 1e-12 * ng for u in uf):
                 return "a generator is outside the answer"
-        rays = run(["cone", "face-to-span", "--exact", run.write(f"answer_{dz:g}", {"facets": f})])
+        rays = run(["cone", "face-to-span", "--exact", run.write("answer", {"facets": f})])
         if rays is None:
             return "the exact face-to-span of the answer failed"
         worst = max((sum(a * b for a, b in zip(unit(u), unit(r)))

@@ -377,7 +377,13 @@ fn from_scratch(
                 .map_err(|e| ConeError::Uncertified(format!("{reason}; exact fallback: {e}")))?;
             p.certificate.fallback = Some(reason);
             // As a conversion from scratch does: the rounded input's slivers merged.
-            crate::merge::merge_fallback_rows(&mut p, opts);
+            crate::merge::merge_fallback_rows(
+                &mut p.facets,
+                &p.equations,
+                None,
+                &mut p.certificate,
+                opts.tol.certificate,
+            );
             Ok((polar_into_result(p, d), Whitened::default(), false))
         }
         Err(e) => Err(e),

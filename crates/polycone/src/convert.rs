@@ -21,8 +21,9 @@ use crate::dd::DdCore;
 use crate::exact::exact_span_to_face;
 use crate::forms::check_dimension;
 use crate::linalg::{normalize, numerical_rank, orthonormal_rows, sorted_svd};
+use crate::merge::merge_fallback_rows;
 use crate::precondition::{scale_rows_pow2, whiten, whiten_into, WhitenScratch, Whitened};
-use crate::wrench::{check_options as check_wrench_options, WrenchFrame};
+use crate::wrench::{check_options as check_wrench_options, sorted_rows, WrenchFrame};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
 /// The result of [`span_to_face`].
@@ -159,15 +160,24 @@ impl Workspace {
         let result = if opts.wrench {
             self.span_to_face_wrench(&scaled, opts)
         } else {
-            self.polar(&scaled, opts).map(|p| SpanToFace {
-                face: FaceForm {
-                    dim: d,
-                    facets: p.facets,
-                    equations: p.equations,
-                },
-                lineality: p.lineality,
-                extreme_generators: p.extreme,
-                certificate: p.certificate,
+            self.polar(&scaled, opts).map(|mut p| {
+                merge_fallback_rows(
+                    &mut p.facets,
+                    &p.equations,
+                    None,
+                    &mut p.certificate,
+                    opts.tol.certificate,
+                );
+                SpanToFace {
+                    face: FaceForm {
+                        dim: d,
+                        facets: p.facets,
+                        equations: p.equations,
+                    },
+                    lineality: p.lineality,
+                    extreme_generators: p.extreme,
+                    certificate: p.certificate,
+                }
             })
         };
         self.scaled = scaled.data.into();
@@ -219,7 +229,14 @@ impl Workspace {
         if opts.wrench {
             return self.face_to_span_wrench(&g, nu, opts);
         }
-        let p = self.polar(&g, opts)?;
+        let mut p = self.polar(&g, opts)?;
+        merge_fallback_rows(
+            &mut p.facets,
+            &p.equations,
+            None,
+            &mut p.certificate,
+            opts.tol.certificate,
+        );
         let irredundant_facets = p.extreme.iter().copied().filter(|&i| i < nu).collect();
         Ok(FaceToSpan {
             span: SpanForm {
@@ -247,10 +264,19 @@ impl Workspace {
             wrench: false,
             ..opts.clone()
         };
-        let p = self.polar_recentred(&v_centred, &inner, &frame)?;
+        let mut p = self.polar_recentred(&v_centred, &inner, &frame)?;
         let equations = frame.basis_back(&p.equations, false);
         let lineality = frame.basis_back(&p.lineality, true);
-        let facets = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
+        let mut facets = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
+        merge_fallback_rows(
+            &mut facets,
+            &equations,
+            Some((&p.facets, &p.equations)),
+            &mut p.certificate,
+            opts.tol.certificate,
+        );
+        let facets = sorted_rows(&facets);
+        p.certificate.wrench_frame = Some(frame);
         Ok(SpanToFace {
             face: FaceForm {
                 dim: generators.ncols(),
@@ -280,9 +306,18 @@ impl Workspace {
             wrench: false,
             ..opts.clone()
         };
-        let p = self.polar_recentred(&g_centred, &inner, &frame)?;
+        let mut p = self.polar_recentred(&g_centred, &inner, &frame)?;
         let lineality = frame.basis_back(&p.equations, true);
-        let generators = frame.rays_back(&p.facets, true, &[&lineality]);
+        let mut generators = frame.rays_back(&p.facets, true, &[&lineality]);
+        merge_fallback_rows(
+            &mut generators,
+            &lineality,
+            Some((&p.facets, &p.equations)),
+            &mut p.certificate,
+            opts.tol.certificate,
+        );
+        let generators = sorted_rows(&generators);
+        p.certificate.wrench_frame = Some(frame);
         Ok(FaceToSpan {
             span: SpanForm {
                 dim: g.ncols(),
@@ -323,7 +358,6 @@ impl Workspace {
                     ConeError::Uncertified(format!("{reason}; exact fallback: {e}"))
                 })?;
                 p.certificate.fallback = Some(reason);
-                crate::merge::merge_fallback_rows(&mut p, opts);
                 Ok(p)
             }
             other => other,

@@ -793,6 +793,7 @@ pub(crate) fn exact_span_to_face(
         fallback: None,
         merged_rows: 0,
         merge_distance: 0.0,
+        wrench_frame: None,
     };
     Ok(ExactResult {
         facets: facets_m,

@@ -67,11 +67,16 @@
 //! that fails too: a wrong cone is never returned as certified. The exact answer of the
 //! rounded input keeps the slivers rounding split off the intended geometry; rows of it closer
 //! than [`tol::Tolerances::certificate`] to a kept row, then rows whose removal enlarges the
-//! cone by at most that tolerance, are dropped: no unit vector the answer admits violates a
-//! row of the exact answer by more than the recorded [`Certificate::merge_distance`]
-//! ([`Certificate::merged_rows`]; the tests check it against the exact answer's face -> span,
-//! and check that two feet 1e-9 to 1e-5 m apart in height get at most the 42 facets of the
-//! exact cone of the intended, unrounded geometry, and the coplanar 16 at 1e-9 m).
+//! cone by at most that tolerance, are dropped, each with a certificate (non-negative weights
+//! on the kept rows whose residual bounds the enlargement; the `merge` module docs): no unit
+//! vector the answer admits violates a row of the exact answer by more than the recorded
+//! [`Certificate::merge_distance`] ([`Certificate::merged_rows`]). The tests check it against
+//! the exact answer's face -> span, and check, with the intended (unrounded) geometry written in
+//! integers and converted exactly, that the merged answer has at most its facets: two feet 1e-9
+//! to 1e-5 m apart in height (42 intended; 16 to 38 kept, the coplanar 16 at 1e-9 m), the
+//! stairs stance with patches of 10 to 100 um (168 intended, 239 to 270 exact rows of the
+//! rounded input, 160 kept) and three contacts, one rolled by 0.01 degree (218 intended, 326
+//! exact, 190 kept).
 //!
 //! # Exact semantics ([`Arithmetic::Exact`])
 //!
@@ -113,14 +118,11 @@
 //!   facets: with hundreds of facets it is much slower than [`span_to_face`] of the same cone.
 //! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
 //!   fail certification (an error, never a wrong certified cone). The fallback's slivers are
-//!   merged (see above) at a cost: two feet 1e-9 to 1e-5 m apart take 22 to 61 ms instead of
-//!   about 20 ms, and answers of more than 64 rows get only the near-parallel merge (a
-//!   three-contact stance rolled by 0.01 degree keeps 222 rows where the same stance rolled by
-//!   0.1 degree has 218 in floating point; the stairs stance with square patches of 10 to
-//!   100 um keeps 176 to 180 rows, where 1 mm and 1 cm patches give 168 in floating point).
-//!   The shallow pass's floating-point guesses are themselves unreliable on such inputs: with
-//!   the bound lifted, they proposed dropping 87 of the 180 stairs rows, and the exact check
-//!   rejected it (the kept rows' cone reached 0.21 beyond the exact one), in 0.5 s.
+//!   merged (see above) in a few milliseconds more (the exact conversion of the stairs with 10
+//!   um patches and its merge take about 35 ms). The merge keeps the first row of a
+//!   near-parallel pair and drops shallow rows in increasing distance: a greedy choice, so it
+//!   may keep more rows than the fewest a tolerance of `1e-8` allows, never more than the exact
+//!   answer, and it is certified whatever the choice.
 //! - In tolerance mode, rank decisions (equations, lineality) use a relative singular-value
 //!   threshold ([`tol::Tolerances::rank`]); exact mode computes exact ranks. "Relative" means
 //!   relative to the input as given (after each row is scaled by a power of two: no decision

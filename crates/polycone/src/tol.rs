@@ -171,12 +171,18 @@ pub(crate) const JACOBI_MAX_SWEEPS: usize = 30;
 /// its squares neither underflow nor overflow.
 pub(crate) const QR_NEGLIGIBLE: f64 = f64::from_bits((1023 - 900) << 52);
 
-/// Largest number of rows (after the near-parallel merge) on which an exact fallback's answer
-/// gets the shallow-row merge (module `merge`). Unit: rows. Value 64: the merge's guesses
-/// cost one floating-point conversion of `m` rows per row, about 10 ms at 40 rows in 6-D and
-/// over a second at 220; the exact fallback itself costs about 20 ms. A cost bound, not a
-/// tolerance: not an option.
-pub(crate) const SHALLOW_MERGE_MAX_ROWS: usize = 64;
+/// Gradient entry below which the non-negative least squares of the fallback merge (module
+/// `merge`) stop: no unit column improves the fit by more than this per unit weight. Unit:
+/// absolute, on unit columns and a unit right-hand side. Value `1e-15`: a few `eps`, so the
+/// fit goes to the rounding floor; stopping early only loosens the proven bound (the bound is
+/// the residual actually reached), it never makes a merge unsound.
+pub(crate) const NNLS_STATIONARY: f64 = 1e-15;
+
+/// Cap on the least-squares solves of one non-negative least-squares fit (module `merge`), per
+/// column. Unit: solves per column. Value 3: Lawson and Hanson's method ends in far fewer
+/// (each column enters at most a few times on these well-scaled problems); the cap only bounds
+/// the time of a cycling fit, which then returns its last feasible weights.
+pub(crate) const NNLS_MAX_STEPS: usize = 3;
 
 /// Relative margin by which a squared residual must beat the best one so far (a running
 /// comparison) for the double description to pick its row for the initial basis: the row

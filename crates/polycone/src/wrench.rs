@@ -431,8 +431,8 @@ impl WrenchFrame {
 
     /// Maps unit rays back (vectors by `M^{-1}`, covectors by `M^T`), removes their components
     /// along the orthonormal rows of `ortho` (the equations, or the lineality space: the rays
-    /// are defined modulo those, or orthogonal to them), normalizes them and sorts them
-    /// lexicographically.
+    /// are defined modulo those, or orthogonal to them) and normalizes them, in their order.
+    /// [`sorted_rows`] then gives the answer's order.
     pub(crate) fn rays_back(
         &self,
         m: &DMatrix<f64>,
@@ -451,13 +451,20 @@ impl WrenchFrame {
             }
             normalize(x);
         }
-        rows.sort_by(|a, b| {
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| x.total_cmp(y))
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
         DMatrix::from_fn(rows.len(), WRENCH_DIM, |i, j| rows[i][j])
     }
+}
+
+/// The rows of `m` sorted lexicographically (the order of the wrench route's answers).
+pub(crate) fn sorted_rows(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut order: Vec<usize> = (0..m.nrows()).collect();
+    order.sort_by(|&a, &b| {
+        m.row(a)
+            .iter()
+            .zip(m.row(b).iter())
+            .map(|(x, y)| x.total_cmp(y))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    m.select_rows(order.iter())
 }

@@ -288,35 +288,133 @@ proptest! {
     }
 }
 
-/// The contact wrench generators `(e, p x e)` of two flat rectangular feet (0.22 x 0.13 m,
-/// 0.2 m apart, friction pyramid of apothem 0.7) with the right one raised by `dz`.
-fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
-    two_feet_scaled(dz, 1.0, 1.0)
+/// A contact of a stance with rational geometry: centre `c` and half-sizes `h` in integer
+/// multiples of the stance's length unit, contact frame `r / den` (integer entries: a rotation,
+/// or a rotation times `sqrt(1 + s^2)` for a frame `I + s J`, which rotates the friction
+/// pyramid alike), friction pyramid of apothem 0.7.
+struct RationalContact {
+    c: [i64; 3],
+    h: [i64; 2],
+    r: [[i64; 3]; 3],
+    den: i64,
 }
 
-/// [`two_feet_wrench_span`] with lengths in units of `1 / ps` and forces in units of `1 / fs`,
-/// rounded to integers when the scales are not 1: with `ps = 1e9`, `fs = 10` every entry is an
-/// integer below `2^53`, so the exact conversion of this input is the cone of the *intended*
-/// geometry (decimal sizes, no rounding), up to the linear change of units, which keeps the
-/// number of facets.
-fn two_feet_scaled(dz: f64, ps: f64, fs: f64) -> DMatrix<f64> {
-    let q = |x: f64, s: f64| if s == 1.0 { x } else { (x * s).round() };
-    let mut rows = Vec::new();
-    for (y, z) in [(0.1, 0.0), (-0.1, dz)] {
-        for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-            let p = [q(0.11 * sx, ps), q(y + 0.065 * sy, ps), q(z, ps)];
-            for (a, b) in [(0.7, 0.7), (-0.7, 0.7), (-0.7, -0.7), (0.7, -0.7)] {
-                let e = [q(a, fs), q(b, fs), q(1.0, fs)];
-                let t = [
-                    p[1] * e[2] - p[2] * e[1],
-                    p[2] * e[0] - p[0] * e[2],
-                    p[0] * e[1] - p[1] * e[0],
-                ];
-                rows.extend_from_slice(&[e[0], e[1], e[2], t[0], t[1], t[2]]);
+const IDENTITY: [[i64; 3]; 3] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+
+fn flat(c: [i64; 3], h: [i64; 2]) -> RationalContact {
+    RationalContact {
+        c,
+        h,
+        r: IDENTITY,
+        den: 1,
+    }
+}
+
+/// The contact wrench generators `(e, p x e)` of a stance (corners `p`, pyramid edges `e`):
+/// `.0` in metres and newtons, computed in floating point as a user's program does (so rounded);
+/// `.1` the same generators with every entry an integer below `2^53`: the row of a contact with
+/// frame denominator `D` is `(D f, p' x f)` with `f = r (+-7, +-7, 10)` and `p' = D c + r h`,
+/// that is `10 D^2 (e, p x e / unit)`, a positive row scaling and a change of the torque unit,
+/// which keep the number of facets. So the exact conversion of `.1` is the cone of the
+/// *intended* geometry (no rounding).
+fn rational_stance(contacts: &[RationalContact], unit: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let cross_i = |a: [i128; 3], b: [i128; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let exact = |x: i128| {
+        assert!(x.unsigned_abs() < 1 << 53, "{x} is not exact in f64");
+        x as f64
+    };
+    let (mut float, mut int) = (Vec::new(), Vec::new());
+    for k in contacts {
+        let frame = k.r.map(|row| row.map(|x| x as f64 / k.den as f64));
+        let apply = |v: [f64; 3]| frame.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2]);
+        let apply_i = |v: [i128; 3]| {
+            k.r.map(|row| row[0] as i128 * v[0] + row[1] as i128 * v[1] + row[2] as i128 * v[2])
+        };
+        for (sx, sy) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
+            let corner = [
+                (sx * k.h[0]) as f64 * unit,
+                (sy * k.h[1]) as f64 * unit,
+                0.0,
+            ];
+            let offset = apply(corner);
+            let p: [f64; 3] = std::array::from_fn(|a| k.c[a] as f64 * unit + offset[a]);
+            let corner_i = [(sx * k.h[0]) as i128, (sy * k.h[1]) as i128, 0];
+            let offset_i = apply_i(corner_i);
+            let p_i: [i128; 3] =
+                std::array::from_fn(|a| k.den as i128 * k.c[a] as i128 + offset_i[a]);
+            for (a, b) in [(1, 1), (-1, 1), (-1, -1), (1, -1)] {
+                let e = apply([0.7 * a as f64, 0.7 * b as f64, 1.0]);
+                float.extend(e);
+                float.extend(cross(p, e));
+                let f_i = apply_i([7 * a as i128, 7 * b as i128, 10]);
+                int.extend(f_i.map(|x| exact(k.den as i128 * x)));
+                int.extend(cross_i(p_i, f_i).map(exact));
             }
         }
     }
-    DMatrix::from_row_slice(rows.len() / 6, 6, &rows)
+    (
+        DMatrix::from_row_slice(float.len() / 6, 6, &float),
+        DMatrix::from_row_slice(int.len() / 6, 6, &int),
+    )
+}
+
+/// Two flat rectangular feet (0.22 x 0.13 m, 0.2 m apart) with the right one raised by `dz`
+/// (a multiple of 1 nm): [`rational_stance`] in nanometres.
+fn two_feet(dz: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let h = [110_000_000, 65_000_000];
+    let feet = [
+        flat([0, 100_000_000, 0], h),
+        flat([0, -100_000_000, (dz * 1e9).round() as i64], h),
+    ];
+    rational_stance(&feet, 1e-9)
+}
+
+/// The contact wrench generators of [`two_feet`], rounded as a user's program computes them.
+fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
+    two_feet(dz).0
+}
+
+/// The stairs stance of the paper's stair climbing (left foot at `(0, 0.1, 0)`, right foot at
+/// `(0.28, -0.1, 0.24)` turned by 10.0004 degrees about z, `cos = 6351 / 6449`), with square
+/// contact patches of half-size `half` (a multiple of 0.1 um): [`rational_stance`] in 0.1 um.
+fn stairs_with_patches(half: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let h = (half * 1e7).round() as i64;
+    let turned = RationalContact {
+        c: [2_800_000, -1_000_000, 2_400_000],
+        h: [h, h],
+        r: [[6351, -1120, 0], [1120, 6351, 0], [0, 0, 6449]],
+        den: 6449,
+    };
+    rational_stance(&[flat([0, 1_000_000, 0], [h, h]), turned], 1e-7)
+}
+
+/// Three flat feet (0.22 x 0.13 m), the third rolled about x by `atan(1 / 5730)` = 0.0099995
+/// degrees (frame `I + J / 5730`): [`rational_stance`] in millimetres.
+fn three_contacts_rolled() -> (DMatrix<f64>, DMatrix<f64>) {
+    let h = [110, 65];
+    let rolled = RationalContact {
+        c: [300, 0, 0],
+        h,
+        r: [[5730, 0, 0], [0, 5730, -1], [0, 1, 5730]],
+        den: 5730,
+    };
+    rational_stance(
+        &[flat([0, 100, 0], h), flat([50, -100, 0], h), rolled],
+        1e-3,
+    )
 }
 
 /// A continuation whose conversion falls back to exact arithmetic merges the fallback's slivers
@@ -341,85 +439,165 @@ fn a_continuation_merges_the_slivers_of_its_exact_fallback() {
     }
 }
 
-/// After an exact fallback the default mode merges the slivers of the rounded input: no two
-/// rows within the tolerance, at most as many rows as the exact cone of the intended
-/// (unrounded) geometry, and the certificate's bound holds. Checked against the exact answer
-/// (no merging): the merged cone contains it, and every extreme ray of the merged cone (exact
-/// face -> span) violates the exact facets by at most the stated merge distance.
+/// After an exact fallback the default mode merges the slivers of the rounded input. Checks,
+/// on the stance `stance` ([`rational_stance`]), with exact arithmetic on the output: the
+/// answer is certified; when it came from an exact fallback, it keeps at most as many rows as
+/// the exact cone of the intended (unrounded) geometry, no two rows within the tolerance, every
+/// generator inside (the merged cone contains the exact one), and every extreme ray of the
+/// merged cone (exact face -> span) violates the exact facets by at most the certificate's
+/// merge distance, itself within the tolerance. Returns the intended geometry's facets, the
+/// exact answer's and the default answer's, or `None` when there was no fallback.
+fn check_merge(name: &str, stance: &(DMatrix<f64>, DMatrix<f64>)) -> Option<[usize; 3]> {
+    let wrench = DdOptions {
+        wrench: true,
+        ..DdOptions::default()
+    };
+    let with_wrench = check_merge_with(&format!("{name} (wrench)"), stance, &wrench);
+    let plain = check_merge_with(name, stance, &DdOptions::default());
+    assert_eq!(with_wrench.is_some(), plain.is_some(), "{name}");
+    plain
+}
+
+/// [`check_merge`] with the options `opts`: the bound is checked in the input's coordinates
+/// whatever the route (the wrench preconditioning maps its answer back before merging).
+fn check_merge_with(
+    name: &str,
+    stance: &(DMatrix<f64>, DMatrix<f64>),
+    opts: &DdOptions,
+) -> Option<[usize; 3]> {
+    let exact_opts = DdOptions {
+        arithmetic: Arithmetic::Exact,
+        ..DdOptions::default()
+    };
+    let delta = opts.tol.certificate;
+    let (v, v_intended) = stance;
+    let intended = span_to_face(v_intended, &exact_opts)
+        .unwrap()
+        .face
+        .facets
+        .nrows();
+    let merged = span_to_face(v, opts).unwrap();
+    let c = &merged.certificate;
+    assert!(c.certified, "{name}");
+    let m = merged.face.facets.nrows();
+    if c.fallback.is_none() {
+        eprintln!("{name}: intended geometry {intended} facets, {m} certified in floating point");
+        return None; // the floating-point answer was certified: nothing to merge
+    }
+    let exact = span_to_face(v, &exact_opts).unwrap();
+    let n = exact.face.facets.nrows();
+    eprintln!(
+        "{name}: intended geometry {intended} facets, rounded input {n}, \
+         {m} after merging {} (distance {:.1e})",
+        c.merged_rows, c.merge_distance
+    );
+    if !opts.wrench {
+        // (The wrench route's exact answer is that of the re-centred input, mapped back.)
+        assert_eq!(m + c.merged_rows, n, "{name}");
+    }
+    assert!(
+        m <= intended,
+        "{name}: {m} rows, the intended geometry has {intended}"
+    );
+    assert!(c.merged_rows > 0 && c.merge_distance <= delta, "{name}");
+    let unit = |r: nalgebra::DMatrixView<f64>| r.clone_owned() / r.norm();
+    let f = &merged.face.facets;
+    // On the wrench route, rows are compared in its frame too (`(u_f - o x u_t, L u_t)`):
+    // a row is dropped only when both distances are within the tolerance.
+    let in_frame = c.wrench_frame.map(|w| {
+        let o = nalgebra::Vector3::from(w.center);
+        DMatrix::from_fn(m, 6, |i, j| {
+            let uf = nalgebra::Vector3::new(f[(i, 0)], f[(i, 1)], f[(i, 2)]);
+            let ut = nalgebra::Vector3::new(f[(i, 3)], f[(i, 4)], f[(i, 5)]);
+            if j < 3 {
+                (uf - o.cross(&ut))[j]
+            } else {
+                w.length * ut[j - 3]
+            }
+        })
+    });
+    assert_eq!(in_frame.is_some(), opts.wrench, "{name}");
+    for i in 0..m {
+        for k in 0..i {
+            let d = (unit(f.rows(i, 1)) - unit(f.rows(k, 1))).norm();
+            let d_frame = in_frame.as_ref().map_or(f64::INFINITY, |g| {
+                (unit(g.rows(i, 1)) - unit(g.rows(k, 1))).norm()
+            });
+            // A row is dropped when its distance plus its rounding bound (a few eps) is
+            // within the tolerance.
+            assert!(
+                d > delta - 1e-14 || d_frame > delta - 1e-14,
+                "{name}: rows {i} and {k} are {d:.1e} apart ({d_frame:.1e} in the frame)"
+            );
+        }
+    }
+    // The merged cone contains every generator (its rows are exact facets).
+    for g in v.row_iter() {
+        for u in f.row_iter() {
+            assert!(u.dot(&g) <= 1e-12 * g.norm() * u.norm(), "{name}");
+        }
+    }
+    // Every extreme ray of the merged cone is within the merge distance of the exact cone.
+    let rays = face_to_span(&merged.face, &exact_opts)
+        .unwrap()
+        .span
+        .generators;
+    for r in rays.row_iter() {
+        let r = r.clone_owned() / r.norm();
+        for u in exact.face.facets.row_iter() {
+            let u = u.clone_owned() / u.norm();
+            assert!(
+                u.dot(&r) <= c.merge_distance * (1.0 + 1e-9) + 1e-15,
+                "{name}: violation {:.2e} > {:.2e}",
+                u.dot(&r),
+                c.merge_distance
+            );
+        }
+    }
+    Some([intended, n, m])
+}
+
+/// Two flat feet, one raised by 1e-9 to 1e-5 m: the merge keeps at most the intended geometry's
+/// rows, and feet 1e-9 m apart (coplanar within the tolerance) get the coplanar 16.
 #[test]
-fn slivers_of_an_exact_fallback_are_merged_within_the_stated_bound() {
+fn slivers_of_raised_feet_are_merged_within_the_stated_bound() {
     let exact_opts = DdOptions {
         arithmetic: Arithmetic::Exact,
         ..DdOptions::default()
     };
     // The coplanar feet: 16 facets intended, 40 for the rounded input, 16 by default.
-    let flat = span_to_face(&two_feet_scaled(0.0, 1e9, 10.0), &exact_opts).unwrap();
+    let flat = span_to_face(&two_feet(0.0).1, &exact_opts).unwrap();
     assert_eq!(flat.face.facets.nrows(), 16);
-    let flat_default = span_to_face(&two_feet_wrench_span(0.0), &DdOptions::default()).unwrap();
+    let flat_default = span_to_face(&two_feet(0.0).0, &DdOptions::default()).unwrap();
     assert_eq!(flat_default.face.facets.nrows(), 16);
+    let mut fell_back = 0;
     for dz in [1e-5, 1e-7, 1e-8, 1e-9] {
-        let intended = span_to_face(&two_feet_scaled(dz, 1e9, 10.0), &exact_opts)
-            .unwrap()
-            .face
-            .facets
-            .nrows();
-        let v = two_feet_wrench_span(dz);
-        let exact = span_to_face(&v, &exact_opts).unwrap();
-        let merged = span_to_face(&v, &DdOptions::default()).unwrap();
-        let c = &merged.certificate;
-        assert!(c.certified, "{dz}");
-        if c.fallback.is_none() {
-            continue; // the floating-point answer was certified: nothing to merge
-        }
-        let (m, n) = (merged.face.facets.nrows(), exact.face.facets.nrows());
-        eprintln!(
-            "dz = {dz}: intended geometry {intended} facets, rounded input {n}, \
-             {m} after merging {} (distance {:.1e})",
-            c.merged_rows, c.merge_distance
-        );
-        assert_eq!(m + c.merged_rows, n);
-        assert!(
-            m <= intended,
-            "{dz}: {m} rows, the intended geometry has {intended}"
-        );
-        if dz <= 1e-9 {
-            // Feet this close are coplanar within the tolerance: the coplanar answer.
-            assert_eq!(m, 16, "{dz}");
-        }
-        assert!(c.merged_rows > 0 && c.merge_distance <= DdOptions::default().tol.certificate);
-        let unit = |r: nalgebra::DMatrixView<f64>| r.clone_owned() / r.norm();
-        let f = &merged.face.facets;
-        for i in 0..m {
-            for k in 0..i {
-                let d = (unit(f.rows(i, 1)) - unit(f.rows(k, 1))).norm();
-                assert!(
-                    d > c.merge_distance,
-                    "{dz}: rows {i} and {k} are {d:.1e} apart"
-                );
-            }
-        }
-        // The merged cone contains every generator (its rows are exact facets).
-        for g in v.row_iter() {
-            for u in f.row_iter() {
-                assert!(u.dot(&g) <= 1e-12 * g.norm() * u.norm());
-            }
-        }
-        // Every extreme ray of the merged cone is within the merge distance of the exact cone.
-        let rays = face_to_span(&merged.face, &exact_opts)
-            .unwrap()
-            .span
-            .generators;
-        for r in rays.row_iter() {
-            let r = r.clone_owned() / r.norm();
-            for u in exact.face.facets.row_iter() {
-                let u = u.clone_owned() / u.norm();
-                assert!(
-                    u.dot(&r) <= c.merge_distance * (1.0 + 1e-9) + 1e-15,
-                    "{dz}: violation {:.2e} > {:.2e}",
-                    u.dot(&r),
-                    c.merge_distance
-                );
+        if let Some([_, _, m]) = check_merge(&format!("dz = {dz}"), &two_feet(dz)) {
+            fell_back += 1;
+            if dz <= 1e-9 {
+                assert_eq!(m, 16, "{dz}");
             }
         }
     }
+    assert!(
+        fell_back >= 3,
+        "the raised feet no longer exercise the fallback"
+    );
+}
+
+/// The stairs stance with contact patches of 10 to 100 um (the issue had 314 rows for 168), and
+/// three contacts, one rolled by 0.01 degree (222 rows for 218 before this merge).
+#[test]
+fn slivers_of_tiny_patches_and_small_rolls_are_merged_within_the_stated_bound() {
+    let mut fell_back = 0;
+    for half in [5e-6, 1e-5, 2.5e-5, 5e-5] {
+        let name = format!("stairs, patches of half-size {half} m");
+        fell_back += check_merge(&name, &stairs_with_patches(half)).is_some() as usize;
+    }
+    fell_back +=
+        check_merge("three contacts, one rolled", &three_contacts_rolled()).is_some() as usize;
+    assert!(
+        fell_back >= 4,
+        "the stances no longer exercise the fallback"
+    );
 }

@@ -34,13 +34,27 @@ pub struct ConversionRoute {
     /// Why the floating-point answer was replaced by the exact one (exact fallback only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fallback_reason: Option<String>,
-    /// Exact-fallback rows merged into a kept row within `merge_distance` (unit rows): any
-    /// unit vector the output admits violates a merged row by at most that.
+    /// Exact-fallback rows dropped as slivers ([`Certificate::merged_rows`]): any unit vector
+    /// the output admits violates a dropped row by at most `merge_distance` (unit rows, the
+    /// input's coordinates).
     #[serde(skip_serializing_if = "is_zero")]
     pub merged_rows: usize,
-    /// The largest distance of a merged row from its kept row (when rows were merged).
+    /// The proven bound of the merge (when rows were merged).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub merge_distance: Option<f64>,
+    /// The frame of the wrench route (`--wrench`), where its tolerances apply: facet rows
+    /// `(u_f, u_t)` are compared as `(u_f - center x u_t, length u_t)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrench_frame: Option<WrenchFrameReport>,
+}
+
+/// [`polycone::wrench::WrenchFrame`]: its centre and length scale, in the input's units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WrenchFrameReport {
+    /// The centre `o`.
+    pub center: [f64; 3],
+    /// The length scale `L`.
+    pub length: f64,
 }
 
 impl ConversionRoute {
@@ -51,6 +65,10 @@ impl ConversionRoute {
             fallback_reason: c.fallback.clone(),
             merged_rows: c.merged_rows,
             merge_distance: (c.merged_rows > 0).then_some(c.merge_distance),
+            wrench_frame: c.wrench_frame.map(|f| WrenchFrameReport {
+                center: f.center,
+                length: f.length,
+            }),
         }
     }
 }

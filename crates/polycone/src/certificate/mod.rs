@@ -150,16 +150,24 @@ pub struct Certificate {
     pub fallback: Option<String>,
     /// After an exact fallback in the default mode: how many rows of the exact answer were
     /// dropped as slivers of the rounded input (module `merge` in the source): rows closer than
-    /// [`Tolerances::certificate`] to a kept row (unit rows, input coordinates), then rows whose
-    /// removal enlarges the cone by at most that tolerance (proven on the exact cone of the kept
-    /// rows). Only rows are dropped, so the answer contains the exact cone, and no unit vector
-    /// the answer admits violates a row of the exact answer by more than
+    /// [`Tolerances::certificate`] to a kept row (unit rows), then rows whose removal enlarges
+    /// the cone by at most that tolerance (each proven by non-negative weights on the kept rows
+    /// whose residual bounds the enlargement). Distances are measured in the input's
+    /// coordinates and, on the wrench route, also in the frame's ([`Self::wrench_frame`]):
+    /// a row is dropped only when both are within the tolerance, so no two kept rows are within
+    /// it of each other in both. Only rows are dropped, so the answer contains the exact cone,
+    /// and no unit vector the answer admits violates a row of the exact answer by more than
     /// [`Self::merge_distance`]: the merged answer is the exact one within the tolerance
     /// contract. 0 when nothing was merged.
     pub merged_rows: usize,
     /// The proven bound of [`Self::merged_rows`]: the largest violation of a row of the exact
-    /// answer (unit) by a unit vector of the merged cone (0 when nothing was merged).
+    /// answer (unit, in the input's coordinates) by a unit vector of the merged cone (0 when
+    /// nothing was merged).
     pub merge_distance: f64,
+    /// The frame the wrench preconditioning ([`crate::DdOptions::wrench`]) computed in, rows
+    /// `(f, tau)` mapped to `(f, (tau - o x f) / L)` and facet rows `(u_f, u_t)` to
+    /// `(u_f - o x u_t, L u_t)`; `None` on the other routes.
+    pub wrench_frame: Option<crate::wrench::WrenchFrame>,
 }
 
 impl Certificate {
@@ -447,6 +455,7 @@ pub(crate) fn certify_whitened(
         fallback: None,
         merged_rows: 0,
         merge_distance: 0.0,
+        wrench_frame: None,
     };
     (cert, extreme)
 }
