@@ -160,24 +160,15 @@ impl Workspace {
         let result = if opts.wrench {
             self.span_to_face_wrench(&scaled, opts)
         } else {
-            self.polar(&scaled, opts).map(|mut p| {
-                merge_fallback_rows(
-                    &mut p.facets,
-                    &p.equations,
-                    None,
-                    &mut p.certificate,
-                    opts.tol.certificate,
-                );
-                SpanToFace {
-                    face: FaceForm {
-                        dim: d,
-                        facets: p.facets,
-                        equations: p.equations,
-                    },
-                    lineality: p.lineality,
-                    extreme_generators: p.extreme,
-                    certificate: p.certificate,
-                }
+            self.polar_merged(&scaled, opts).map(|p| SpanToFace {
+                face: FaceForm {
+                    dim: d,
+                    facets: p.facets,
+                    equations: p.equations,
+                },
+                lineality: p.lineality,
+                extreme_generators: p.extreme,
+                certificate: p.certificate,
             })
         };
         self.scaled = scaled.data.into();
@@ -229,14 +220,7 @@ impl Workspace {
         if opts.wrench {
             return self.face_to_span_wrench(&g, nu, opts);
         }
-        let mut p = self.polar(&g, opts)?;
-        merge_fallback_rows(
-            &mut p.facets,
-            &p.equations,
-            None,
-            &mut p.certificate,
-            opts.tol.certificate,
-        );
+        let p = self.polar_merged(&g, opts)?;
         let irredundant_facets = p.extreme.iter().copied().filter(|&i| i < nu).collect();
         Ok(FaceToSpan {
             span: SpanForm {
@@ -343,6 +327,15 @@ impl Workspace {
         let p = self.polar(v, opts);
         self.rank_noise = crate::tol::RANK_NOISE;
         p
+    }
+
+    /// [`Self::polar`] with an exact fallback's slivers merged, in the coordinates of `v` (the
+    /// input's; the wrench routes merge after mapping back instead).
+    fn polar_merged(&mut self, v: &DMatrix<f64>, opts: &DdOptions) -> Result<Polar, ConeError> {
+        let mut p = self.polar(v, opts)?;
+        let delta = opts.tol.certificate;
+        merge_fallback_rows(&mut p.facets, &p.equations, None, &mut p.certificate, delta);
+        Ok(p)
     }
 
     /// span -> face on `v` (finite, `d >= 1` columns): the common engine of both directions.
