@@ -288,6 +288,11 @@ proptest! {
     }
 }
 
+/// The generators of a stance as a user's program computes them (rounded), and the same
+/// stance's generators scaled to integers (exact: the intended geometry), from
+/// [`rational_stance`].
+type Stance = (DMatrix<f64>, DMatrix<f64>);
+
 /// A contact of a stance with rational geometry: centre `c` and half-sizes `h` in integer
 /// multiples of the stance's length unit, contact frame `r / den` (integer entries: a rotation,
 /// or a rotation times `sqrt(1 + s^2)` for a frame `I + s J`, which rotates the friction
@@ -317,7 +322,7 @@ fn flat(c: [i64; 3], h: [i64; 2]) -> RationalContact {
 /// that is `10 D^2 (e, p x e / unit)`, a positive row scaling and a change of the torque unit,
 /// which keep the number of facets. So the exact conversion of `.1` is the cone of the
 /// *intended* geometry (no rounding).
-fn rational_stance(contacts: &[RationalContact], unit: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+fn rational_stance(contacts: &[RationalContact], unit: f64) -> Stance {
     let cross = |a: [f64; 3], b: [f64; 3]| {
         [
             a[1] * b[2] - a[2] * b[1],
@@ -373,7 +378,7 @@ fn rational_stance(contacts: &[RationalContact], unit: f64) -> (DMatrix<f64>, DM
 
 /// Two flat rectangular feet (0.22 x 0.13 m, 0.2 m apart) with the right one raised by `dz`
 /// (a multiple of 1 nm): [`rational_stance`] in nanometres.
-fn two_feet(dz: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+fn two_feet(dz: f64) -> Stance {
     let h = [110_000_000, 65_000_000];
     let feet = [
         flat([0, 100_000_000, 0], h),
@@ -390,7 +395,7 @@ fn two_feet_wrench_span(dz: f64) -> DMatrix<f64> {
 /// The stairs stance of the paper's stair climbing (left foot at `(0, 0.1, 0)`, right foot at
 /// `(0.28, -0.1, 0.24)` turned by 10.0004 degrees about z, `cos = 6351 / 6449`), with square
 /// contact patches of half-size `half` (a multiple of 0.1 um): [`rational_stance`] in 0.1 um.
-fn stairs_with_patches(half: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+fn stairs_with_patches(half: f64) -> Stance {
     let h = (half * 1e7).round() as i64;
     let turned = RationalContact {
         c: [2_800_000, -1_000_000, 2_400_000],
@@ -403,7 +408,7 @@ fn stairs_with_patches(half: f64) -> (DMatrix<f64>, DMatrix<f64>) {
 
 /// Three flat feet (0.22 x 0.13 m), the third rolled about x by `atan(1 / 5730)` = 0.0099995
 /// degrees (frame `I + J / 5730`): [`rational_stance`] in millimetres.
-fn three_contacts_rolled() -> (DMatrix<f64>, DMatrix<f64>) {
+fn three_contacts_rolled() -> Stance {
     let h = [110, 65];
     let rolled = RationalContact {
         c: [300, 0, 0],
@@ -447,7 +452,7 @@ fn a_continuation_merges_the_slivers_of_its_exact_fallback() {
 /// merged cone (exact face -> span) violates the exact facets by at most the certificate's
 /// merge distance, itself within the tolerance. Returns the intended geometry's facets, the
 /// exact answer's and the default answer's, or `None` when there was no fallback.
-fn check_merge(name: &str, stance: &(DMatrix<f64>, DMatrix<f64>)) -> Option<[usize; 3]> {
+fn check_merge(name: &str, stance: &Stance) -> Option<[usize; 3]> {
     let wrench = DdOptions {
         wrench: true,
         ..DdOptions::default()
@@ -458,11 +463,7 @@ fn check_merge(name: &str, stance: &(DMatrix<f64>, DMatrix<f64>)) -> Option<[usi
 
 /// [`check_merge`] with the options `opts`: the bound is checked in the input's coordinates
 /// whatever the route (the wrench preconditioning maps its answer back before merging).
-fn check_merge_with(
-    name: &str,
-    stance: &(DMatrix<f64>, DMatrix<f64>),
-    opts: &DdOptions,
-) -> Option<[usize; 3]> {
+fn check_merge_with(name: &str, stance: &Stance, opts: &DdOptions) -> Option<[usize; 3]> {
     let exact_opts = DdOptions {
         arithmetic: Arithmetic::Exact,
         ..DdOptions::default()
@@ -626,7 +627,7 @@ fn the_stress_corpus_keeps_the_intended_geometry() {
         r: roll(d),
         den: d,
     };
-    let mut corpus: Vec<(String, (DMatrix<f64>, DMatrix<f64>))> = Vec::new();
+    let mut corpus: Vec<(String, Stance)> = Vec::new();
     for (name, o) in [
         ("here", [0, 0, 0]),
         ("50 m away", [50_000, 0, 0]),
