@@ -26,6 +26,24 @@ use crate::precondition::{scale_rows_pow2, whiten, whiten_into, WhitenScratch, W
 use crate::wrench::{check_options as check_wrench_options, sorted_rows, WrenchFrame};
 use crate::{Arithmetic, ConeError, DdOptions, FaceForm, SpanForm};
 
+/// The last step of both wrench routes: the answer's rows mapped back to the input's
+/// coordinates (`back`, in the order of `p.facets`, with `basis` their equations or lineality
+/// there), an exact fallback's slivers merged with every drop certified both there and in the
+/// frame (`p`'s own rows), sorted, and the frame recorded in the certificate.
+fn finish_wrench(
+    mut back: DMatrix<f64>,
+    basis: &DMatrix<f64>,
+    p: &mut Polar,
+    frame: WrenchFrame,
+    opts: &DdOptions,
+) -> DMatrix<f64> {
+    let delta = opts.tol.certificate;
+    let computed = Some((&p.facets, &p.equations));
+    merge_fallback_rows(&mut back, basis, computed, &mut p.certificate, delta);
+    p.certificate.wrench_frame = Some(frame);
+    sorted_rows(&back)
+}
+
 /// The result of [`span_to_face`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpanToFace {
@@ -251,16 +269,8 @@ impl Workspace {
         let mut p = self.polar_recentred(&v_centred, &inner, &frame)?;
         let equations = frame.basis_back(&p.equations, false);
         let lineality = frame.basis_back(&p.lineality, true);
-        let mut facets = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
-        merge_fallback_rows(
-            &mut facets,
-            &equations,
-            Some((&p.facets, &p.equations)),
-            &mut p.certificate,
-            opts.tol.certificate,
-        );
-        let facets = sorted_rows(&facets);
-        p.certificate.wrench_frame = Some(frame);
+        let back = frame.rays_back(&p.facets, false, &[&equations, &lineality]);
+        let facets = finish_wrench(back, &equations, &mut p, frame, opts);
         Ok(SpanToFace {
             face: FaceForm {
                 dim: generators.ncols(),
@@ -292,16 +302,8 @@ impl Workspace {
         };
         let mut p = self.polar_recentred(&g_centred, &inner, &frame)?;
         let lineality = frame.basis_back(&p.equations, true);
-        let mut generators = frame.rays_back(&p.facets, true, &[&lineality]);
-        merge_fallback_rows(
-            &mut generators,
-            &lineality,
-            Some((&p.facets, &p.equations)),
-            &mut p.certificate,
-            opts.tol.certificate,
-        );
-        let generators = sorted_rows(&generators);
-        p.certificate.wrench_frame = Some(frame);
+        let back = frame.rays_back(&p.facets, true, &[&lineality]);
+        let generators = finish_wrench(back, &lineality, &mut p, frame, opts);
         Ok(FaceToSpan {
             span: SpanForm {
                 dim: g.ncols(),
