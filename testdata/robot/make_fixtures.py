@@ -60,7 +60,9 @@ def random_configuration(model, rng):
     return q
 
 
-def build(urdf, locked):
+def build(urdf, locked, fixed=False):
+    if fixed:
+        return pin.buildModelFromUrdf(urdf)
     full = pin.buildModelFromUrdf(urdf, pin.JointModelFreeFlyer())
     if not locked:
         return full
@@ -77,8 +79,8 @@ def build(urdf, locked):
     return pin.buildReducedModel(full, ids, q_ref)
 
 
-def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
-    model = build(urdf, locked)
+def fixture(name, urdf_rel, urdf, locked, frames, count, seed, fixed=False):
+    model = build(urdf, locked, fixed)
     data = model.createData()
     rng = np.random.default_rng(seed)
     cases = []
@@ -101,6 +103,9 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
         pin.centerOfMass(model, data, q, v, a_path)
         vcom, acom = data.vcom[0].copy(), data.acom[0].copy()
         pin.computeCentroidalMomentumTimeVariation(model, data, q, v, a_path)
+        # inverse dynamics (model.gravity: (0, 0, -9.81)) at (q, v, a_path), and gravity alone
+        tau = pin.rnea(model, data, q, v, a_path).copy()
+        tau_g = pin.computeGeneralizedGravity(model, data, q).copy()
         path = {
             "q_ss": a_path.tolist(),
             "p_s": vcom.tolist(),
@@ -138,6 +143,8 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
             "centroidal_map_dot_v": dhg.tolist(),
             "path_terms": path,
             "integrate_0_3_v": pin.integrate(model, q, 0.3 * v).tolist(),
+            "rnea": tau.tolist(),
+            "generalized_gravity": tau_g.tolist(),
             "frames": frame_out,
         })
     out = {
@@ -145,7 +152,7 @@ def fixture(name, urdf_rel, urdf, locked, frames, count, seed):
         "pinocchio_version": pin.__version__,
         "numpy_version": np.__version__,
         "urdf": urdf_rel,
-        "root_joint": "free_flyer",
+        "root_joint": "fixed" if fixed else "free_flyer",
         "locked": [[n, v] for n, v in locked],
         "seed": seed,
         "nq": model.nq,
@@ -165,6 +172,8 @@ def main():
     small = os.path.join(ROOT, "models", "small_humanoid.urdf")
     small_frames = ["r_sole", "l_sole", "r_hand", "l_hand", "imu", "head", "torso_lift"]
     fixture("small_humanoid", "models/small_humanoid.urdf", small, [], small_frames, 24, 1)
+    fixture("small_humanoid_fixed", "models/small_humanoid.urdf", small, [], small_frames, 8, 4,
+            fixed=True)
     fixture("small_humanoid_locked", "models/small_humanoid.urdf", small,
             [("r_elbow", -0.7), ("neck", 0.4), ("torso_lift", 0.02)],
             ["r_sole", "l_sole", "r_hand", "l_hand", "imu", "head"], 8, 2)

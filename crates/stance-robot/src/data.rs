@@ -20,6 +20,16 @@ pub struct Data {
     pub(crate) velocity: Vec<Spatial>,
     /// Spatial acceleration of each joint's body for zero joint accelerations (world, at origin).
     pub(crate) drift: Vec<Spatial>,
+    /// Spatial acceleration of each joint's body in the last inverse-dynamics pass (world, at
+    /// the origin).
+    pub(crate) acceleration: Vec<Spatial>,
+    /// Net force on each joint's subtree in the last inverse-dynamics pass (world, at the
+    /// origin).
+    pub(crate) force: Vec<Spatial>,
+    /// Generalized forces of [`crate::rnea`] (length `nv`).
+    pub tau: Vec<f64>,
+    /// The coefficients of [`crate::torque_path_terms`].
+    pub torque_path: crate::dynamics::TorquePathTerms,
     /// Each joint's body inertia in the world (about the origin).
     pub(crate) body_world: Vec<WorldInertia>,
     /// Composite (subtree) inertias in the world (about the origin).
@@ -57,6 +67,9 @@ impl Data {
             && self.drift.len() == n
             && self.body_world.len() == n
             && self.composite.len() == n
+            && self.acceleration.len() == n
+            && self.force.len() == n
+            && self.tau.len() == model.nv
             && self.s_world.len() == model.nv
             && self.centroidal_map.ncols() == model.nv
             && self.com_jacobian.ncols() == model.nv;
@@ -87,6 +100,14 @@ impl Data {
             s_world: vec![zero; model.nv],
             velocity: vec![zero; n],
             drift: vec![zero; n],
+            acceleration: vec![zero; n],
+            force: vec![zero; n],
+            tau: vec![0.0; model.nv],
+            torque_path: crate::dynamics::TorquePathTerms {
+                tau_a: vec![0.0; model.nv],
+                tau_b: vec![0.0; model.nv],
+                tau_c: vec![0.0; model.nv],
+            },
             body_world: vec![WorldInertia::zero(); n],
             composite: vec![WorldInertia::zero(); n],
             mass: 0.0,

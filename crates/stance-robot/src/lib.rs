@@ -33,6 +33,10 @@
 //! and free-link paths with the contacts held, and is integrated along a grid into `q(s)`,
 //! `q_s(s)`, `q_ss(s)`.
 //!
+//! **Inverse dynamics** ([`dynamics`]): `tau = M(q) a + C(q, v) v + g(q)` by the recursive
+//! Newton-Euler algorithm in the world frame (Pinocchio's `rnea`), and along a path
+//! `tau = tau_a s'' + tau_b s'^2 + tau_c` for the torque limits of the retiming.
+//!
 //! **Path terms** ([`path`], docs/math.md section 6): `p = c(q)`, `p_s = J_com q_s`,
 //! `p_ss = J_com q_ss + (dJ_com/ds) q_s`, `l1 = A_g,ang q_s`, `l2 = A_g,ang q_ss + (dA_g,ang/ds) q_s`.
 //!
@@ -63,7 +67,9 @@
 //! - Quantities are computed about the world origin and transported to the CoM, like Pinocchio:
 //!   with the robot kilometres away from the origin, round-off in `A_g`'s angular rows grows with
 //!   the squared distance.
-//! - No dynamics beyond centroidal momentum (no mass matrix, no inverse dynamics).
+//! - Dynamics: inverse dynamics only ([`dynamics`]: the RNEA and its coefficients along a
+//!   path); no mass matrix, forward dynamics or contact dynamics. Joint friction, rotor inertia
+//!   (URDF `<dynamics>`) and transmissions are not modelled.
 //! - [`SMALL_HUMANOID_URDF`] is included from the project's `models/` folder, outside the crate:
 //!   the crate builds inside the project workspace only (not as a stand-alone package).
 //! - JVRC-1's URDF is not shipped: [`jvrc1::locate_urdf`] finds it in the project virtualenv
@@ -82,6 +88,7 @@
 
 pub mod centroidal;
 pub mod data;
+pub mod dynamics;
 pub mod error;
 pub mod ik;
 pub mod jvrc1;
@@ -93,6 +100,7 @@ pub mod tol;
 
 pub use centroidal::{center_of_mass, centroidal_map, centroidal_map_dot_v, com_jacobian};
 pub use data::Data;
+pub use dynamics::{rnea, torque_path_terms, TorquePathTerms};
 pub use error::RobotError;
 pub use ik::{
     ik_qp, ik_step, solve_ik_qp, track_path, ContactHold, IkAnswerFrom, IkOptions, IkPath, IkQp,

@@ -1,6 +1,7 @@
 //! Golden tests against Pinocchio 4.1.0 (fixtures made by `testdata/robot/make_fixtures.py`):
 //! joint order, nq/nv, mass, CoM, CoM Jacobian, A_g, dA_g/dt v, the path terms p_s, p_ss, l1,
-//! l2, `integrate`, frame placements, frame Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical
+//! l2, `integrate`, inverse dynamics (`rnea`, generalized gravity, and the coefficients along a
+//! path), frame placements, frame Jacobians (WORLD, LOCAL, LOCAL_WORLD_ALIGNED) and classical
 //! accelerations, at random configurations and velocities.
 //!
 //! Tolerance: every entry within `1e-9 * max(1, max |reference entry|)` of the same quantity.
@@ -160,6 +161,35 @@ fn run_fixture(model: &Model, fx: &Value) {
                 ));
             }
         }
+        // inverse dynamics at (q, v, a = q_ss) with Pinocchio's default gravity, and the
+        // coefficients along a path: tau_b + tau_c is the RNEA at (q, q_s, q_ss) (u = 0, x = 1)
+        let g = [0.0, 0.0, -9.81];
+        rnea(model, &mut data, &q, &v, &q_ss, g).unwrap();
+        worst = worst.max(check_vec(&tag("rnea"), &data.tau, &vecf(&case["rnea"])));
+        torque_path_terms(model, &mut data, &q, &v, &q_ss, g).unwrap();
+        let tp = data.torque_path.clone();
+        let at = |u: f64, x: f64| (0..model.nv).map(|k| tp.at(k, u, x)).collect::<Vec<_>>();
+        worst = worst.max(check_vec(
+            &tag("tau_b + tau_c"),
+            &at(0.0, 1.0),
+            &vecf(&case["rnea"]),
+        ));
+        worst = worst.max(check_vec(
+            &tag("tau_c (generalized gravity)"),
+            &tp.tau_c,
+            &vecf(&case["generalized_gravity"]),
+        ));
+        // at another (u, x): v = q_s sqrt(x), a = q_s u + q_ss x, against the RNEA just checked
+        let (u, x): (f64, f64) = (1.3, 0.4);
+        let vx: Vec<f64> = v.iter().map(|y| y * x.sqrt()).collect();
+        let ax: Vec<f64> = v.iter().zip(&q_ss).map(|(y, z)| y * u + z * x).collect();
+        rnea(model, &mut data, &q, &vx, &ax, g).unwrap();
+        let tau = data.tau.clone();
+        worst = worst.max(check_vec(
+            &tag("tau_a u + tau_b x + tau_c"),
+            &at(u, x),
+            &tau,
+        ));
     }
     eprintln!("worst relative error against Pinocchio: {worst:.2e}");
 }
@@ -181,6 +211,18 @@ fn small_options(fx: &Value) -> UrdfOptions {
 fn small_humanoid_matches_pinocchio() {
     let fx = load("small_humanoid.json");
     let model = Model::from_urdf_str(SMALL_HUMANOID_URDF, &small_options(&fx)).unwrap();
+    run_fixture(&model, &fx);
+}
+
+#[test]
+fn small_humanoid_with_a_fixed_root_matches_pinocchio() {
+    let fx = load("small_humanoid_fixed.json");
+    assert_eq!(fx["root_joint"], "fixed");
+    let options = UrdfOptions {
+        root: RootJoint::Fixed,
+        ..small_options(&fx)
+    };
+    let model = Model::from_urdf_str(SMALL_HUMANOID_URDF, &options).unwrap();
     run_fixture(&model, &fx);
 }
 
