@@ -113,3 +113,90 @@ fn path_errors() {
     };
     assert!(CubicSpline::new(vec![0.0, 1.0], vec![[0.0; 3]; 2], bad).is_err());
 }
+
+/// The n-D spline against SciPy's `CubicSpline` (testdata/topp/splines.json, made by
+/// `make_splines.py`): not-a-knot, natural and clamped ends on 2 to 9 knots, value and both
+/// derivatives within 1e-10 relative to the case's largest value.
+#[test]
+fn waypoint_path_matches_scipy_cubic_spline() {
+    use stance_topp::path::{Interpolation, WaypointPath};
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/topp/splines.json");
+    let fx: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let vecf = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let rows = |v: &serde_json::Value| -> Vec<Vec<f64>> {
+        v.as_array().unwrap().iter().map(vecf).collect()
+    };
+    for (c, case) in fx["cases"].as_array().unwrap().iter().enumerate() {
+        let knots = vecf(&case["knots"]);
+        let points = rows(&case["points"]);
+        let dim = points[0].len();
+        let interpolation = match case["bc_type"].as_str().unwrap() {
+            "not-a-knot" => Interpolation::NotAKnot,
+            "natural" => Interpolation::Natural,
+            "clamped" => Interpolation::Clamped {
+                start: vec![0.0; dim],
+                end: vec![0.0; dim],
+            },
+            other => panic!("{other}"),
+        };
+        let p = WaypointPath::new(knots, points, interpolation).unwrap();
+        let (mut q, mut qs, mut qss) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
+        for (key, k) in [("q", 0), ("q_s", 1), ("q_ss", 2)] {
+            let reference = rows(&case[key]);
+            let scale = reference
+                .iter()
+                .flatten()
+                .fold(1.0f64, |a, x| a.max(x.abs()));
+            for (s, r) in vecf(&case["s"]).iter().zip(&reference) {
+                p.eval(*s, &mut q, &mut qs, &mut qss);
+                let got = [&q, &qs, &qss][k];
+                for d in 0..dim {
+                    let e = (got[d] - r[d]).abs() / scale;
+                    assert!(
+                        e < 1e-10,
+                        "case {c} ({}): {key}[{d}] at s = {s}: {} vs SciPy {} ({e:.1e})",
+                        case["bc_type"],
+                        got[d],
+                        r[d]
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn waypoint_path_errors() {
+    use stance_topp::path::{Interpolation, WaypointPath};
+    let ok = || vec![vec![0.0, 1.0], vec![1.0, 2.0]];
+    assert!(WaypointPath::new(vec![0.0, 1.0], ok(), Interpolation::NotAKnot).is_ok());
+    assert!(WaypointPath::new(vec![1.0, 1.0], ok(), Interpolation::NotAKnot).is_err());
+    assert!(WaypointPath::new(
+        vec![0.0, 1.0],
+        vec![vec![0.0, 1.0], vec![1.0]],
+        Interpolation::Polyline
+    )
+    .is_err());
+    assert!(WaypointPath::new(
+        vec![0.0, 1.0],
+        vec![vec![0.0, f64::NAN], vec![1.0, 1.0]],
+        Interpolation::Natural
+    )
+    .is_err());
+    let bad = Interpolation::Clamped {
+        start: vec![0.0],
+        end: vec![0.0, 0.0],
+    };
+    assert!(WaypointPath::new(vec![0.0, 1.0], ok(), bad).is_err());
+    assert!(
+        WaypointPath::new(vec![0.0, 1.0], vec![vec![], vec![]], Interpolation::Natural).is_err()
+    );
+}
