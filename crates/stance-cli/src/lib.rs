@@ -37,6 +37,9 @@ enum Command {
     Equilibrium(cmd::contact::EquilibriumCommand),
     /// Retime a CoM motion under contact stability (GIWC -> TOPP), with a phase-plane plot.
     Retime(cmd::retime::RetimeArgs),
+    /// Retime a fixed-base robot's joint path under its joint velocity, acceleration and
+    /// torque limits (toppra's problem).
+    RetimeJoints(cmd::retime_joints::RetimeJointsArgs),
     /// A whole-body motion across stances: IK, GIWC, chained retiming, checks (the paper's
     /// stair and box climbing are built in).
     Motion(cmd::motion::MotionArgs),
@@ -99,6 +102,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Cone(c) => cmd::cone::run(c),
         Command::Demo(a) => cmd::demo::run(a),
         Command::Retime(a) => cmd::retime::run(a),
+        Command::RetimeJoints(a) => cmd::retime_joints::run(a),
         Command::Motion(a) => cmd::motion::run_cmd(a),
         Command::Simulate(a) => cmd::simulate::run(a),
         Command::Topp(a) => cmd::topp::run(a),

@@ -72,8 +72,11 @@ pub use stance_contact;
 pub use stance_robot;
 pub use stance_topp;
 
+pub mod binding;
 pub mod error;
 pub mod input;
+pub mod joints;
+pub mod limits;
 pub mod motion;
 mod name_or;
 pub mod report;

@@ -122,3 +122,15 @@ pub const SIM_FALL_TILT: f64 = 0.5;
 /// Time simulated after the end of the reference, holding its last configuration (s). Default
 /// 0.3: a motion that ends at rest but is about to fall falls within it.
 pub const SIM_SETTLE: f64 = 0.3;
+
+/// A row binds at a grid point when its value is within this fraction of the size of its terms
+/// (`|a u| + |b x| + |c|`) of zero ([`crate::binding`]). Dimensionless. Default 1e-6: the
+/// reachability pass puts the profile on its binding rows to round-off (about 1e-12 relative),
+/// while a row that is merely close (a limit not quite reached) is off by far more than 1e-6.
+pub const BINDING: f64 = 1e-6;
+
+/// Largest number of output samples of a retimed joint path (its duration over `dt`). Unit:
+/// samples. Default 10 000 000: ten hours at 1 ms, or the longest a user could ask for by
+/// mistake without hanging the command (each sample costs an inverse dynamics, about a
+/// microsecond for an arm).
+pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;

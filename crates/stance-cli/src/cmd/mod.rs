@@ -8,6 +8,7 @@ pub mod io;
 pub mod motion;
 pub mod plot;
 pub mod retime;
+pub mod retime_joints;
 pub mod robot;
 pub mod simulate;
 pub mod topp;
