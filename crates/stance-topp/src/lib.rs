@@ -118,6 +118,7 @@ pub mod between;
 pub mod constraints;
 pub mod error;
 pub mod factored;
+pub mod lifted;
 pub mod limits;
 pub mod lp2;
 pub mod path;

@@ -1,0 +1,479 @@
+//! A small dense linear program in inequality form, solved by the simplex method on its
+//! vertices (active sets), for the support functions of [`super::project`].
+//!
+//! ```text
+//!     maximize  c . v   subject to   G v <= h   (m rows),   lo <= v <= hi   (2 n bound rows)
+//! ```
+//!
+//! A vertex is `n` active rows `A` with `G_A` invertible and `v = G_A^-1 h_A`; its multipliers
+//! are `lambda = G_A^-T c` (`c = G_A^T lambda`). The vertex is optimal when it is feasible and
+//! `lambda >= 0`.
+//!
+//! - **Primal simplex** (from a feasible vertex, when only `c` changed): while some
+//!   `lambda_r < 0`, leave row `r` along `d = -G_A^-1 e_r` (the objective grows by `-lambda_r`
+//!   per unit step) up to the first row that blocks (ratio test).
+//! - **Dual simplex** (from `lambda >= 0`, when the rows changed or from the box): while some row
+//!   `j` is violated (the most violated first), write `g_j = G_A^T w` and swap `j` in for the
+//!   active row `r` with `w_r > 0` of least `lambda_r / w_r`; when no `w_r > 0`, no point
+//!   satisfies the rows: the program is infeasible.
+//! - **The box's corner** maximizing `c` (upper bounds where `c_i >= 0`, lower ones elsewhere)
+//!   is a vertex with `lambda = |c| >= 0`: the dual simplex always has a start.
+//!
+//! After a run of degenerate steps (no progress), both switch to Bland's rule (smallest
+//! index), which cannot cycle; an iteration cap guards the rest. `G_A^-1` is recomputed from
+//! the active rows at every step (Gauss-Jordan with partial pivoting; `n <= 2 + 6 (K - 1)` is
+//! small), so rounding does not accumulate along a warm-started sequence.
+//!
+//! Nothing here is trusted by the caller beyond what it re-checks: the projection's rows are
+//! verified against the vertices it found (see [`super::project`]).
+
+// Index loops over the small dense matrices read like the linear algebra.
+#![allow(clippy::needless_range_loop)]
+
+/// Largest number of variables.
+pub const MAX_VARS: usize = 2 + 6 * 3;
+
+/// How a solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LpStatus {
+    /// The vertex in the workspace is optimal.
+    Optimal,
+    /// No point satisfies the rows and the box.
+    Infeasible,
+    /// The iteration cap was reached, or the active rows became singular (should not happen;
+    /// a guard).
+    Failed,
+}
+
+/// The rows (`G`, `h`, row-major `m x n`) and the box of a program.
+#[derive(Debug, Clone, Default)]
+pub struct Program {
+    /// Number of variables.
+    pub n: usize,
+    /// `G`, row-major (`m * n`).
+    pub g: Vec<f64>,
+    /// `h`.
+    pub h: Vec<f64>,
+    /// Lower bounds.
+    pub lo: Vec<f64>,
+    /// Upper bounds.
+    pub hi: Vec<f64>,
+}
+
+impl Program {
+    /// Number of rows (without the bounds).
+    pub fn m(&self) -> usize {
+        self.h.len()
+    }
+
+    /// Row `j`'s coefficient `k` (rows `m + 2 i` and `m + 2 i + 1` are `v_i <= hi_i` and
+    /// `-v_i <= -lo_i`).
+    #[inline]
+    fn coef(&self, j: usize, k: usize) -> f64 {
+        let m = self.m();
+        if j < m {
+            self.g[j * self.n + k]
+        } else {
+            let b = j - m;
+            if b / 2 != k {
+                0.0
+            } else if b.is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            }
+        }
+    }
+
+    /// Right-hand side of row `j`.
+    #[inline]
+    fn rhs(&self, j: usize) -> f64 {
+        let m = self.m();
+        if j < m {
+            self.h[j]
+        } else {
+            let b = j - m;
+            if b.is_multiple_of(2) {
+                self.hi[b / 2]
+            } else {
+                -self.lo[b / 2]
+            }
+        }
+    }
+
+    /// `g_j . v`.
+    #[inline]
+    fn dot(&self, j: usize, v: &[f64]) -> f64 {
+        let m = self.m();
+        if j < m {
+            let r = &self.g[j * self.n..(j + 1) * self.n];
+            r.iter().zip(v).map(|(a, b)| a * b).sum()
+        } else {
+            let b = j - m;
+            if b.is_multiple_of(2) {
+                v[b / 2]
+            } else {
+                -v[b / 2]
+            }
+        }
+    }
+
+    /// `|g_j|` (1 for bound rows).
+    #[inline]
+    fn norm(&self, j: usize) -> f64 {
+        let m = self.m();
+        if j < m {
+            self.g[j * self.n..(j + 1) * self.n]
+                .iter()
+                .map(|a| a * a)
+                .sum::<f64>()
+                .sqrt()
+        } else {
+            1.0
+        }
+    }
+}
+
+/// The simplex's state: an active set and what follows from it.
+#[derive(Debug, Clone, Default)]
+pub struct Simplex {
+    /// Active rows (indices into the rows then the bounds).
+    pub active: Vec<usize>,
+    /// `G_A^-1`, row-major `n x n`.
+    binv: Vec<f64>,
+    /// The vertex.
+    pub v: Vec<f64>,
+    /// Multipliers of the active rows.
+    pub lambda: Vec<f64>,
+    /// Scratch.
+    tmp: Vec<f64>,
+    mark: Vec<bool>,
+    /// Pivots since creation.
+    pub pivots: usize,
+}
+
+/// Relative feasibility tolerance: a row is violated when `g . v - h > FEAS |g| max(1, |v|)`.
+const FEAS: f64 = 1e-9;
+/// Optimality tolerance on the multipliers, relative to `|c|`.
+const OPT: f64 = 1e-11;
+/// Smallest pivot element (relative to the row's norm).
+const PIVOT: f64 = 1e-9;
+/// Degenerate steps before Bland's rule.
+const DEGENERATE_RUN: usize = 8;
+/// Iteration cap per solve, per variable and row.
+const MAX_ITER_FACTOR: usize = 8;
+
+impl Simplex {
+    /// Recomputes `G_A^-1`, the vertex and (for `c`) the multipliers. `false` when `G_A` is
+    /// singular.
+    fn refactor(&mut self, p: &Program, c: &[f64]) -> bool {
+        let n = p.n;
+        // [G_A | I] -> [I | G_A^-1] by Gauss-Jordan with partial pivoting
+        let w = 2 * n;
+        self.tmp.clear();
+        self.tmp.resize(n * w, 0.0);
+        for (i, &j) in self.active.iter().enumerate() {
+            for k in 0..n {
+                self.tmp[i * w + k] = p.coef(j, k);
+            }
+            self.tmp[i * w + n + i] = 1.0;
+        }
+        for col in 0..n {
+            let (mut best, mut piv) = (0.0, col);
+            for r in col..n {
+                let a = self.tmp[r * w + col].abs();
+                if a > best {
+                    best = a;
+                    piv = r;
+                }
+            }
+            if best <= 1e-14 {
+                return false;
+            }
+            if piv != col {
+                for k in 0..w {
+                    self.tmp.swap(col * w + k, piv * w + k);
+                }
+            }
+            let d = self.tmp[col * w + col];
+            for k in 0..w {
+                self.tmp[col * w + k] /= d;
+            }
+            for r in 0..n {
+                if r != col {
+                    let f = self.tmp[r * w + col];
+                    if f != 0.0 {
+                        for k in 0..w {
+                            self.tmp[r * w + k] -= f * self.tmp[col * w + k];
+                        }
+                    }
+                }
+            }
+        }
+        // The rows were permuted with their identity columns, so the right half is G_A^-1
+        // with its columns in the order of `active`.
+        self.binv.clear();
+        self.binv.resize(n * n, 0.0);
+        for r in 0..n {
+            for k in 0..n {
+                self.binv[r * n + k] = self.tmp[r * w + n + k];
+            }
+        }
+        self.v.clear();
+        self.v.resize(n, 0.0);
+        for r in 0..n {
+            self.v[r] = (0..n)
+                .map(|k| self.binv[r * n + k] * p.rhs(self.active[k]))
+                .sum();
+        }
+        self.multipliers(n, c);
+        true
+    }
+
+    /// `lambda = G_A^-T c`.
+    fn multipliers(&mut self, n: usize, c: &[f64]) {
+        self.lambda.clear();
+        self.lambda.resize(n, 0.0);
+        for i in 0..n {
+            self.lambda[i] = (0..n).map(|k| self.binv[k * n + i] * c[k]).sum();
+        }
+    }
+
+    /// The box corner maximizing `c` as the active set.
+    pub fn box_corner(&mut self, p: &Program, c: &[f64]) {
+        let m = p.m();
+        self.active.clear();
+        self.active.extend((0..p.n).map(|i| {
+            if c[i] >= 0.0 {
+                m + 2 * i
+            } else {
+                m + 2 * i + 1
+            }
+        }));
+    }
+
+    /// The most violated row (relative), or with `bland` the violated row of smallest index.
+    fn most_violated(&self, p: &Program, bland: bool) -> Option<usize> {
+        let scale = self.v.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+        let mut best = (0.0, None);
+        for j in 0..p.m() + 2 * p.n {
+            let nj = p.norm(j);
+            let viol = (p.dot(j, &self.v) - p.rhs(j)) / nj.max(f64::MIN_POSITIVE);
+            if viol > FEAS * scale && viol > best.0 {
+                if bland {
+                    return Some(j);
+                }
+                best = (viol, Some(j));
+            }
+        }
+        best.1
+    }
+
+    /// Solves for `c` from the current active set (warm start) or the box corner: the dual
+    /// simplex while the vertex is infeasible, then the primal simplex.
+    pub fn solve(&mut self, p: &Program, c: &[f64]) -> LpStatus {
+        let n = p.n;
+        if self.active.len() != n || !self.refactor(p, c) {
+            self.box_corner(p, c);
+            if !self.refactor(p, c) {
+                return LpStatus::Failed;
+            }
+        }
+        let cnorm = c
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        let max_iter = MAX_ITER_FACTOR * (p.m() + 2 * n + n);
+        // a warm start that is neither primal nor dual feasible restarts from the box
+        let dual_ok = |s: &Simplex| s.lambda.iter().all(|&l| l >= -OPT * cnorm);
+        if self.most_violated(p, false).is_some() && !dual_ok(self) {
+            self.box_corner(p, c);
+            if !self.refactor(p, c) {
+                return LpStatus::Failed;
+            }
+        }
+        // dual phase
+        let mut degenerate = 0;
+        let mut iter = 0;
+        while let Some(j) = self.most_violated(p, degenerate >= DEGENERATE_RUN) {
+            iter += 1;
+            if iter > max_iter {
+                return LpStatus::Failed;
+            }
+            // w = G_A^-T g_j
+            let gj: Vec<f64> = (0..n).map(|k| p.coef(j, k)).collect();
+            let w: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|k| self.binv[k * n + i] * gj[k]).sum())
+                .collect();
+            let gn = p.norm(j);
+            let mut leave = None;
+            let mut best = f64::INFINITY;
+            for i in 0..n {
+                if w[i] > PIVOT * gn {
+                    let ratio = self.lambda[i].max(0.0) / w[i];
+                    let better = if degenerate >= DEGENERATE_RUN {
+                        ratio < best - 1e-15
+                            || (ratio <= best + 1e-15
+                                && leave.is_some_and(|l: usize| self.active[i] < self.active[l]))
+                    } else {
+                        ratio < best
+                    };
+                    if leave.is_none() || better {
+                        best = ratio;
+                        leave = Some(i);
+                    }
+                }
+            }
+            let Some(r) = leave else {
+                return LpStatus::Infeasible;
+            };
+            degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
+            self.active[r] = j;
+            self.pivots += 1;
+            if !self.refactor(p, c) {
+                return LpStatus::Failed;
+            }
+        }
+        // primal phase
+        degenerate = 0;
+        loop {
+            iter += 1;
+            if iter > max_iter {
+                return LpStatus::Failed;
+            }
+            // entering direction: the most negative multiplier (Bland: the smallest row index)
+            let mut r = None;
+            for i in 0..n {
+                if self.lambda[i] < -OPT * cnorm {
+                    let better = match r {
+                        None => true,
+                        Some(q) if degenerate >= DEGENERATE_RUN => self.active[i] < self.active[q],
+                        Some(q) => self.lambda[i] < self.lambda[q],
+                    };
+                    if better {
+                        r = Some(i);
+                    }
+                }
+            }
+            let Some(r) = r else {
+                return LpStatus::Optimal;
+            };
+            // d = -G_A^-1 e_r
+            let d: Vec<f64> = (0..n).map(|k| -self.binv[k * n + r]).collect();
+            self.mark.clear();
+            self.mark.resize(p.m() + 2 * n, false);
+            for &a in &self.active {
+                self.mark[a] = true;
+            }
+            let mut enter = None;
+            let mut best = f64::INFINITY;
+            for j in 0..p.m() + 2 * n {
+                if self.mark[j] {
+                    continue;
+                }
+                let gd = p.dot(j, &d);
+                let nj = p.norm(j);
+                if gd > PIVOT * nj {
+                    let slack = (p.rhs(j) - p.dot(j, &self.v)).max(0.0);
+                    let t = slack / gd;
+                    let better = if degenerate >= DEGENERATE_RUN {
+                        t < best - 1e-15 || (t <= best + 1e-15 && enter.is_some_and(|e| j < e))
+                    } else {
+                        t < best
+                    };
+                    if enter.is_none() || better {
+                        best = t;
+                        enter = Some(j);
+                    }
+                }
+            }
+            let Some(j) = enter else {
+                // unbounded cannot happen inside the box: a guard
+                return LpStatus::Failed;
+            };
+            degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
+            self.active[r] = j;
+            self.pivots += 1;
+            if !self.refactor(p, c) {
+                return LpStatus::Failed;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random programs against brute-force vertex enumeration in 2 and 3 variables.
+    #[test]
+    fn matches_vertex_enumeration() {
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % 1_000_000) as f64 / 500_000.0 - 1.0
+        };
+        for case in 0..300 {
+            let n = 2 + case % 2;
+            let m = 3 + case % 7;
+            let mut p = Program {
+                n,
+                g: (0..m * n).map(|_| rnd()).collect(),
+                h: (0..m).map(|_| rnd() + 0.3).collect(),
+                lo: vec![-2.0; n],
+                hi: vec![2.0; n],
+            };
+            if case % 5 == 0 {
+                p.h[0] = -5.0; // often infeasible
+            }
+            let c: Vec<f64> = (0..n).map(|_| rnd()).collect();
+            let mut s = Simplex::default();
+            let status = s.solve(&p, &c);
+            // brute force: every n-subset of rows and bounds
+            let rows = m + 2 * n;
+            let mut best: Option<f64> = None;
+            let mut idx = vec![0usize; n];
+            fn next(idx: &mut [usize], rows: usize) -> bool {
+                let n = idx.len();
+                for i in (0..n).rev() {
+                    if idx[i] < rows - (n - i) {
+                        idx[i] += 1;
+                        for k in i + 1..n {
+                            idx[k] = idx[k - 1] + 1;
+                        }
+                        return true;
+                    }
+                }
+                false
+            }
+            for (i, x) in idx.iter_mut().enumerate() {
+                *x = i;
+            }
+            loop {
+                let mut t = Simplex {
+                    active: idx.clone(),
+                    ..Default::default()
+                };
+                if t.refactor(&p, &c) && t.most_violated(&p, false).is_none() {
+                    let val: f64 = c.iter().zip(&t.v).map(|(a, b)| a * b).sum();
+                    best = Some(best.map_or(val, |b: f64| b.max(val)));
+                }
+                if !next(&mut idx, rows) {
+                    break;
+                }
+            }
+            match (status, best) {
+                (LpStatus::Optimal, Some(b)) => {
+                    let val: f64 = c.iter().zip(&s.v).map(|(a, b)| a * b).sum();
+                    assert!((val - b).abs() < 1e-9, "case {case}: {val} vs {b}");
+                }
+                (LpStatus::Infeasible, None) => {}
+                other => panic!("case {case}: {other:?}"),
+            }
+        }
+    }
+}

@@ -1,0 +1,414 @@
+//! The exact projection of a lifted polytope onto `(u, x)`, by support functions (the
+//! expanding polygon of Bretl and Lall, "Testing static equilibrium for legged robots", IEEE
+//! T-RO 2008, here on `(u, x)` instead of the CoM plane).
+//!
+//! # Math
+//!
+//! `P = {(u, x) : exists y, a_j u + b_j x + c_j + d_j . y <= 0 for all j}` within a box is a
+//! convex polygon. Its support function `h(n) = max {n . (u, x) : (u, x, y) feasible}` is one
+//! LP ([`super::lp`]); the maximizer projects to a vertex `v(n)` of `P`. Starting from a few
+//! directions (the axes, and the facet normals of the previous grid point's polygon), the
+//! vertices found span an inner polygon; for each of its edges `[v_a, v_b]` the support in the
+//! edge's outward normal `n` decides: `h(n) <= n . v_a + eps` certifies the edge as a facet of
+//! `P` (the outer and inner polygons agree there), otherwise the new vertex `v(n)` splits it.
+//! Every certified edge becomes the row `n . (u, x) - h(n) <= 0`; together they are `P` to
+//! within `eps` (the facets' support values are exact LP optima, so the rows never cut a
+//! feasible point by more than the LP's tolerance).
+//!
+//! The multipliers of the LP at a facet name the lifted rows that define it
+//! ([`Projection::support`]): the caller's joints and contacts behind each row.
+//!
+//! **Cost.** One LP per vertex and one per facet, each warm-started from the last optimal
+//! vertex (a few pivots at most); across grid points the previous facet normals are tried
+//! first, so that a polygon that barely moved costs one LP per facet and one per edge check.
+
+use super::lp::{LpStatus, Program, Simplex, MAX_VARS};
+use crate::constraints::Row;
+use crate::error::ToppError;
+use crate::lp2::Box2;
+
+/// Rows `a u + b x + c + d . y <= 0` over `(u, x)` and `k` extra variables `y`, with
+/// `|y_i| <= y_bound`.
+#[derive(Debug, Clone, Default)]
+pub struct LiftedRows {
+    k: usize,
+    /// Per row: `a, b, c, d_0 .. d_{k-1}`.
+    data: Vec<f64>,
+    /// Bound on every extra variable (in their unit).
+    pub y_bound: f64,
+}
+
+impl LiftedRows {
+    /// No rows, `k` extra variables bounded by `y_bound`.
+    ///
+    /// ```
+    /// let r = stance_topp::lifted::LiftedRows::new(6, 1e3);
+    /// assert!(r.is_empty());
+    /// ```
+    pub fn new(k: usize, y_bound: f64) -> Self {
+        Self {
+            k,
+            data: Vec::new(),
+            y_bound,
+        }
+    }
+
+    /// Removes every row (keeps `k` and the bound).
+    pub fn clear(&mut self) {
+        self.data.clear();
+    }
+
+    /// Number of extra variables.
+    pub fn extra(&self) -> usize {
+        self.k
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.data.len() / (3 + self.k)
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// Appends `a u + b x + c + d . y <= 0` (`d` of length `k`).
+    pub fn push(&mut self, a: f64, b: f64, c: f64, d: &[f64]) {
+        debug_assert_eq!(d.len(), self.k);
+        self.data.extend_from_slice(&[a, b, c]);
+        self.data.extend_from_slice(d);
+    }
+
+    /// Row `j` as `(a, b, c, d)`.
+    pub fn row(&self, j: usize) -> (f64, f64, f64, &[f64]) {
+        let w = 3 + self.k;
+        let r = &self.data[j * w..(j + 1) * w];
+        (r[0], r[1], r[2], &r[3..])
+    }
+}
+
+/// The projection of a grid point's lifted rows.
+#[derive(Debug, Clone, Default)]
+pub struct Projection {
+    /// The facets as rows `a u + b x + c <= 0` (unit `(a, b)`); empty when the polygon is the
+    /// whole box (no row binds) and `[0 u + 0 x + 1 <= 0]` when it is empty.
+    pub rows: Vec<Row>,
+    /// For each row, the lifted rows with a positive multiplier at its facet (sorted).
+    pub support: Vec<Vec<usize>>,
+    /// No `(u, x)` in the box admits a `y`.
+    pub empty: bool,
+    /// Some facet rests on the bound of the extra variables (the projection may then be
+    /// smaller than the unbounded one).
+    pub y_bound_active: bool,
+    /// LPs solved.
+    pub lps: usize,
+    /// Simplex pivots.
+    pub pivots: usize,
+}
+
+/// A direction of the expanding polygon and what its LP found.
+#[derive(Debug, Clone)]
+struct Dir {
+    n: [f64; 2],
+    angle: f64,
+    v: [f64; 2],
+    h: f64,
+    active: Vec<usize>,
+    lambda: Vec<f64>,
+    /// The edge to the next direction's vertex is certified (or empty).
+    edge_done: bool,
+}
+
+/// Reusable state of [`Projector::project`]: the LP, and the previous polygon's facet normals
+/// (the warm start of the next grid point).
+#[derive(Debug, Clone, Default)]
+pub struct Projector {
+    program: Program,
+    simplex: Simplex,
+    previous: Vec<[f64; 2]>,
+    dirs: Vec<Dir>,
+}
+
+/// Largest number of LPs one projection may solve before it gives up (a guard: polygons
+/// have tens of vertices).
+const MAX_LPS: usize = 400;
+
+impl Projector {
+    /// An empty projector.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets the warm start (for a new sequence of grid points).
+    pub fn reset(&mut self) {
+        self.previous.clear();
+    }
+
+    /// Projects `rows` onto `(u, x)` within `bbox` (module doc) into `out`. `eps` is the
+    /// certification tolerance in the units of `(u, x)`, relative to the polygon's size.
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::InvalidValue`] for more than [`MAX_VARS`]` - 2` extra variables, a
+    /// non-finite coefficient, or an LP that failed (iteration cap or a singular basis).
+    ///
+    /// ```
+    /// use stance_topp::lifted::{LiftedRows, Projection, Projector};
+    /// use stance_topp::lp2::Box2;
+    /// // |u - y| <= 1, |y| <= 2  ->  |u| <= 3
+    /// let mut r = LiftedRows::new(1, 10.0);
+    /// r.push(1.0, 0.0, -1.0, &[-1.0]);
+    /// r.push(-1.0, 0.0, -1.0, &[1.0]);
+    /// r.push(0.0, 0.0, -2.0, &[1.0]);
+    /// r.push(0.0, 0.0, -2.0, &[-1.0]);
+    /// let bbox = Box2 { u_lo: -10.0, u_hi: 10.0, x_lo: 0.0, x_hi: 5.0 };
+    /// let mut out = Projection::default();
+    /// Projector::new().project(&r, bbox, 1e-9, &mut out).unwrap();
+    /// let u_max = out.rows.iter().filter(|r| r.a > 0.5).map(|r| -r.c / r.a).fold(f64::INFINITY, f64::min);
+    /// assert!((u_max - 3.0).abs() < 1e-9);
+    /// ```
+    pub fn project(
+        &mut self,
+        rows: &LiftedRows,
+        bbox: Box2,
+        eps: f64,
+        out: &mut Projection,
+    ) -> Result<(), ToppError> {
+        out.rows.clear();
+        out.support.clear();
+        out.empty = false;
+        out.y_bound_active = false;
+        out.lps = 0;
+        out.pivots = 0;
+        let k = rows.extra();
+        let n = 2 + k;
+        if n > MAX_VARS {
+            return Err(ToppError::InvalidValue {
+                what: "lifted rows",
+                detail: format!(
+                    "{k} extra variables; at most {} are supported",
+                    MAX_VARS - 2
+                ),
+            });
+        }
+        // the program: unit rows in (u, x, y)
+        let p = &mut self.program;
+        p.n = n;
+        p.g.clear();
+        p.h.clear();
+        for j in 0..rows.len() {
+            let (a, b, c, d) = rows.row(j);
+            let norm = (a * a + b * b + d.iter().map(|x| x * x).sum::<f64>()).sqrt();
+            if !norm.is_finite() || !c.is_finite() {
+                return Err(ToppError::NotFinite {
+                    what: "lifted row",
+                    point: 0,
+                    row: j,
+                    value: if c.is_finite() { norm } else { c },
+                });
+            }
+            if norm == 0.0 {
+                if c > 0.0 {
+                    // a violated constant row: nothing is feasible
+                    out.empty = true;
+                    out.rows.push(Row {
+                        a: 0.0,
+                        b: 0.0,
+                        c: 1.0,
+                    });
+                    out.support.push(vec![j]);
+                    return Ok(());
+                }
+                continue;
+            }
+            p.g.push(a / norm);
+            p.g.push(b / norm);
+            p.g.extend(d.iter().map(|x| x / norm));
+            p.h.push(-c / norm);
+        }
+        // rows of zero norm were skipped: map program rows back to lifted rows
+        let mut index = Vec::with_capacity(p.h.len());
+        for j in 0..rows.len() {
+            let (a, b, _, d) = rows.row(j);
+            if a != 0.0 || b != 0.0 || d.iter().any(|&x| x != 0.0) {
+                index.push(j);
+            }
+        }
+        p.lo.clear();
+        p.hi.clear();
+        p.lo.extend_from_slice(&[bbox.u_lo, bbox.x_lo]);
+        p.hi.extend_from_slice(&[bbox.u_hi, bbox.x_hi]);
+        p.lo.extend(std::iter::repeat_n(-rows.y_bound, k));
+        p.hi.extend(std::iter::repeat_n(rows.y_bound, k));
+        let m = p.h.len();
+
+        // initial directions: the axes and the previous polygon's normals
+        let mut initial: Vec<[f64; 2]> = vec![[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+        initial.extend(self.previous.iter().copied());
+        self.dirs.clear();
+        let size = (bbox.u_hi - bbox.u_lo)
+            .abs()
+            .max((bbox.x_hi - bbox.x_lo).abs())
+            .max(1e-300);
+        let mut axes: Vec<Dir> = Vec::with_capacity(4);
+        for (q, nrm) in initial.into_iter().enumerate() {
+            match self.support(nrm, out)? {
+                Some(d) => {
+                    if q < 4 {
+                        axes.push(d.clone());
+                    }
+                    self.insert(d);
+                }
+                None => {
+                    out.empty = true;
+                    out.rows.push(Row {
+                        a: 0.0,
+                        b: 0.0,
+                        c: 1.0,
+                    });
+                    out.support.push(Vec::new());
+                    self.previous.clear();
+                    return Ok(());
+                }
+            }
+        }
+        // expand: certify every edge of the inner polygon or split it, sweeping until every
+        // edge (from each direction's vertex to the next one's, cyclically) is done
+        let tol = eps * size;
+        let mut facets: Vec<Dir> = Vec::new();
+        while let Some(i) = self.dirs.iter().position(|d| !d.edge_done) {
+            if out.lps > MAX_LPS {
+                return Err(ToppError::InvalidValue {
+                    what: "lifted rows",
+                    detail: format!(
+                        "the projection onto (u, x) did not converge in {MAX_LPS} LPs; \
+                         report this input"
+                    ),
+                });
+            }
+            let j = (i + 1) % self.dirs.len();
+            let (va, vb) = (self.dirs[i].v, self.dirs[j].v);
+            let e = [vb[0] - va[0], vb[1] - va[1]];
+            let len = e[0].hypot(e[1]);
+            if len <= tol || self.dirs.len() == 1 {
+                self.dirs[i].edge_done = true;
+                continue;
+            }
+            let nrm = [e[1] / len, -e[0] / len];
+            let on_edge = nrm[0] * va[0] + nrm[1] * va[1];
+            let Some(d) = self.support(nrm, out)? else {
+                return Err(ToppError::InvalidValue {
+                    what: "lifted rows",
+                    detail: "an LP became infeasible during the projection; report this input"
+                        .into(),
+                });
+            };
+            if d.h <= on_edge + tol {
+                self.dirs[i].edge_done = true;
+                facets.push(d);
+            } else if self.insert(d).is_none() {
+                // the direction was already there (an angle tie): the edge stays as found
+                self.dirs[i].edge_done = true;
+            }
+        }
+        let _ = m;
+        let previous: Vec<[f64; 2]> = facets.iter().map(|d| d.n).collect();
+        // rows: the facets, and the supporting lines of the axes (they bound a polygon that
+        // is a segment or a point, and cost nothing otherwise)
+        for d in facets.into_iter().chain(axes) {
+            out.rows.push(Row {
+                a: d.n[0],
+                b: d.n[1],
+                c: -d.h,
+            });
+            let mut sup: Vec<usize> = d
+                .active
+                .iter()
+                .zip(&d.lambda)
+                .filter(|(&a, &l)| a < index.len() && l > 1e-12)
+                .map(|(&a, _)| index[a])
+                .collect();
+            if d.active
+                .iter()
+                .zip(&d.lambda)
+                .any(|(&a, &l)| a >= index.len() + 4 && l > 1e-12)
+            {
+                out.y_bound_active = true;
+            }
+            sup.sort_unstable();
+            out.support.push(sup);
+        }
+        self.previous = previous;
+        Ok(())
+    }
+
+    /// The LP in direction `nrm`: `Some` vertex and support, `None` when infeasible.
+    fn support(&mut self, nrm: [f64; 2], out: &mut Projection) -> Result<Option<Dir>, ToppError> {
+        let n = self.program.n;
+        let mut c = vec![0.0; n];
+        c[0] = nrm[0];
+        c[1] = nrm[1];
+        let before = self.simplex.pivots;
+        let status = self.simplex.solve(&self.program, &c);
+        out.lps += 1;
+        out.pivots += self.simplex.pivots - before;
+        match status {
+            LpStatus::Optimal => {
+                let v = [self.simplex.v[0], self.simplex.v[1]];
+                Ok(Some(Dir {
+                    n: nrm,
+                    angle: nrm[1].atan2(nrm[0]),
+                    v,
+                    h: nrm[0] * v[0] + nrm[1] * v[1],
+                    active: self.simplex.active.clone(),
+                    lambda: self.simplex.lambda.clone(),
+                    edge_done: false,
+                }))
+            }
+            LpStatus::Infeasible => Ok(None),
+            LpStatus::Failed => {
+                // one retry from the box's corner before giving up
+                self.simplex.active.clear();
+                match self.simplex.solve(&self.program, &c) {
+                    LpStatus::Optimal => {
+                        let v = [self.simplex.v[0], self.simplex.v[1]];
+                        Ok(Some(Dir {
+                            n: nrm,
+                            angle: nrm[1].atan2(nrm[0]),
+                            v,
+                            h: nrm[0] * v[0] + nrm[1] * v[1],
+                            active: self.simplex.active.clone(),
+                            lambda: self.simplex.lambda.clone(),
+                            edge_done: false,
+                        }))
+                    }
+                    LpStatus::Infeasible => Ok(None),
+                    LpStatus::Failed => Err(ToppError::InvalidValue {
+                        what: "lifted rows",
+                        detail: "the LP of the projection onto (u, x) failed (singular or \
+                                 cycling); report this input"
+                            .into(),
+                    }),
+                }
+            }
+        }
+    }
+
+    /// Inserts a direction in angular order and returns its position; `None` when one with
+    /// (nearly) the same angle is there already. The edge that ended at its predecessor's
+    /// next vertex is open again.
+    fn insert(&mut self, d: Dir) -> Option<usize> {
+        let pos = self.dirs.partition_point(|x| x.angle < d.angle);
+        let near = |x: &Dir| (x.angle - d.angle).abs() < 1e-12;
+        if self.dirs.get(pos).is_some_and(near)
+            || pos > 0 && self.dirs.get(pos - 1).is_some_and(near)
+        {
+            return None;
+        }
+        self.dirs.insert(pos, d);
+        let before = (pos + self.dirs.len() - 1) % self.dirs.len();
+        self.dirs[before].edge_done = false;
+        Some(pos)
+    }
+}
