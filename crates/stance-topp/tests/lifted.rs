@@ -229,3 +229,56 @@ fn warm_start_changes_no_answer() {
         }
     }
 }
+
+/// The membership test agrees with the projection on random states (those within 1e-6 of the
+/// polygon's boundary skipped), and a positive answer's witness satisfies every row.
+#[test]
+fn membership_agrees_with_the_projection() {
+    use stance_topp::lifted::Membership;
+    let mut rng = Rng(7);
+    let bbox = Box2 {
+        u_lo: -40.0,
+        u_hi: 40.0,
+        x_lo: 0.0,
+        x_hi: 30.0,
+    };
+    let mut member = Membership::new();
+    let (mut inside, mut outside) = (0, 0);
+    for case in 0..60 {
+        let k = [0, 1, 6, 12][case % 4];
+        let rows = random_rows(&mut rng, k, 10 + case % 30, false);
+        let mut out = Projection::default();
+        Projector::new()
+            .project(&rows, bbox, 1e-10, &mut out)
+            .unwrap();
+        let mut witness = vec![0.0; k];
+        for _ in 0..200 {
+            let (u, x) = (rng.next() * 6.0, 2.5 + rng.next() * 2.0);
+            let worst = out
+                .rows
+                .iter()
+                .map(|r| (r.a * u + r.b * x + r.c) / r.a.hypot(r.b).max(1e-300))
+                .fold(f64::NEG_INFINITY, f64::max);
+            if worst.abs() < 1e-6 {
+                continue;
+            }
+            let got = member.contains(&rows, u, x, &mut witness).unwrap();
+            assert_eq!(
+                got,
+                worst < 0.0,
+                "case {case}: ({u}, {x}) at distance {worst}"
+            );
+            if got {
+                assert!(Membership::holds_at(&rows, u, x, &witness));
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{inside} inside, {outside} outside; {} programs, {} answered by the witness",
+        member.lps, member.witnessed
+    );
+    assert!(inside > 100 && outside > 100);
+}

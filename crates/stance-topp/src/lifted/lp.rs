@@ -1,8 +1,8 @@
 //! A small dense linear program in inequality form, solved by the simplex method on its
-//! vertices (active sets), for the support functions of [`super::project`].
+//! vertices (active sets), for the support functions and membership tests of [`super`].
 //!
 //! ```text
-//!     maximize  c . v   subject to   G v <= h   (m rows),   lo <= v <= hi   (2 n bound rows)
+//!     maximize  c . v   subject to   G v <= h   (m unit rows),   lo <= v <= hi   (2 n bound rows)
 //! ```
 //!
 //! A vertex is `n` active rows `A` with `G_A` invertible and `v = G_A^-1 h_A`; its multipliers
@@ -20,18 +20,20 @@
 //!   is a vertex with `lambda = |c| >= 0`: the dual simplex always has a start.
 //!
 //! After a run of degenerate steps (no progress), both switch to Bland's rule (smallest
-//! index), which cannot cycle; an iteration cap guards the rest. `G_A^-1` is recomputed from
-//! the active rows at every step (Gauss-Jordan with partial pivoting; `n <= 2 + 6 (K - 1)` is
-//! small), so rounding does not accumulate along a warm-started sequence.
+//! index), which cannot cycle; an iteration cap guards the rest. `G_A^-1` is updated by the
+//! rank-one formula at each swap (`B' = B + e_r (g - g_r)^T`, so `B'^-1 = B^-1 - b_r (g^T B^-1
+//! - e_r^T) / (g^T b_r)` with `b_r` column `r` of `B^-1`) and recomputed from the active rows
+//! (Gauss-Jordan with partial pivoting) every [`REFACTOR_EVERY`] swaps and at every new start,
+//! so rounding does not accumulate along a warm-started sequence.
 //!
-//! Nothing here is trusted by the caller beyond what it re-checks: the projection's rows are
-//! verified against the vertices it found (see [`super::project`]).
+//! Nothing here is trusted by the caller beyond what it re-checks: a membership is certified by
+//! the witness it returns, a projection's rows by the vertices they pass through.
 
 // Index loops over the small dense matrices read like the linear algebra.
 #![allow(clippy::needless_range_loop)]
 
 /// Largest number of variables.
-pub const MAX_VARS: usize = 2 + 6 * 3;
+pub const MAX_VARS: usize = 2 + 6 * 3 + 1;
 
 /// How a solve ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,12 +47,12 @@ pub enum LpStatus {
     Failed,
 }
 
-/// The rows (`G`, `h`, row-major `m x n`) and the box of a program.
+/// The rows (`G`, `h`, row-major `m x n`, unit rows) and the box of a program.
 #[derive(Debug, Clone, Default)]
 pub struct Program {
     /// Number of variables.
     pub n: usize,
-    /// `G`, row-major (`m * n`).
+    /// `G`, row-major (`m * n`), every row of unit norm.
     pub g: Vec<f64>,
     /// `h`.
     pub h: Vec<f64>,
@@ -62,6 +64,7 @@ pub struct Program {
 
 impl Program {
     /// Number of rows (without the bounds).
+    #[inline]
     pub fn m(&self) -> usize {
         self.h.len()
     }
@@ -107,7 +110,11 @@ impl Program {
         let m = self.m();
         if j < m {
             let r = &self.g[j * self.n..(j + 1) * self.n];
-            r.iter().zip(v).map(|(a, b)| a * b).sum()
+            let mut s = 0.0;
+            for k in 0..self.n {
+                s += r[k] * v[k];
+            }
+            s
         } else {
             let b = j - m;
             if b.is_multiple_of(2) {
@@ -115,21 +122,6 @@ impl Program {
             } else {
                 -v[b / 2]
             }
-        }
-    }
-
-    /// `|g_j|` (1 for bound rows).
-    #[inline]
-    fn norm(&self, j: usize) -> f64 {
-        let m = self.m();
-        if j < m {
-            self.g[j * self.n..(j + 1) * self.n]
-                .iter()
-                .map(|a| a * a)
-                .sum::<f64>()
-                .sqrt()
-        } else {
-            1.0
         }
     }
 }
@@ -147,28 +139,37 @@ pub struct Simplex {
     pub lambda: Vec<f64>,
     /// Scratch.
     tmp: Vec<f64>,
+    gj: Vec<f64>,
+    w: Vec<f64>,
+    d: Vec<f64>,
+    row: Vec<f64>,
     mark: Vec<bool>,
+    /// Swaps since the last refactorization.
+    updates: usize,
     /// Pivots since creation.
     pub pivots: usize,
 }
 
-/// Relative feasibility tolerance: a row is violated when `g . v - h > FEAS |g| max(1, |v|)`.
+/// Relative feasibility tolerance: a row is violated when `g . v - h > FEAS max(1, |v|)`.
 const FEAS: f64 = 1e-9;
 /// Optimality tolerance on the multipliers, relative to `|c|`.
 const OPT: f64 = 1e-11;
-/// Smallest pivot element (relative to the row's norm).
+/// Smallest pivot element.
 const PIVOT: f64 = 1e-9;
 /// Degenerate steps before Bland's rule.
 const DEGENERATE_RUN: usize = 8;
 /// Iteration cap per solve, per variable and row.
 const MAX_ITER_FACTOR: usize = 8;
+/// Rank-one updates between two recomputations of `G_A^-1` from the active rows.
+pub const REFACTOR_EVERY: usize = 16;
 
 impl Simplex {
     /// Recomputes `G_A^-1`, the vertex and (for `c`) the multipliers. `false` when `G_A` is
     /// singular.
     fn refactor(&mut self, p: &Program, c: &[f64]) -> bool {
         let n = p.n;
-        // [G_A | I] -> [I | G_A^-1] by Gauss-Jordan with partial pivoting
+        // [G_A | I] -> [I | G_A^-1] by Gauss-Jordan with partial pivoting (row operations: the
+        // right half ends as G_A^-1 whatever the row swaps)
         let w = 2 * n;
         self.tmp.clear();
         self.tmp.resize(n * w, 0.0);
@@ -195,48 +196,103 @@ impl Simplex {
                     self.tmp.swap(col * w + k, piv * w + k);
                 }
             }
-            let d = self.tmp[col * w + col];
-            for k in 0..w {
-                self.tmp[col * w + k] /= d;
+            let d = 1.0 / self.tmp[col * w + col];
+            for k in col..w {
+                self.tmp[col * w + k] *= d;
             }
             for r in 0..n {
                 if r != col {
                     let f = self.tmp[r * w + col];
                     if f != 0.0 {
-                        for k in 0..w {
+                        for k in col..w {
                             self.tmp[r * w + k] -= f * self.tmp[col * w + k];
                         }
                     }
                 }
             }
         }
-        // The rows were permuted with their identity columns, so the right half is G_A^-1
-        // with its columns in the order of `active`.
         self.binv.clear();
         self.binv.resize(n * n, 0.0);
         for r in 0..n {
-            for k in 0..n {
-                self.binv[r * n + k] = self.tmp[r * w + n + k];
-            }
+            self.binv[r * n..(r + 1) * n].copy_from_slice(&self.tmp[r * w + n..r * w + 2 * n]);
         }
+        self.updates = 0;
+        self.vertex(p);
+        self.multipliers(n, c);
+        true
+    }
+
+    /// `v = G_A^-1 h_A`.
+    fn vertex(&mut self, p: &Program) {
+        let n = p.n;
+        self.row.clear();
+        self.row.extend(self.active.iter().map(|&j| p.rhs(j)));
         self.v.clear();
         self.v.resize(n, 0.0);
         for r in 0..n {
-            self.v[r] = (0..n)
-                .map(|k| self.binv[r * n + k] * p.rhs(self.active[k]))
-                .sum();
+            let b = &self.binv[r * n..(r + 1) * n];
+            let mut s = 0.0;
+            for k in 0..n {
+                s += b[k] * self.row[k];
+            }
+            self.v[r] = s;
         }
-        self.multipliers(n, c);
-        true
     }
 
     /// `lambda = G_A^-T c`.
     fn multipliers(&mut self, n: usize, c: &[f64]) {
         self.lambda.clear();
         self.lambda.resize(n, 0.0);
-        for i in 0..n {
-            self.lambda[i] = (0..n).map(|k| self.binv[k * n + i] * c[k]).sum();
+        for k in 0..n {
+            if c[k] != 0.0 {
+                let b = &self.binv[k * n..(k + 1) * n];
+                for i in 0..n {
+                    self.lambda[i] += b[i] * c[k];
+                }
+            }
         }
+    }
+
+    /// Puts row `j` in place of active row `r` (rank-one update of `G_A^-1`, or a
+    /// recomputation every [`REFACTOR_EVERY`] swaps); `false` when the new `G_A` is singular.
+    fn swap(&mut self, p: &Program, c: &[f64], r: usize, j: usize) -> bool {
+        let n = p.n;
+        self.active[r] = j;
+        self.pivots += 1;
+        if self.updates + 1 >= REFACTOR_EVERY {
+            return self.refactor(p, c);
+        }
+        // row = g^T B^-1, den = g^T b_r
+        self.gj.clear();
+        self.gj.extend((0..n).map(|k| p.coef(j, k)));
+        self.row.clear();
+        self.row.resize(n, 0.0);
+        for k in 0..n {
+            let g = self.gj[k];
+            if g != 0.0 {
+                let b = &self.binv[k * n..(k + 1) * n];
+                for i in 0..n {
+                    self.row[i] += g * b[i];
+                }
+            }
+        }
+        let den = self.row[r];
+        if den.abs() <= 1e-12 {
+            return self.refactor(p, c);
+        }
+        self.row[r] -= 1.0;
+        for k in 0..n {
+            let f = self.binv[k * n + r] / den;
+            if f != 0.0 {
+                for i in 0..n {
+                    self.binv[k * n + i] -= f * self.row[i];
+                }
+            }
+        }
+        self.updates += 1;
+        self.vertex(p);
+        self.multipliers(n, c);
+        true
     }
 
     /// The box corner maximizing `c` as the active set.
@@ -252,14 +308,14 @@ impl Simplex {
         }));
     }
 
-    /// The most violated row (relative), or with `bland` the violated row of smallest index.
+    /// The most violated row, or with `bland` the violated row of smallest index.
     fn most_violated(&self, p: &Program, bland: bool) -> Option<usize> {
         let scale = self.v.iter().fold(1.0f64, |a, x| a.max(x.abs()));
-        let mut best = (0.0, None);
+        let lim = FEAS * scale;
+        let mut best = (lim, None);
         for j in 0..p.m() + 2 * p.n {
-            let nj = p.norm(j);
-            let viol = (p.dot(j, &self.v) - p.rhs(j)) / nj.max(f64::MIN_POSITIVE);
-            if viol > FEAS * scale && viol > best.0 {
+            let viol = p.dot(j, &self.v) - p.rhs(j);
+            if viol > best.0 {
                 if bland {
                     return Some(j);
                 }
@@ -285,10 +341,10 @@ impl Simplex {
             .sum::<f64>()
             .sqrt()
             .max(f64::MIN_POSITIVE);
-        let max_iter = MAX_ITER_FACTOR * (p.m() + 2 * n + n);
-        // a warm start that is neither primal nor dual feasible restarts from the box
+        let max_iter = MAX_ITER_FACTOR * (p.m() + 3 * n);
         let dual_ok = |s: &Simplex| s.lambda.iter().all(|&l| l >= -OPT * cnorm);
-        if self.most_violated(p, false).is_some() && !dual_ok(self) {
+        // a warm start that is neither primal nor dual feasible restarts from the box
+        if !dual_ok(self) && self.most_violated(p, false).is_some() {
             self.box_corner(p, c);
             if !self.refactor(p, c) {
                 return LpStatus::Failed;
@@ -303,24 +359,33 @@ impl Simplex {
                 return LpStatus::Failed;
             }
             // w = G_A^-T g_j
-            let gj: Vec<f64> = (0..n).map(|k| p.coef(j, k)).collect();
-            let w: Vec<f64> = (0..n)
-                .map(|i| (0..n).map(|k| self.binv[k * n + i] * gj[k]).sum())
-                .collect();
-            let gn = p.norm(j);
+            self.gj.clear();
+            self.gj.extend((0..n).map(|k| p.coef(j, k)));
+            self.w.clear();
+            self.w.resize(n, 0.0);
+            for k in 0..n {
+                let g = self.gj[k];
+                if g != 0.0 {
+                    let b = &self.binv[k * n..(k + 1) * n];
+                    for i in 0..n {
+                        self.w[i] += g * b[i];
+                    }
+                }
+            }
             let mut leave = None;
             let mut best = f64::INFINITY;
             for i in 0..n {
-                if w[i] > PIVOT * gn {
-                    let ratio = self.lambda[i].max(0.0) / w[i];
-                    let better = if degenerate >= DEGENERATE_RUN {
-                        ratio < best - 1e-15
-                            || (ratio <= best + 1e-15
-                                && leave.is_some_and(|l: usize| self.active[i] < self.active[l]))
-                    } else {
-                        ratio < best
+                if self.w[i] > PIVOT {
+                    let ratio = self.lambda[i].max(0.0) / self.w[i];
+                    let better = match leave {
+                        None => true,
+                        Some(l) if degenerate >= DEGENERATE_RUN => {
+                            ratio < best - 1e-15
+                                || (ratio <= best + 1e-15 && self.active[i] < self.active[l])
+                        }
+                        Some(_) => ratio < best,
                     };
-                    if leave.is_none() || better {
+                    if better {
                         best = ratio;
                         leave = Some(i);
                     }
@@ -330,9 +395,7 @@ impl Simplex {
                 return LpStatus::Infeasible;
             };
             degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
-            self.active[r] = j;
-            self.pivots += 1;
-            if !self.refactor(p, c) {
+            if !self.swap(p, c, r, j) {
                 return LpStatus::Failed;
             }
         }
@@ -343,7 +406,7 @@ impl Simplex {
             if iter > max_iter {
                 return LpStatus::Failed;
             }
-            // entering direction: the most negative multiplier (Bland: the smallest row index)
+            // leaving row: the most negative multiplier (Bland: the smallest row index)
             let mut r = None;
             for i in 0..n {
                 if self.lambda[i] < -OPT * cnorm {
@@ -361,7 +424,8 @@ impl Simplex {
                 return LpStatus::Optimal;
             };
             // d = -G_A^-1 e_r
-            let d: Vec<f64> = (0..n).map(|k| -self.binv[k * n + r]).collect();
+            self.d.clear();
+            self.d.extend((0..n).map(|k| -self.binv[k * n + r]));
             self.mark.clear();
             self.mark.resize(p.m() + 2 * n, false);
             for &a in &self.active {
@@ -373,17 +437,18 @@ impl Simplex {
                 if self.mark[j] {
                     continue;
                 }
-                let gd = p.dot(j, &d);
-                let nj = p.norm(j);
-                if gd > PIVOT * nj {
+                let gd = p.dot(j, &self.d);
+                if gd > PIVOT {
                     let slack = (p.rhs(j) - p.dot(j, &self.v)).max(0.0);
                     let t = slack / gd;
-                    let better = if degenerate >= DEGENERATE_RUN {
-                        t < best - 1e-15 || (t <= best + 1e-15 && enter.is_some_and(|e| j < e))
-                    } else {
-                        t < best
+                    let better = match enter {
+                        None => true,
+                        Some(e) if degenerate >= DEGENERATE_RUN => {
+                            t < best - 1e-15 || (t <= best + 1e-15 && j < e)
+                        }
+                        Some(_) => t < best,
                     };
-                    if enter.is_none() || better {
+                    if better {
                         best = t;
                         enter = Some(j);
                     }
@@ -394,9 +459,7 @@ impl Simplex {
                 return LpStatus::Failed;
             };
             degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
-            self.active[r] = j;
-            self.pivots += 1;
-            if !self.refactor(p, c) {
+            if !self.swap(p, c, r, j) {
                 return LpStatus::Failed;
             }
         }
@@ -407,7 +470,8 @@ impl Simplex {
 mod tests {
     use super::*;
 
-    /// Random programs against brute-force vertex enumeration in 2 and 3 variables.
+    /// Random programs against brute-force vertex enumeration in 2 and 3 variables, solved
+    /// in sequence (warm starts across different programs and objectives).
     #[test]
     fn matches_vertex_enumeration() {
         let mut seed = 12345u64;
@@ -417,26 +481,34 @@ mod tests {
             seed ^= seed << 17;
             (seed % 1_000_000) as f64 / 500_000.0 - 1.0
         };
-        for case in 0..300 {
+        let mut s = Simplex::default();
+        for case in 0..400 {
             let n = 2 + case % 2;
             let m = 3 + case % 7;
             let mut p = Program {
                 n,
-                g: (0..m * n).map(|_| rnd()).collect(),
+                g: Vec::new(),
                 h: (0..m).map(|_| rnd() + 0.3).collect(),
                 lo: vec![-2.0; n],
                 hi: vec![2.0; n],
             };
+            for _ in 0..m {
+                let r: Vec<f64> = (0..n).map(|_| rnd()).collect();
+                let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+                p.g.extend(r.iter().map(|x| x / norm));
+            }
             if case % 5 == 0 {
                 p.h[0] = -5.0; // often infeasible
             }
             let c: Vec<f64> = (0..n).map(|_| rnd()).collect();
-            let mut s = Simplex::default();
+            if case % 3 == 0 {
+                s = Simplex::default();
+            }
             let status = s.solve(&p, &c);
             // brute force: every n-subset of rows and bounds
             let rows = m + 2 * n;
             let mut best: Option<f64> = None;
-            let mut idx = vec![0usize; n];
+            let mut idx: Vec<usize> = (0..n).collect();
             fn next(idx: &mut [usize], rows: usize) -> bool {
                 let n = idx.len();
                 for i in (0..n).rev() {
@@ -449,9 +521,6 @@ mod tests {
                     }
                 }
                 false
-            }
-            for (i, x) in idx.iter_mut().enumerate() {
-                *x = i;
             }
             loop {
                 let mut t = Simplex {

@@ -183,7 +183,7 @@ impl Projector {
         out.pivots = 0;
         let k = rows.extra();
         let n = 2 + k;
-        if n > MAX_VARS {
+        if n + 1 > MAX_VARS {
             return Err(ToppError::InvalidValue {
                 what: "lifted rows",
                 detail: format!(
