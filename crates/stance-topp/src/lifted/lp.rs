@@ -21,10 +21,10 @@
 //!
 //! After a run of degenerate steps (no progress), both switch to Bland's rule (smallest
 //! index), which cannot cycle; an iteration cap guards the rest. `G_A^-1` is updated by the
-//! rank-one formula at each swap (`B' = B + e_r (g - g_r)^T`, so `B'^-1 = B^-1 - b_r (g^T B^-1
-//! - e_r^T) / (g^T b_r)` with `b_r` column `r` of `B^-1`) and recomputed from the active rows
-//! (Gauss-Jordan with partial pivoting) every [`REFACTOR_EVERY`] swaps and at every new start,
-//! so rounding does not accumulate along a warm-started sequence.
+//! rank-one formula at each swap: with `B' = B + e_r (g - g_r)^T` and `b_r` column `r` of
+//! `B^-1`, `B'^-1 = B^-1 - b_r (g^T B^-1 - e_r^T) / (g^T b_r)`. It is recomputed from the
+//! active rows (Gauss-Jordan with partial pivoting) every [`REFACTOR_EVERY`] swaps and at every
+//! new start, so rounding does not accumulate along a warm-started sequence.
 //!
 //! Nothing here is trusted by the caller beyond what it re-checks: a membership is certified by
 //! the witness it returns, a projection's rows by the vertices they pass through.
