@@ -30,6 +30,8 @@ pub struct Data {
     pub tau: Vec<f64>,
     /// The coefficients of [`crate::torque_path_terms`].
     pub torque_path: crate::dynamics::TorquePathTerms,
+    /// The second `tau_b` of [`crate::torque_path_terms_two`].
+    pub tau_b_other: Vec<f64>,
     /// Each joint's body inertia in the world (about the origin).
     pub(crate) body_world: Vec<WorldInertia>,
     /// Composite (subtree) inertias in the world (about the origin).
@@ -103,6 +105,7 @@ impl Data {
             acceleration: vec![zero; n],
             force: vec![zero; n],
             tau: vec![0.0; model.nv],
+            tau_b_other: vec![0.0; model.nv],
             torque_path: crate::dynamics::TorquePathTerms {
                 tau_a: vec![0.0; model.nv],
                 tau_b: vec![0.0; model.nv],

@@ -256,7 +256,7 @@ pub fn rnea(
 /// torque_path_terms(&m, &mut d, &q, &q_s, &q_ss, g).unwrap();
 /// let terms = d.torque_path.clone();
 /// // at u = 0.7, x = 2: v = q_s sqrt(x), a = q_s u + q_ss x
-/// let (u, x) = (0.7, 2.0);
+/// let (u, x): (f64, f64) = (0.7, 2.0);
 /// let v: Vec<f64> = q_s.iter().map(|y| y * x.sqrt()).collect();
 /// let a: Vec<f64> = q_s.iter().zip(&q_ss).map(|(y, z)| y * u + z * x).collect();
 /// rnea(&m, &mut d, &q, &v, &a, g).unwrap();
@@ -293,6 +293,76 @@ pub fn torque_path_terms(
         &mut t.tau_b,
     );
     data.torque_path = t;
+    if restore {
+        forward_kinematics(model, data, q)?;
+    }
+    Ok(())
+}
+
+/// [`torque_path_terms`] for two path accelerations at once, `q_ss` and `q_ss_other` (the two
+/// sides of a sample of a joint path whose `q_ss` is constant per step): one forward
+/// kinematics, `tau_a` and `tau_c` shared, `tau_b` of `q_ss` in `data.torque_path` and that of
+/// `q_ss_other` in `data.tau_b_other`.
+///
+/// # Errors
+///
+/// As [`rnea`].
+///
+/// ```
+/// use stance_robot::{torque_path_terms, torque_path_terms_two, Data, Model};
+/// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
+/// let mut d = Data::new(&m);
+/// let q = m.neutral();
+/// let q_s: Vec<f64> = (0..m.nv).map(|k| 0.1 * k as f64).collect();
+/// let (a, b): (Vec<f64>, Vec<f64>) = (0..m.nv).map(|k| (0.3 - 0.01 * k as f64, 0.02 * k as f64)).unzip();
+/// let g = [0.0, 0.0, -9.81];
+/// torque_path_terms_two(&m, &mut d, &q, &q_s, &a, &b, g).unwrap();
+/// let (first, other) = (d.torque_path.clone(), d.tau_b_other.clone());
+/// torque_path_terms(&m, &mut d, &q, &q_s, &b, g).unwrap();
+/// assert_eq!(other, d.torque_path.tau_b);
+/// assert_eq!(first.tau_c, d.torque_path.tau_c);
+/// ```
+pub fn torque_path_terms_two(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    q_s: &[f64],
+    q_ss: &[f64],
+    q_ss_other: &[f64],
+    gravity: [f64; 3],
+) -> Result<(), RobotError> {
+    check_len(model, "path velocity q_s", q_s)?;
+    check_len(model, "path acceleration q_ss", q_ss)?;
+    check_len(model, "path acceleration q_ss", q_ss_other)?;
+    check_gravity(&gravity)?;
+    let restore = kinematics(model, data, q)?;
+    fill_inertias(model, data);
+    let mut t = std::mem::take(&mut data.torque_path);
+    let mut b = std::mem::take(&mut data.tau_b_other);
+    for x in [&mut t.tau_a, &mut t.tau_b, &mut t.tau_c, &mut b] {
+        x.resize(model.nv, 0.0);
+    }
+    let g = Vector3::from(gravity);
+    pass(model, data, None, None, g, &mut t.tau_c);
+    pass(model, data, None, Some(q_s), Vector3::zeros(), &mut t.tau_a);
+    pass(
+        model,
+        data,
+        Some(q_s),
+        Some(q_ss),
+        Vector3::zeros(),
+        &mut t.tau_b,
+    );
+    pass(
+        model,
+        data,
+        Some(q_s),
+        Some(q_ss_other),
+        Vector3::zeros(),
+        &mut b,
+    );
+    data.torque_path = t;
+    data.tau_b_other = b;
     if restore {
         forward_kinematics(model, data, q)?;
     }

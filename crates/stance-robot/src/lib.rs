@@ -100,7 +100,7 @@ pub mod tol;
 
 pub use centroidal::{center_of_mass, centroidal_map, centroidal_map_dot_v, com_jacobian};
 pub use data::Data;
-pub use dynamics::{rnea, torque_path_terms, TorquePathTerms};
+pub use dynamics::{rnea, torque_path_terms, torque_path_terms_two, TorquePathTerms};
 pub use error::RobotError;
 pub use ik::{
     ik_qp, ik_step, solve_ik_qp, track_path, ContactHold, IkAnswerFrom, IkOptions, IkPath, IkQp,

@@ -282,3 +282,53 @@ fn membership_agrees_with_the_projection() {
     );
     assert!(inside > 100 && outside > 100);
 }
+
+/// A lifted set of the box climbing (right foot and hand, torque limits) on which the
+/// projection's program once failed (cycling): projected, and checked against clarabel.
+#[test]
+fn box_climbing_regression() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/lifted_box_climbing.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let k = v["k"].as_u64().unwrap() as usize;
+    let mut rows = LiftedRows::new(k, v["y_bound"].as_f64().unwrap());
+    for r in v["rows"].as_array().unwrap() {
+        let r: Vec<f64> = r
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        rows.push(r[0], r[1], r[2], &r[3..]);
+    }
+    let b: Vec<f64> = v["bbox"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let bbox = Box2 {
+        u_lo: b[0],
+        u_hi: b[1],
+        x_lo: b[2],
+        x_hi: b[3],
+    };
+    let mut out = Projection::default();
+    Projector::new()
+        .project(&rows, bbox, 1e-9, &mut out)
+        .unwrap();
+    for q in 0..24 {
+        let th = q as f64 * std::f64::consts::TAU / 24.0 + 0.01;
+        let c = [th.cos(), th.sin()];
+        let ours = support_rows(&out, bbox, c);
+        let theirs = support_clarabel(&rows, bbox, c);
+        match (ours, theirs) {
+            (Some(a), Some(b)) => {
+                assert!((a - b).abs() < 1e-6 * (1.0 + b.abs()), "{c:?}: {a} vs {b}")
+            }
+            (None, None) => {}
+            other => panic!("{c:?}: {other:?}"),
+        }
+    }
+}

@@ -104,7 +104,7 @@ pub fn binds(r: &Row, u: f64, x: f64) -> bool {
 
 /// Grid points bound by each kind of constraint (a point may count under several kinds), and
 /// per joint and kind.
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, serde::Deserialize)]
 pub struct Binding {
     /// Grid points where a contact-stability row binds.
     pub contact: usize,
@@ -241,4 +241,110 @@ pub fn culprits(rows: &[Row], tol: &Tolerances) -> Vec<usize> {
         .filter(|(_, r)| r.value(u, x) / size(r) >= w - 1e-3 * w.abs().max(1e-12))
         .map(|(k, _)| k)
         .collect()
+}
+
+/// The grid point and the constraints of a failed retiming (module doc): `origins` follow the
+/// rows of `k` (one per row, in order), `controllable` are the solver's controllable sets,
+/// `sd_end` the end speeds asked.
+///
+/// - `feasible_set_empty` at `i`: the rows of `i` whose removal alone makes it feasible;
+/// - `controllable_set_empty`: the last grid point whose controllable set is empty, with its
+///   rows and the speed the next point needs (or the end speed) as two more rows;
+/// - otherwise (the start speed, a stall) no constraint is named.
+///
+/// Returns the point and the names, the speed requirement named `"the speed that grid point
+/// N needs"` or `"the end speed"`.
+pub fn explain(
+    k: &stance_topp::CanonicalConstraints,
+    origins: &[RowOrigin],
+    joints: &[String],
+    status: stance_topp::Status,
+    controllable: &[Option<[f64; 2]>],
+    sd_end: [f64; 2],
+    tol: &Tolerances,
+) -> (usize, Vec<String>) {
+    use stance_topp::Status;
+    let n = k.num_points();
+    let i = status.grid_index().unwrap_or(0).min(n - 1);
+    let at = |j: usize| {
+        let o = k.offsets();
+        (o[j], o[j + 1])
+    };
+    let describe = |j: usize, rows: &[usize]| -> Vec<String> {
+        let (a, _) = at(j);
+        let mut out: Vec<String> = Vec::new();
+        for &r in rows {
+            let d = origins
+                .get(a + r)
+                .map_or_else(|| "a row".to_string(), |o| o.describe(joints));
+            if !out.contains(&d) {
+                out.push(d);
+            }
+        }
+        out
+    };
+    match status {
+        Status::FeasibleSetEmpty { .. } => (i, describe(i, &culprits(k.rows_at(i), tol))),
+        Status::ControllableSetEmpty { .. } => {
+            // most often a later point cannot be held statically ((u, x) = (0, 0) violates a
+            // row: a posture beyond a limit): the motion can only pass it moving, which the
+            // end at rest (or a slow part before it) forbids
+            for j in i + 1..n {
+                let rows = k.rows_at(j);
+                let over: Vec<usize> = rows
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, r)| r.c > tol.state * r.a.abs().max(r.b.abs()).max(1.0))
+                    .map(|(q, _)| q)
+                    .collect();
+                if !over.is_empty() {
+                    let mut c = describe(j, &over);
+                    c.push(format!("holding grid point {j} at rest"));
+                    return (j, c);
+                }
+            }
+            let j = (i..n)
+                .rev()
+                .find(|&j| controllable.get(j).copied().flatten().is_none())
+                .unwrap_or(i);
+            let mut rows = k.rows_at(j).to_vec();
+            let m = rows.len();
+            let s = k.grid();
+            let next = if j + 1 < n {
+                controllable
+                    .get(j + 1)
+                    .copied()
+                    .flatten()
+                    .map(|set| (set, 2.0 * (s[j + 1] - s[j])))
+            } else {
+                Some(([sd_end[0] * sd_end[0], sd_end[1] * sd_end[1]], 0.0))
+            };
+            if let Some(([lo, hi], td)) = next {
+                rows.push(Row {
+                    a: td,
+                    b: 1.0,
+                    c: -hi,
+                });
+                rows.push(Row {
+                    a: -td,
+                    b: -1.0,
+                    c: lo,
+                });
+            }
+            let found = culprits(&rows, tol);
+            let mut c = describe(
+                j,
+                &found.iter().copied().filter(|&r| r < m).collect::<Vec<_>>(),
+            );
+            if found.iter().any(|&r| r >= m) {
+                c.push(if j + 1 == n {
+                    "the end speed".into()
+                } else {
+                    format!("the speed that grid point {} needs", j + 1)
+                });
+            }
+            (j, c)
+        }
+        _ => (i, Vec::new()),
+    }
 }

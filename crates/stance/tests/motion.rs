@@ -57,13 +57,21 @@ fn tail_lp(
                 rhs: f64,
                 cols: &mut Vec<Vec<(usize, f64)>>,
                 b: &mut Vec<f64>| {
+        // every row scaled to a largest coefficient of 1 (the same constraint): the actuator
+        // rows (ratios to limits) and the contact rows (newtons) differ by orders of magnitude,
+        // and unscaled, clarabel's controllable sets were off by 1.5e-6 (relative) with the
+        // torque limits of small-sway, 6e-15 scaled
         let r = b.len();
+        let sc = entries
+            .iter()
+            .fold(rhs.abs(), |m, e| m.max(e.1.abs()))
+            .max(f64::MIN_POSITIVE);
         for &(j, v) in entries {
             if v != 0.0 {
-                cols[j].push((r, v));
+                cols[j].push((r, v / sc));
             }
         }
-        b.push(rhs);
+        b.push(rhs / sc);
     };
     push(&[(n - 1, 1.0)], 0.0, &mut cols, &mut b);
     if from_rest {

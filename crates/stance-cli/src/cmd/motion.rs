@@ -43,6 +43,10 @@ pub struct MotionArgs {
     /// Skip the independent checks.
     #[arg(long)]
     pub no_checks: bool,
+    /// Retime under contact stability alone: no joint velocity, acceleration or torque limits
+    /// (the file's [limits] section and the URDF's limits are ignored).
+    #[arg(long)]
+    pub no_limits: bool,
     /// Check the trajectory played K times faster (K > 1: the force check must then fail
     /// somewhere if the retiming was tight).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
@@ -83,6 +87,7 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         skip_checks: args.no_checks,
         time_scale: args.time_scale,
         check_friction: args.check_friction,
+        no_limits: args.no_limits,
     };
     let out = args.common.repeated(|| run(spec.clone(), &options))?;
     if let Some(dir) = &args.plot {

@@ -25,6 +25,9 @@ pub struct SimulateArgs {
     /// Keep the MuJoCo model and the harness's input in this folder.
     #[arg(long, value_name = "DIR")]
     pub keep: Option<PathBuf>,
+    /// Retime under contact stability alone (no joint velocity, acceleration or torque limits).
+    #[arg(long)]
+    pub no_limits: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -46,6 +49,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         segments,
         base_dir,
         keep: args.keep.clone(),
+        no_limits: args.no_limits,
         ..Default::default()
     };
     let (_, report) = simulate(spec, &options)?;

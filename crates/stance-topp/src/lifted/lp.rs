@@ -146,6 +146,8 @@ pub struct Simplex {
     mark: Vec<bool>,
     /// Swaps since the last refactorization.
     updates: usize,
+    /// Bland's rule from the first step (a retry after a failure: it cannot cycle).
+    pub bland: bool,
     /// Pivots since creation.
     pub pivots: usize,
 }
@@ -341,7 +343,8 @@ impl Simplex {
             .sum::<f64>()
             .sqrt()
             .max(f64::MIN_POSITIVE);
-        let max_iter = MAX_ITER_FACTOR * (p.m() + 3 * n);
+        let max_iter = MAX_ITER_FACTOR * (p.m() + 3 * n) * if self.bland { 8 } else { 1 };
+        let run = if self.bland { DEGENERATE_RUN } else { 0 };
         let dual_ok = |s: &Simplex| s.lambda.iter().all(|&l| l >= -OPT * cnorm);
         // a warm start that is neither primal nor dual feasible restarts from the box
         if !dual_ok(self) && self.most_violated(p, false).is_some() {
@@ -351,7 +354,7 @@ impl Simplex {
             }
         }
         // dual phase
-        let mut degenerate = 0;
+        let mut degenerate = run;
         let mut iter = 0;
         while let Some(j) = self.most_violated(p, degenerate >= DEGENERATE_RUN) {
             iter += 1;
@@ -394,13 +397,13 @@ impl Simplex {
             let Some(r) = leave else {
                 return LpStatus::Infeasible;
             };
-            degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
+            degenerate = if best <= 1e-14 { degenerate + 1 } else { run };
             if !self.swap(p, c, r, j) {
                 return LpStatus::Failed;
             }
         }
         // primal phase
-        degenerate = 0;
+        degenerate = run;
         loop {
             iter += 1;
             if iter > max_iter {
@@ -458,10 +461,28 @@ impl Simplex {
                 // unbounded cannot happen inside the box: a guard
                 return LpStatus::Failed;
             };
-            degenerate = if best <= 1e-14 { degenerate + 1 } else { 0 };
+            degenerate = if best <= 1e-14 { degenerate + 1 } else { run };
             if !self.swap(p, c, r, j) {
                 return LpStatus::Failed;
             }
+        }
+    }
+
+    /// [`Simplex::solve`], and on a failure once more from scratch with Bland's rule from the
+    /// first step (the state is then fresh, warm starts lost).
+    pub fn solve_or_retry(&mut self, p: &Program, c: &[f64]) -> LpStatus {
+        match self.solve(p, c) {
+            LpStatus::Failed => {
+                *self = Simplex {
+                    bland: true,
+                    pivots: self.pivots,
+                    ..Default::default()
+                };
+                let status = self.solve(p, c);
+                self.bland = false;
+                status
+            }
+            status => status,
         }
     }
 }

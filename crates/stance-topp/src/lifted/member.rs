@@ -22,7 +22,10 @@ pub struct Membership {
     program: Program,
     simplex: Simplex,
     c: Vec<f64>,
-    /// Programs solved (the witness failed).
+    /// The last witness found (tried after the caller's: neighbouring states along a path
+    /// share their forces).
+    last: Vec<f64>,
+    /// Programs solved (the witnesses failed).
     pub lps: usize,
     /// Checks answered by the witness alone.
     pub witnessed: usize,
@@ -40,7 +43,7 @@ impl Membership {
         Self::default()
     }
 
-    /// Whether every row holds at `(u, x, y)` (within the tolerance).
+    /// Whether every row holds at `(u, x, y)` (within the tolerance; the rows are unit).
     pub fn holds_at(rows: &LiftedRows, u: f64, x: f64, y: &[f64]) -> bool {
         if y.len() != rows.extra() {
             return false;
@@ -48,20 +51,20 @@ impl Membership {
         let scale = y
             .iter()
             .fold(u.abs().max(x.abs()).max(1.0), |a, v| a.max(v.abs()));
+        let lim = EPS * scale;
         (0..rows.len()).all(|j| {
             let (a, b, c, d) = rows.row(j);
             let mut v = a * u + b * x + c;
-            let mut n2 = a * a + b * b;
             for (dk, yk) in d.iter().zip(y) {
                 v += dk * yk;
-                n2 += dk * dk;
             }
-            v <= EPS * n2.sqrt().max(f64::MIN_POSITIVE) * scale || (n2 == 0.0 && c <= 0.0)
+            v <= lim
         })
     }
 
     /// Whether `(u, x)` admits a `y` with `|y_i| <= rows.y_bound` (module doc); `witness` is
-    /// tried first and replaced by the program's `y` when it fails.
+    /// tried first, then the last witness this workspace found, and it is replaced by the
+    /// program's `y` when both fail.
     ///
     /// # Errors
     ///
@@ -89,6 +92,11 @@ impl Membership {
         let k = rows.extra();
         if Self::holds_at(rows, u, x, witness) {
             self.witnessed += 1;
+            return Ok(true);
+        }
+        if self.last.len() == k && Self::holds_at(rows, u, x, &self.last) {
+            self.witnessed += 1;
+            witness.clone_from(&self.last);
             return Ok(true);
         }
         if k == 0 {
@@ -132,16 +140,16 @@ impl Membership {
         self.c.resize(k + 1, 0.0);
         self.c[k] = 1.0;
         self.lps += 1;
-        let mut status = self.simplex.solve(&self.program, &self.c);
-        if status == LpStatus::Failed {
-            self.simplex.active.clear();
-            status = self.simplex.solve(&self.program, &self.c);
-        }
+        let status = self.simplex.solve_or_retry(&self.program, &self.c);
         match status {
             LpStatus::Optimal => {
                 witness.clear();
                 witness.extend_from_slice(&self.simplex.v[..k]);
-                Ok(Self::holds_at(rows, u, x, witness))
+                let ok = Self::holds_at(rows, u, x, witness);
+                if ok {
+                    self.last.clone_from(witness);
+                }
+                Ok(ok)
             }
             LpStatus::Infeasible => Ok(false),
             LpStatus::Failed => Err(ToppError::InvalidValue {

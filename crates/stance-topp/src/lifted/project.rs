@@ -28,7 +28,8 @@ use crate::error::ToppError;
 use crate::lp2::Box2;
 
 /// Rows `a u + b x + c + d . y <= 0` over `(u, x)` and `k` extra variables `y`, with
-/// `|y_i| <= y_bound`.
+/// `|y_i| <= y_bound`, stored with `|(a, b, d)| = 1` (a row and its positive multiple are the
+/// same constraint; a row with `a = b = d = 0` is the constant constraint `c <= 0`).
 #[derive(Debug, Clone, Default)]
 pub struct LiftedRows {
     k: usize,
@@ -53,6 +54,15 @@ impl LiftedRows {
         }
     }
 
+    /// No rows, room for `rows` of them.
+    pub fn with_capacity(k: usize, y_bound: f64, rows: usize) -> Self {
+        Self {
+            k,
+            data: Vec::with_capacity(rows * (3 + k)),
+            y_bound,
+        }
+    }
+
     /// Removes every row (keeps `k` and the bound).
     pub fn clear(&mut self) {
         self.data.clear();
@@ -73,11 +83,17 @@ impl LiftedRows {
         self.data.is_empty()
     }
 
-    /// Appends `a u + b x + c + d . y <= 0` (`d` of length `k`).
+    /// Appends `a u + b x + c + d . y <= 0` (`d` of length `k`), normalized.
     pub fn push(&mut self, a: f64, b: f64, c: f64, d: &[f64]) {
         debug_assert_eq!(d.len(), self.k);
-        self.data.extend_from_slice(&[a, b, c]);
-        self.data.extend_from_slice(d);
+        let norm = (a * a + b * b + d.iter().map(|x| x * x).sum::<f64>()).sqrt();
+        let s = if norm > 0.0 && norm.is_finite() {
+            1.0 / norm
+        } else {
+            1.0
+        };
+        self.data.extend_from_slice(&[a * s, b * s, c * s]);
+        self.data.extend(d.iter().map(|x| x * s));
     }
 
     /// Row `j` as `(a, b, c, d)`.
@@ -350,7 +366,7 @@ impl Projector {
         c[0] = nrm[0];
         c[1] = nrm[1];
         let before = self.simplex.pivots;
-        let status = self.simplex.solve(&self.program, &c);
+        let status = self.simplex.solve_or_retry(&self.program, &c);
         out.lps += 1;
         out.pivots += self.simplex.pivots - before;
         match status {
@@ -367,31 +383,12 @@ impl Projector {
                 }))
             }
             LpStatus::Infeasible => Ok(None),
-            LpStatus::Failed => {
-                // one retry from the box's corner before giving up
-                self.simplex.active.clear();
-                match self.simplex.solve(&self.program, &c) {
-                    LpStatus::Optimal => {
-                        let v = [self.simplex.v[0], self.simplex.v[1]];
-                        Ok(Some(Dir {
-                            n: nrm,
-                            angle: nrm[1].atan2(nrm[0]),
-                            v,
-                            h: nrm[0] * v[0] + nrm[1] * v[1],
-                            active: self.simplex.active.clone(),
-                            lambda: self.simplex.lambda.clone(),
-                            edge_done: false,
-                        }))
-                    }
-                    LpStatus::Infeasible => Ok(None),
-                    LpStatus::Failed => Err(ToppError::InvalidValue {
-                        what: "lifted rows",
-                        detail: "the LP of the projection onto (u, x) failed (singular or \
-                                 cycling); report this input"
-                            .into(),
-                    }),
-                }
-            }
+            LpStatus::Failed => Err(ToppError::InvalidValue {
+                what: "lifted rows",
+                detail: "the LP of the projection onto (u, x) failed (singular or cycling); \
+                         report this input"
+                    .into(),
+            }),
         }
     }
 

@@ -45,7 +45,7 @@ use stance_topp::limits::{JointLimits, LimitKind, LimitTag};
 use stance_topp::path::{Interpolation, WaypointPath};
 use stance_topp::{CanonicalConstraints, Profile, Row, SolveOptions, Status, Workspace};
 
-use crate::binding::{binds, culprits, Binding, RowOrigin};
+use crate::binding::{binds, Binding, RowOrigin};
 use crate::limits::JointLimitInfo;
 use crate::StanceError;
 pub use spec::JointPathSpec;
@@ -781,7 +781,7 @@ fn trajectory_and_checks(
     Ok((tr, checks))
 }
 
-/// Names the constraints of a failure (module [`crate::binding`]).
+/// Names the constraints of a failure ([`crate::binding::explain`]).
 fn explain(
     problem: &JointProblem,
     k: &CanonicalConstraints,
@@ -791,94 +791,39 @@ fn explain(
     opts: &SolveOptions,
 ) -> JointFailure {
     let names = problem.joint_names();
-    let i = status.grid_index().unwrap_or(0).min(k.num_points() - 1);
-    let describe = |rows: &[usize]| -> Vec<String> {
-        let mut out: Vec<String> = Vec::new();
-        for &r in rows {
-            let mut tag = problem.tags[r];
-            if tag.kind == LimitKind::Velocity {
-                tag.coordinate = velocity_joint[i].unwrap_or(0);
+    let mut origins = Vec::with_capacity(k.offsets()[k.num_points()]);
+    for vj in velocity_joint {
+        for t in &problem.tags {
+            let mut t = *t;
+            if t.kind == LimitKind::Velocity {
+                t.coordinate = vj.unwrap_or(0);
             }
-            let d = RowOrigin::Limit(tag).describe(names);
-            if !out.contains(&d) {
-                out.push(d);
-            }
+            origins.push(RowOrigin::Limit(t));
         }
-        out
-    };
-    // the rows of point i with the speed the next point needs (x_i + 2 Delta u in K_{i+1}, or
-    // the end speed at the last point), for the failures of the backward pass
-    let with_next = |i: usize| -> (Vec<Row>, usize) {
-        let mut rows = k.rows_at(i).to_vec();
-        let m = rows.len();
-        let s = k.grid();
-        let next = if i + 1 < s.len() {
-            controllable.get(i + 1).copied().flatten().map(|set| {
-                let td = 2.0 * (s[i + 1] - s[i]);
-                (set, td)
-            })
-        } else {
-            let x = opts.sd_end[0].powi(2);
-            Some(([x, opts.sd_end[1].powi(2)], 0.0))
-        };
-        if let Some(([lo, hi], td)) = next {
-            rows.push(Row {
-                a: td,
-                b: 1.0,
-                c: -hi,
-            });
-            rows.push(Row {
-                a: -td,
-                b: -1.0,
-                c: lo,
-            });
-        }
-        (rows, m)
-    };
-    let (constraints, reason) = match status {
-        Status::FeasibleSetEmpty { .. } => {
-            let c = describe(&culprits(k.rows_at(i), &opts.tol));
-            let r = format!(
-                "no path acceleration keeps every limit at this point of the path, even at \
-                 rest: {} cannot be met there; raise that limit or change the path",
-                c.join(", ")
-            );
-            (c, r)
-        }
-        Status::StartOutsideControllable { .. } => (
-            Vec::new(),
-            "the start speed sd_start is not reachable under the limits: lower sd_start (or \
-             raise the limits)"
-                .into(),
+    }
+    let (i, constraints) = crate::binding::explain(
+        k,
+        &origins,
+        names,
+        status,
+        controllable,
+        opts.sd_end,
+        &opts.tol,
+    );
+    let list = constraints.join(", ");
+    let reason = match status {
+        Status::FeasibleSetEmpty { .. } => format!(
+            "no path acceleration keeps every limit at this point of the path, even at rest: \
+             {list} cannot be met there; raise that limit or change the path"
         ),
-        Status::ControllableSetEmpty { .. } => {
-            // the last point that cannot reach what follows: its limits against the speed
-            // the next point needs
-            let j = (i..k.num_points())
-                .rev()
-                .find(|&j| controllable.get(j).copied().flatten().is_none())
-                .unwrap_or(i);
-            let (rows, m) = with_next(j);
-            let found = culprits(&rows, &opts.tol);
-            let mut c = describe(&found.iter().copied().filter(|&r| r < m).collect::<Vec<_>>());
-            if found.iter().any(|&r| r >= m) {
-                c.push(if j + 1 == k.num_points() {
-                    "the end speed sd_end".into()
-                } else {
-                    format!("the speed that grid point {} needs", j + 1)
-                });
-            }
-            let r = format!(
-                "from grid point {j} no admissible speed profile reaches the end: {} cannot all \
-                 hold there; raise that limit, lower sd_end, or slow the path down before it",
-                c.join(", ")
-            );
-            (c, r)
-        }
-        other => (
-            Vec::new(),
-            format!("the solver stopped ({}): report it", other.name()),
+        Status::ControllableSetEmpty { .. } => format!(
+            "from grid point {i} no admissible speed profile reaches the end: {list} cannot all \
+             hold there; raise that limit, lower sd_end, or slow the path down before it"
         ),
+        Status::StartOutsideControllable { .. } => "the start speed sd_start is not reachable \
+            under the limits: lower sd_start (or raise the limits)"
+            .into(),
+        other => format!("the solver stopped ({}): report it", other.name()),
     };
     JointFailure {
         grid_point: i,

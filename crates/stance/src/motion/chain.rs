@@ -32,9 +32,12 @@ use std::time::{Duration, Instant};
 use stance_topp::{CanonicalConstraints, Profile, Row, Solution, SolveOptions, Status, Workspace};
 
 use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
+use super::limits::LimitWorkspace;
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
+use crate::binding::RowOrigin;
 use crate::StanceError;
+use stance_topp::lifted::Membership;
 
 /// How the segments are retimed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -135,7 +138,11 @@ pub struct RetimeFailure {
     pub grid_point: usize,
     /// Global path parameter there.
     pub s: f64,
-    /// What it means.
+    /// The constraints that empty that grid point, or that cannot all hold there with the
+    /// speed the rest of the motion needs (`"torque of R_KNEE (upper limit)"`,
+    /// `"contact stability"`, `"the speed that grid point N needs"`, ...).
+    pub constraints: Vec<String>,
+    /// What it means, and what to relax.
     pub reason: String,
 }
 
@@ -146,6 +153,8 @@ pub struct Retimed {
     pub mode: RetimingMode,
     /// The whole motion's constraints (global grid).
     pub constraints: CanonicalConstraints,
+    /// What each row of `constraints` stands for.
+    pub origins: Vec<RowOrigin>,
     /// Global grid index of each segment's first point, and the last point's index at the end.
     pub seg_start: Vec<usize>,
     /// Global path parameter of each segment's start, and the end.
@@ -162,6 +171,11 @@ pub struct Retimed {
     pub t_topp: Duration,
     /// Time to lay out the global rows (part of `T_abc`).
     pub t_assemble: Duration,
+    /// Time of the checks, projections and solves for the lifted torque rows on the initial
+    /// grid (part of the retiming's cost: the profile is exact only after them).
+    pub t_lifted: Duration,
+    /// Rounds of those projections.
+    pub lifted_rounds: usize,
     /// What the refinement between grid points did.
     pub refinement: Refinement,
     /// Controllable sets `[lo, hi]` of `x = s'^2` at the grid points (`None` where empty or not
@@ -172,28 +186,66 @@ pub struct Retimed {
     pub feasible: Vec<Option<[f64; 2]>>,
 }
 
-fn extend_with_margin(all: &mut Vec<Row>, rows: &[Row], margin: f64) {
+/// Appends rows with the margin added to the contact rows (the actuator-limit rows are ratios
+/// to their limits and take no margin), and their origins.
+fn extend_with_margin(
+    all: &mut Vec<Row>,
+    all_origins: &mut Vec<RowOrigin>,
+    rows: &[Row],
+    origins: &[RowOrigin],
+    margin: f64,
+) {
+    all_origins.extend_from_slice(origins);
     if margin == 0.0 {
         all.extend_from_slice(rows);
     } else {
-        all.extend(rows.iter().map(|r| Row {
+        all.extend(rows.iter().zip(origins).map(|(r, o)| Row {
             a: r.a,
             b: r.b,
-            c: r.c + margin,
+            c: if *o == RowOrigin::Contact {
+                r.c + margin
+            } else {
+                r.c
+            },
         }));
     }
 }
 
-fn reason(status: &Status) -> String {
+/// What a failure means and what to relax, with the constraints found at its grid point.
+fn reason(status: &Status, constraints: &[String]) -> String {
+    let list = constraints.join(", ");
+    let named = |what: &str| {
+        if constraints.is_empty() {
+            String::new()
+        } else {
+            format!("; {what}: {list}")
+        }
+    };
+    let limits = constraints.iter().any(|c| {
+        c.starts_with("torque") || c.starts_with("velocity") || c.starts_with("acceleration")
+    });
+    let relax = if limits {
+        " (raise those limits in [limits], or move slower or less there)"
+    } else {
+        ""
+    };
     match status {
-        Status::FeasibleSetEmpty { .. } => "no path speed and acceleration keep the contacts \
-            stable there: the gravito-inertial wrench leaves the GIWC whatever the timing (move \
-            the CoM or the contacts)"
-            .into(),
-        Status::ControllableSetEmpty { .. } => "from there no admissible speed profile reaches \
-            the end of the motion: a later part needs a speed that cannot be reached or kept \
-            (or, rest to rest, a segment that is not quasi-statically stable)"
-            .into(),
+        Status::FeasibleSetEmpty { .. } => format!(
+            "no path speed and acceleration hold there{}{relax}{}",
+            named("what cannot be met"),
+            if limits {
+                ""
+            } else {
+                " (the gravito-inertial wrench leaves the GIWC whatever the timing: move the CoM \
+                 or the contacts)"
+            }
+        ),
+        Status::ControllableSetEmpty { .. } => format!(
+            "from there no admissible speed profile reaches the end of the motion: a later part \
+             needs a speed that cannot be reached or kept (or, rest to rest, a segment that is \
+             not quasi-statically stable){}{relax}",
+            named("what cannot all hold there")
+        ),
         Status::StartOutsideControllable { .. } => {
             "the motion cannot start from rest: the initial posture is not statically stable".into()
         }
@@ -211,6 +263,7 @@ fn reason(status: &Status) -> String {
 /// The global layout: constraints, segment starts on the grid, landing bounds.
 struct Layout {
     constraints: CanonicalConstraints,
+    origins: Vec<RowOrigin>,
     seg_start: Vec<usize>,
     s_offset: Vec<f64>,
 }
@@ -224,10 +277,11 @@ fn layout(
     boundary_x_max: &[f64],
 ) -> Result<Layout, StanceError> {
     let nseg = paths.len();
-    let total: usize = rows.iter().map(|r| r.rows.len()).sum::<usize>() + rows.len() * 200;
+    let total: usize = rows.iter().map(|r| r.points.rows.len()).sum::<usize>() + rows.len() * 200;
     let mut s = Vec::new();
     let mut offsets = vec![0];
     let mut all = Vec::with_capacity(total);
+    let mut origins = Vec::with_capacity(total);
     let mut x_bounds = Vec::new();
     let mut seg_start = Vec::with_capacity(nseg + 1);
     let mut s_offset = vec![0.0];
@@ -239,10 +293,23 @@ fn layout(
         let last = r.grid.len() - 1;
         for i in first..=last {
             s.push(off + path.samples[r.grid[i]].s);
-            extend_with_margin(&mut all, r.rows_at(i), margin);
+            extend_with_margin(
+                &mut all,
+                &mut origins,
+                r.rows_at(i),
+                r.origins_at(i),
+                margin,
+            );
             let mut bound = [0.0, f64::INFINITY];
             if i == last && k + 1 < nseg {
-                extend_with_margin(&mut all, rows[k + 1].rows_at(0), margin);
+                let next = &rows[k + 1];
+                extend_with_margin(
+                    &mut all,
+                    &mut origins,
+                    next.rows_at(0),
+                    next.origins_at(0),
+                    margin,
+                );
                 bound[1] = boundary_x_max[k + 1];
             }
             x_bounds.push(bound);
@@ -254,6 +321,7 @@ fn layout(
     let constraints = CanonicalConstraints::new(s, offsets, all)?.with_x_bounds(x_bounds)?;
     Ok(Layout {
         constraints,
+        origins,
         seg_start,
         s_offset,
     })
@@ -288,19 +356,31 @@ fn solve_layout(
     ws: &mut Workspace,
     segments: &mut Vec<SegmentSolve>,
     controllable: &mut Vec<Option<[f64; 2]>>,
+    joints: &[String],
 ) -> Result<(Option<Profile>, Option<RetimeFailure>, Duration), StanceError> {
     let nseg = l.seg_start.len() - 1;
-    let locate = |status: &Status, global: usize| {
+    // `k` with its first grid point at `first` of the global grid and its origins from `row0`
+    let locate = |status: &Status,
+                  k: &CanonicalConstraints,
+                  first: usize,
+                  row0: usize,
+                  sets: &[Option<[f64; 2]>],
+                  sd_end: [f64; 2]| {
+        let origins = &l.origins[row0..row0 + k.offsets()[k.num_points()]];
+        let (local, constraints) =
+            crate::binding::explain(k, origins, joints, *status, sets, sd_end, &opts.tol);
+        let global = first + local;
         let seg = (0..nseg)
             .rev()
-            .find(|&k| l.seg_start[k] <= global)
+            .find(|&q| l.seg_start[q] <= global)
             .unwrap_or(0);
         RetimeFailure {
             status: FailureStatus::Solver(*status),
             segment: seg,
             grid_point: global - l.seg_start[seg],
             s: l.constraints.grid()[global.min(l.constraints.num_points() - 1)],
-            reason: reason(status),
+            reason: reason(status, &constraints),
+            constraints,
         }
     };
     segments.clear();
@@ -316,7 +396,14 @@ fn solve_layout(
                 (Status::Optimal, Some(p)) => Ok((Some(p), None, t)),
                 (status, _) => Ok((
                     None,
-                    Some(locate(status, status.grid_index().unwrap_or(0))),
+                    Some(locate(
+                        status,
+                        &l.constraints,
+                        0,
+                        0,
+                        &sol.controllable,
+                        opts.sd_end,
+                    )),
                     t,
                 )),
             }
@@ -347,8 +434,16 @@ fn solve_layout(
                         });
                     }
                     (status, _) => {
-                        let local = status.grid_index().unwrap_or(0);
-                        return Ok((None, Some(locate(status, l.seg_start[k] + local)), total));
+                        let a = l.seg_start[k];
+                        let f = locate(
+                            status,
+                            &kk,
+                            a,
+                            l.constraints.offsets()[a],
+                            &sol.controllable,
+                            [0.0, 0.0],
+                        );
+                        return Ok((None, Some(f), total));
                     }
                 }
             }
@@ -412,6 +507,7 @@ pub fn retime(
         }
     }
     let opts = SolveOptions::new(plan.spec.retiming.discretization);
+    let joints: &[String] = plan.limits.as_ref().map_or(&[], |lp| &lp.names);
     let mut ws = Workspace::new();
     let mut segments = Vec::with_capacity(nseg);
     let mut refine = Refinement::default();
@@ -419,26 +515,74 @@ pub fn retime(
     let mut l = layout(paths, rows, margin, &boundary_x_max)?;
     let mut t_assemble = t_layout.elapsed();
     let mut controllable = Vec::new();
-    let (mut profile, mut failure, mut t_topp) =
-        solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
-    // refinement: IK samples where the rows do not hold (with half the margin) become grid points
+    let (mut profile, mut failure, mut t_topp) = solve_layout(
+        &l,
+        mode,
+        &opts,
+        &mut ws,
+        &mut segments,
+        &mut controllable,
+        joints,
+    )?;
+    // Lifted torque rows (torque limits with the contact forces as unknowns) are projected
+    // where the profile leaves them at a grid point, then the motion is solved again: the
+    // profile of this relaxation is the exact one once it satisfies them everywhere (module
+    // doc). Then the refinement: IK samples where the rows do not hold (with half the margin)
+    // become grid points.
     let t_refine = Instant::now();
-    if profile.is_some() {
-        use rayon::prelude::*;
-        rows.par_iter_mut()
-            .zip(paths.par_iter())
-            .try_for_each(|(r, path)| r.ensure_sample_rows(plan, path))?;
-    }
-    while let (Some(p), true) = (&profile, refine.rounds < crate::tol::MAX_REFINE_ROUNDS) {
+    let mut t_lifted = Duration::ZERO;
+    let mut sample_rows_ready = false;
+    let mut lifted_rounds = 0;
+    while let Some(p) = &profile {
+        let t_l = Instant::now();
+        let (projected, _) = lifted_pass(plan, paths, rows, &l.s_offset, p, false)?;
+        if projected > 0 && lifted_rounds < crate::tol::MAX_LIFTED_ROUNDS {
+            lifted_rounds += 1;
+            rows.iter_mut().for_each(SegmentRows::refresh);
+            l = layout(paths, rows, margin, &boundary_x_max)?;
+            (profile, failure, t_topp) = solve_layout(
+                &l,
+                mode,
+                &opts,
+                &mut ws,
+                &mut segments,
+                &mut controllable,
+                joints,
+            )?;
+            if refine.rounds == 0 {
+                t_lifted += t_l.elapsed();
+            }
+            continue;
+        }
+        if refine.rounds == 0 {
+            t_lifted += t_l.elapsed();
+        }
+        if refine.rounds >= crate::tol::MAX_REFINE_ROUNDS {
+            break;
+        }
+        if !sample_rows_ready {
+            use rayon::prelude::*;
+            rows.par_iter_mut()
+                .zip(paths.par_iter())
+                .try_for_each(|(r, path)| r.ensure_sample_rows(plan, path))?;
+            sample_rows_ready = true;
+        }
         let values = sample_row_values(paths, rows, &l.s_offset, p);
+        let (_, lifted_bad) = lifted_pass(plan, paths, rows, &l.s_offset, p, true)?;
         let mut added = 0;
         for k in 0..nseg {
-            let bad: Vec<usize> = values[k]
+            let mut bad: Vec<usize> = values[k]
                 .iter()
                 .enumerate()
-                .filter(|&(j, &v)| v > -0.5 * margin && rows[k].grid.binary_search(&j).is_err())
+                .filter(|&(j, v)| {
+                    (v.contact > -0.5 * margin || v.limit > 0.0)
+                        && rows[k].grid.binary_search(&j).is_err()
+                })
                 .map(|(j, _)| j)
                 .collect();
+            bad.extend(lifted_bad[k].iter().copied());
+            bad.sort_unstable();
+            bad.dedup();
             if bad.is_empty() {
                 continue;
             }
@@ -456,8 +600,15 @@ pub fn retime(
         let t_lay = Instant::now();
         l = layout(paths, rows, margin, &boundary_x_max)?;
         t_assemble = t_lay.elapsed();
-        (profile, failure, t_topp) =
-            solve_layout(&l, mode, &opts, &mut ws, &mut segments, &mut controllable)?;
+        (profile, failure, t_topp) = solve_layout(
+            &l,
+            mode,
+            &opts,
+            &mut ws,
+            &mut segments,
+            &mut controllable,
+            joints,
+        )?;
     }
     refine.elapsed = t_refine.elapsed();
     // per-segment re-solves of a chained profile, for their T_TOPP
@@ -487,6 +638,7 @@ pub fn retime(
     Ok(Retimed {
         mode,
         constraints: l.constraints,
+        origins: l.origins,
         seg_start: l.seg_start,
         s_offset: l.s_offset,
         profile,
@@ -495,6 +647,8 @@ pub fn retime(
         landings,
         t_topp,
         t_assemble,
+        t_lifted,
+        lifted_rounds,
         refinement: refine,
         controllable,
         feasible,
@@ -513,14 +667,23 @@ pub struct Refinement {
     pub elapsed: Duration,
 }
 
-/// The largest row value (N, no margin) at every IK sample of every segment under the profile,
-/// over its two limits (module doc of [`super::checks`]).
+/// The largest row values at an IK sample under the profile, over its two limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleValues {
+    /// Of the contact rows (N, no margin).
+    pub contact: f64,
+    /// Of the actuator-limit rows (ratio to the limit minus one; `-inf` without limits).
+    pub limit: f64,
+}
+
+/// The largest row values at every IK sample of every segment under the profile, over its two
+/// limits (module doc of [`super::checks`]).
 pub fn sample_row_values(
     paths: &[SegmentPath],
     rows: &[SegmentRows],
     s_offset: &[f64],
     profile: &Profile,
-) -> Vec<Vec<f64>> {
+) -> Vec<Vec<SampleValues>> {
     let grid = profile.grid();
     let (x, u) = (profile.x(), profile.u());
     let interval = |s: f64, left: bool| {
@@ -543,7 +706,10 @@ pub fn sample_row_values(
                 .enumerate()
                 .map(|(j, smp)| {
                     let s = s_offset[k] + smp.s;
-                    let mut worst = f64::NEG_INFINITY;
+                    let mut worst = SampleValues {
+                        contact: f64::NEG_INFINITY,
+                        limit: f64::NEG_INFINITY,
+                    };
                     for left in [false, true] {
                         if (!left && j + 1 == n) || (left && j == 0) {
                             continue;
@@ -551,8 +717,14 @@ pub fn sample_row_values(
                         let i = interval(s, left);
                         let ui = u[i];
                         let xs = (x[i] + 2.0 * ui * (s - grid[i])).max(0.0);
-                        for r in rows[k].sample_rows(j, left) {
-                            worst = worst.max(r.a * ui + r.b * xs + r.c);
+                        let (r, o) = rows[k].sample_rows(j, left);
+                        for (r, o) in r.iter().zip(o) {
+                            let v = r.a * ui + r.b * xs + r.c;
+                            if *o == RowOrigin::Contact {
+                                worst.contact = worst.contact.max(v);
+                            } else {
+                                worst.limit = worst.limit.max(v);
+                            }
                         }
                     }
                     worst
@@ -560,4 +732,93 @@ pub fn sample_row_values(
                 .collect()
         })
         .collect()
+}
+
+/// The profile's state `(u, x)` leaving (`left = false`) or arriving at (`left = true`) the
+/// global path parameter `s`.
+fn state_at(profile: &Profile, s: f64, left: bool) -> (f64, f64) {
+    let grid = profile.grid();
+    let (x, u) = (profile.x(), profile.u());
+    let p = if left {
+        grid.partition_point(|&g| g < s)
+    } else {
+        grid.partition_point(|&g| g <= s)
+    };
+    let i = p.saturating_sub(1).min(u.len() - 1);
+    (u[i], (x[i] + 2.0 * u[i] * (s - grid[i])).max(0.0))
+}
+
+/// The unprojected lifted torque rows under the profile (module doc of [`super::rows`]): at
+/// the grid points, each side at the states of both intervals around the point (the solver
+/// applies a point's rows to both), projected where they fail; with `samples`, at every IK
+/// sample off the grid, each side at its own interval's state, returning per segment the
+/// samples where they fail. Returns the number of projections made, and those samples.
+fn lifted_pass(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &mut [SegmentRows],
+    s_offset: &[f64],
+    profile: &Profile,
+    samples: bool,
+) -> Result<(usize, Vec<Vec<usize>>), StanceError> {
+    use rayon::prelude::*;
+    if plan.limits.as_ref().is_none_or(|lp| !lp.any_torque()) {
+        return Ok((0, vec![Vec::new(); rows.len()]));
+    }
+    let out: Vec<(usize, Vec<usize>)> = rows
+        .par_iter_mut()
+        .zip(paths.par_iter())
+        .enumerate()
+        .map(
+            |(k, (r, path))| -> Result<(usize, Vec<usize>), StanceError> {
+                let mut member = Membership::new();
+                let mut ws = LimitWorkspace::new(plan);
+                let last = path.samples.len() - 1;
+                let mut projected = 0;
+                let mut bad = Vec::new();
+                let candidates: Vec<usize> = if samples {
+                    (0..=last)
+                        .filter(|j| r.grid.binary_search(j).is_err())
+                        .collect()
+                } else {
+                    r.grid.clone()
+                };
+                for j in candidates {
+                    if r.sides[j].is_none() {
+                        continue;
+                    }
+                    let s = s_offset[k] + path.samples[j].s;
+                    for left in [false, true] {
+                        if (left && j == 0) || (!left && j == last) {
+                            continue;
+                        }
+                        // the solver applies a grid point's rows to the states of both intervals
+                        // around it (at the motion's ends both are the same interval's)
+                        let states: Vec<(f64, f64)> = if samples {
+                            vec![state_at(profile, s, left)]
+                        } else {
+                            vec![state_at(profile, s, false), state_at(profile, s, true)]
+                        };
+                        let mut ok = true;
+                        for (u, x) in states {
+                            if !r.lifted_holds(j, left, u, x, &mut member)? {
+                                ok = false;
+                                break;
+                            }
+                        }
+                        if !ok {
+                            if samples {
+                                bad.push(j);
+                            } else if r.project(j, left, &mut ws)? {
+                                projected += 1;
+                            }
+                        }
+                    }
+                }
+                Ok((projected, bad))
+            },
+        )
+        .collect::<Result<_, _>>()?;
+    let projected = out.iter().map(|o| o.0).sum();
+    Ok((projected, out.into_iter().map(|o| o.1).collect()))
 }

@@ -191,9 +191,9 @@ pub fn between_violation(
     let values = super::chain::sample_row_values(paths, rows, &retimed.s_offset, profile);
     let mut worst = (f64::NEG_INFINITY, 0.0);
     for (k, (path, v)) in paths.iter().zip(&values).enumerate() {
-        for (smp, &x) in path.samples.iter().zip(v) {
-            if x > worst.0 {
-                worst = (x, retimed.s_offset[k] + smp.s);
+        for (smp, x) in path.samples.iter().zip(v) {
+            if x.contact > worst.0 {
+                worst = (x.contact, retimed.s_offset[k] + smp.s);
             }
         }
     }

@@ -35,6 +35,8 @@ pub mod checks;
 pub mod environment;
 pub mod experiments;
 pub mod ik_stage;
+pub mod limit_checks;
+pub mod limits;
 pub mod plan;
 pub mod references;
 pub mod result;
@@ -74,6 +76,9 @@ pub struct RunOptions {
     /// and a circular friction cone of this radius, approximated from inside by an 8-sided
     /// pyramid (e.g. a simulator's friction; default: the planned contacts).
     pub check_friction: Option<f64>,
+    /// Retime under contact stability alone (`--no-limits`): the file's actuator limits are
+    /// still checked and reported, not enforced.
+    pub no_limits: bool,
 }
 
 /// Everything the pipeline computed, for callers that need more than the result (the tests,
@@ -112,7 +117,12 @@ pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, Stanc
 /// that status, not an error.
 pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
     let t_start = Instant::now();
-    let plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
+    let mut plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
+    // the file's limits, checked whether or not the retiming enforces them
+    let checked_limits = plan.limits.clone();
+    if options.no_limits {
+        plan.limits = None;
+    }
     let t_plan = t_start.elapsed();
     let m = &plan.robot.model;
     let mode = if plan.spec.retiming.rest_to_rest {
@@ -125,11 +135,19 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     let (paths, mut failure) = ik_paths(&plan, &mut ik_ws)?;
     let mut rows = Vec::new();
     let mut retimed = None;
+    let mut t_rows_wall = std::time::Duration::ZERO;
     if failure.is_none() {
-        let mut cone_ws = polycone::Workspace::new();
-        for (k, path) in paths.iter().enumerate() {
-            rows.push(segment_rows(&plan, k, path, substeps, &mut cone_ws)?);
-        }
+        let t_rows = Instant::now();
+        // the segments' rows in parallel (their inverse dynamics dominate with limits)
+        use rayon::prelude::*;
+        rows = paths
+            .par_iter()
+            .enumerate()
+            .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
+                segment_rows(&plan, k, path, substeps, cone_ws)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        t_rows_wall = t_rows.elapsed();
         let r = retime(&plan, &paths, &mut rows, mode, &mut ik_ws)?;
         failure = r.failure.clone();
         retimed = Some(r);
@@ -155,7 +173,15 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             }
         }
         if !options.skip_checks {
-            checks = Some(checks_info(&plan, &paths, &rows, r, &samples, options)?);
+            checks = Some(checks_info(
+                &plan,
+                &paths,
+                &rows,
+                r,
+                &samples,
+                options,
+                checked_limits.as_ref(),
+            )?);
         }
     }
 
@@ -172,6 +198,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     let t_abc: f64 = rows.iter().map(|r| ms(r.t_abc)).sum::<f64>()
         + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble));
     let t_topp = retimed.as_ref().map_or(0.0, |r| ms(r.t_topp));
+    let t_lifted = retimed.as_ref().map_or(0.0, |r| ms(r.t_lifted));
     let result = MotionResult {
         name: plan.name.clone(),
         status,
@@ -212,7 +239,11 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             t_abc_ms: t_abc,
             t_topp_ms: t_topp,
             t_refine_ms: retimed.as_ref().map_or(0.0, |r| ms(r.refinement.elapsed)),
-            t_u_abc_topp_ms: t_u + t_abc + t_topp,
+            t_lifted_ms: t_lifted,
+            t_u_abc_topp_ms: ms(t_rows_wall)
+                + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble))
+                + t_topp
+                + t_lifted,
             t_pipeline_ms: ms(t_pipeline),
         },
     };
@@ -261,6 +292,7 @@ fn ik_paths(
                 segment: k,
                 grid_point: i / substeps,
                 s: path.references.length() * *i as f64 / (grid * substeps) as f64,
+                constraints: Vec::new(),
                 reason: format!(
                     "the IK stopped at step {i} of {}: {status:?} (a joint limit, or a via-point \
                      out of reach)",
@@ -287,6 +319,7 @@ fn checks_info(
     r: &Retimed,
     samples: &[TrajectorySample],
     options: &RunOptions,
+    limits: Option<&limits::LimitsPlan>,
 ) -> Result<ChecksInfo, StanceError> {
     let m = &plan.robot.model;
     let t0 = Instant::now();
@@ -311,6 +344,23 @@ fn checks_info(
     let refs: Vec<&stance_contact::Stance> = stances.iter().collect();
     let c = checks::check_samples(plan, paths, &refs, samples)?;
     let (between, _at) = checks::between_violation(paths, rows, r);
+    let actuators = match limits {
+        Some(lp) => {
+            let planned: Vec<&stance_contact::Stance> = rows.iter().map(|r| &r.stance).collect();
+            let contacts: Vec<Vec<(usize, stance_robot::Pose)>> = paths
+                .iter()
+                .map(|p| {
+                    p.contacts
+                        .iter()
+                        .map(|c| (plan.robot.surfaces[c.surface].frame, c.pose))
+                        .collect()
+                })
+                .collect();
+            let l = limit_checks::check_limits(plan, lp, &planned, &contacts, samples)?;
+            Some(result::LimitChecksInfo::from_samples(&l, samples, lp))
+        }
+        None => None,
+    };
     let t = t0.elapsed();
     let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     Ok(ChecksInfo {
@@ -333,6 +383,14 @@ fn checks_info(
         max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
         max_between_violation: between,
         max_between_violation_fraction: between / weight,
+        max_velocity_ratio: actuators.as_ref().map(|a| a.max_velocity_ratio),
+        max_acceleration_ratio: actuators.as_ref().map(|a| a.max_acceleration_ratio),
+        max_torque_ratio: actuators.as_ref().map(|a| a.max_torque_ratio),
+        max_joint_acceleration: samples
+            .iter()
+            .flat_map(|s| s.a.iter().skip(6).map(|x| x.abs()))
+            .fold(0.0, f64::max),
+        limits: actuators,
         t_checks_ms: ms(t),
         t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,
     })
@@ -373,9 +431,38 @@ fn segment_infos(
                 t_topp_ms: solve.map(|s| ms(s.t_topp)),
                 max_com_error: path.max_com_error,
                 max_contact_drift: path.max_contact_drift,
+                binding: retimed.and_then(|rt| segment_binding(plan, rt, k)),
+                torque_projections: r.map_or(0, |r| r.projections),
             }
         })
         .collect()
+}
+
+/// The grid points of segment `k` bound by each kind of constraint under the profile
+/// ([`crate::binding`]); its last point counts in the next segment (but the last segment's).
+fn segment_binding(plan: &MotionPlan, rt: &Retimed, k: usize) -> Option<crate::binding::Binding> {
+    let p = rt.profile.as_ref()?;
+    let joints: &[String] = plan.limits.as_ref().map_or(&[], |lp| &lp.names);
+    let c = &rt.constraints;
+    let (a, mut b) = (rt.seg_start[k], rt.seg_start[k + 1]);
+    if k + 2 == rt.seg_start.len() {
+        b += 1;
+    }
+    let mut out = crate::binding::Binding::default();
+    let (u, x) = (p.u(), p.x());
+    for i in a..b {
+        let ui = u[i.min(u.len() - 1)];
+        let (o0, o1) = (c.offsets()[i], c.offsets()[i + 1]);
+        out.add_point(
+            c.rows_at(i)
+                .iter()
+                .zip(&rt.origins[o0..o1])
+                .filter(|(r, _)| crate::binding::binds(r, ui, x[i]))
+                .map(|(_, o)| *o),
+            joints,
+        );
+    }
+    Some(out)
 }
 
 /// The robot as the result describes it.

@@ -89,6 +89,9 @@ pub struct MotionPlan {
     pub q0: Vec<f64>,
     /// Segments.
     pub segments: Vec<SegmentPlan>,
+    /// The actuated joints and their limits (`None`: no limit applies, contact stability
+    /// alone).
+    pub limits: Option<super::limits::LimitsPlan>,
     /// The file, for the options.
     pub spec: MotionSpec,
 }
@@ -180,7 +183,9 @@ impl MotionPlan {
             "give a half-width > 0 and at most half of the shortest move",
         )?;
         let q0 = initial(&spec, &names)?;
+        let limits = super::limits::LimitsPlan::new(&robot.model, &spec.limits)?;
         Ok(Self {
+            limits,
             name: spec.name.clone().unwrap_or_else(|| "motion".into()),
             robot,
             gravity: spec.gravity,

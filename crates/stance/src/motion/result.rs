@@ -113,6 +113,13 @@ pub struct SegmentInfo {
     pub max_com_error: f64,
     /// Largest contact-frame drift during the IK (m).
     pub max_contact_drift: f64,
+    /// Grid points of this segment bound by each kind of constraint under the profile
+    /// (`null` without a profile); the grid point a segment shares with the next counts in the
+    /// next.
+    pub binding: Option<crate::binding::Binding>,
+    /// Grid-point sides whose torque rows with the contact forces were projected (where the
+    /// profile needed them).
+    pub torque_projections: usize,
 }
 
 /// The independent checks (module `checks`).
@@ -138,6 +145,17 @@ pub struct ChecksInfo {
     pub max_between_violation: f64,
     /// The same as a fraction of the weight.
     pub max_between_violation_fraction: f64,
+    /// Largest joint velocity over its limit at the samples (`null` without limits).
+    pub max_velocity_ratio: Option<f64>,
+    /// Largest joint acceleration over its limit at the samples (`null` without limits).
+    pub max_acceleration_ratio: Option<f64>,
+    /// Largest joint torque over its limit at the samples, with the contact forces that make it
+    /// smallest (`null` without limits).
+    pub max_torque_ratio: Option<f64>,
+    /// Largest joint acceleration at the samples, whatever the limits (rad/s^2 or m/s^2).
+    pub max_joint_acceleration: f64,
+    /// Where each largest ratio occurs.
+    pub limits: Option<LimitChecksInfo>,
     /// Time of the checks (ms), and per sample (us).
     pub t_checks_ms: f64,
     /// Time per sample (us).
@@ -193,9 +211,14 @@ pub struct Timings {
     pub t_abc_ms: f64,
     /// The retiming solve (the last one, after refinement).
     pub t_topp_ms: f64,
+    /// The lifted torque rows (torque limits with the contact forces): checks of the profile
+    /// at the grid points, projections where it leaves them, and the solves again (ms).
+    pub t_lifted_ms: f64,
     /// The refinement between grid points (its row updates and solves).
     pub t_refine_ms: f64,
-    /// `U_stance` + rows + TOPP (the paper's three columns).
+    /// `U_stance` + rows + TOPP (the paper's three columns), as the user waits for them: the
+    /// wall time of the segments' `U_stance` and rows (computed in parallel), their layout,
+    /// the solve and the lifted torque rows' work (ms).
     pub t_u_abc_topp_ms: f64,
     /// The whole pipeline without the checks.
     pub t_pipeline_ms: f64,
@@ -236,4 +259,75 @@ pub struct MotionResult {
     pub trajectory: Option<TrajectoryInfo>,
     /// Stage timings.
     pub timings: Timings,
+}
+
+/// The actuator limits checked at every sample ([`super::limit_checks`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LimitChecksInfo {
+    /// Largest `|v_j| / V_j` (0 without velocity limits).
+    pub max_velocity_ratio: f64,
+    /// Largest `|a_j| / A_j` (0 without acceleration limits).
+    pub max_acceleration_ratio: f64,
+    /// Largest of the samples' smallest largest torque ratios (0 without torque limits).
+    pub max_torque_ratio: f64,
+    /// Samples where no contact forces balance the base (no torque ratio).
+    pub samples_without_torque_ratio: usize,
+    /// The joint and time of each largest ratio.
+    pub worst: Vec<WorstLimit>,
+}
+
+/// Where a largest ratio occurs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorstLimit {
+    /// `velocity`, `acceleration` or `torque`.
+    pub kind: String,
+    /// The joint.
+    pub joint: String,
+    /// The time (s).
+    pub t: f64,
+    /// The ratio.
+    pub ratio: f64,
+}
+
+impl LimitChecksInfo {
+    /// The largest ratios over the samples.
+    pub fn from_samples(
+        l: &[super::limit_checks::LimitSample],
+        samples: &[super::trajectory::TrajectorySample],
+        lp: &super::limits::LimitsPlan,
+    ) -> Self {
+        let mut worst = [(0.0f64, 0usize, 0.0f64); 3];
+        let mut without = 0;
+        for (x, s) in l.iter().zip(samples) {
+            if x.torque_ratio.is_nan() {
+                without += 1;
+            }
+            for (w, (r, j)) in worst.iter_mut().zip([
+                (x.velocity_ratio, x.velocity_joint),
+                (x.acceleration_ratio, x.acceleration_joint),
+                (x.torque_ratio, x.torque_joint),
+            ]) {
+                if r > w.0 {
+                    *w = (r, j, s.t);
+                }
+            }
+        }
+        Self {
+            max_velocity_ratio: worst[0].0,
+            max_acceleration_ratio: worst[1].0,
+            max_torque_ratio: worst[2].0,
+            samples_without_torque_ratio: without,
+            worst: worst
+                .iter()
+                .zip(["velocity", "acceleration", "torque"])
+                .filter(|(w, _)| w.0 > 0.0)
+                .map(|(w, kind)| WorstLimit {
+                    kind: kind.to_string(),
+                    joint: lp.names[w.1].clone(),
+                    t: w.2,
+                    ratio: w.0,
+                })
+                .collect(),
+        }
+    }
 }

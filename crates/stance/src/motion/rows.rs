@@ -15,17 +15,105 @@
 //! IK sample: an interior grid point has the rows of both limits (the step arriving, the step
 //! leaving). The refinement between grid points makes the rows at every IK sample, once, and
 //! evaluates them under the profile.
+//!
+//! Each side of a sample also has the actuator-limit rows of [`super::limits`]; where the torque
+//! limits involve the contact forces (two contacts or more), its lifted rows are kept and
+//! projected onto `(u, x)` only when the retiming needs them ([`SegmentRows::project`]: where
+//! the profile leaves them, see [`super::chain`]).
 
 use std::time::{Duration, Instant};
 
 use stance_contact::{Contact, GiwcOptions, Stance};
 use stance_topp::factored::{eq14_vectors, FactoredRows};
+use stance_topp::lifted::{LiftedRows, Membership};
 use stance_topp::path::PathPoint;
 use stance_topp::Row;
 
 use super::ik_stage::{IkSample, SegmentPath};
+use super::limits::{
+    project_lifted, prune_unreachable, sample_limit_rows, LimitWorkspace, SegmentContacts,
+};
 use super::plan::MotionPlan;
+use crate::binding::RowOrigin;
 use crate::StanceError;
+
+/// Rows of several points, each point's in a slice (`offsets`), with what each row stands for.
+#[derive(Debug, Clone)]
+pub struct PointRows {
+    /// The rows, point after point.
+    pub rows: Vec<Row>,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// Where each point's rows start (one more than the points).
+    pub offsets: Vec<usize>,
+}
+
+impl Default for PointRows {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl PointRows {
+    fn new() -> Self {
+        Self {
+            rows: Vec::new(),
+            origins: Vec::new(),
+            offsets: vec![0],
+        }
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Whether there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The rows of point `i`.
+    pub fn rows_at(&self, i: usize) -> &[Row] {
+        &self.rows[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// What the rows of point `i` stand for.
+    pub fn origins_at(&self, i: usize) -> &[RowOrigin] {
+        &self.origins[self.offsets[i]..self.offsets[i + 1]]
+    }
+}
+
+/// Torque rows with the contact forces as unknowns at one side of a sample (rows in
+/// `(u, x, y)`), until projected.
+#[derive(Debug, Clone)]
+pub struct LiftedSide {
+    /// The rows.
+    pub rows: LiftedRows,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// The contact forces of the last admissible state found (module doc of
+    /// [`stance_topp::lifted::member`]).
+    pub witness: Vec<f64>,
+    /// The projection has been added to the side's rows.
+    pub projected: bool,
+}
+
+/// The rows of one side of an IK sample: the step leaving it (right) or arriving at it (left).
+#[derive(Debug, Clone)]
+pub struct SideRows {
+    /// Contact rows of eq. 14, explicit limit rows, then the projection of `lifted` once made.
+    pub rows: Vec<Row>,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// Rows before the projection's.
+    pub explicit: usize,
+    /// The torque rows with the contact forces as unknowns (two contacts or more).
+    pub lifted: Option<Box<LiftedSide>>,
+}
+
+/// Both sides of an IK sample (the left is the right's copy at a segment's first sample).
+pub type Sides = [SideRows; 2];
 
 /// The GIWC of one segment, and its rows at its current retiming grid.
 #[derive(Debug, Clone)]
@@ -37,109 +125,213 @@ pub struct SegmentRows {
     pub u: Vec<[f64; 6]>,
     /// Whether the GIWC conversion certified its face form.
     pub certified: bool,
+    /// The contacts as the torque limits need them (when torque limits apply).
+    pub contacts: Option<SegmentContacts>,
     /// Indices of the IK samples at the retiming grid points (increasing; first and last
     /// sample included).
     pub grid: Vec<usize>,
-    /// Rows at the grid points: at an interior point those of both limits (the step arriving
-    /// and the step leaving), at the first point the right limit, at the last the left limit.
-    pub rows: Vec<Row>,
-    /// Where each grid point's rows start in `rows` (one more than the grid points).
-    pub offsets: Vec<usize>,
-    /// Rows at every IK sample, right limit (`u.len()` per sample), once the refinement
-    /// between grid points has asked for them ([`Self::ensure_sample_rows`]; empty before).
-    pub sample_right: Vec<Row>,
-    /// Rows at every IK sample, left limit (`u.len()` per sample; the right limit's at the
-    /// first sample).
-    pub sample_left: Vec<Row>,
+    /// Rows at the grid points: at an interior point those of both sides (the step arriving
+    /// and the step leaving), at the first point the right side, at the last the left side.
+    pub points: PointRows,
+    /// The rows of both sides of each IK sample, where computed (the grid's samples, and every
+    /// sample once the refinement asked for them).
+    pub sides: Vec<Option<Box<Sides>>>,
     /// Time of `U_stance` (the paper's `T_U`).
     pub t_u: Duration,
-    /// Time of the rows on the initial retiming grid (`T_abc`).
+    /// Time of the rows on the initial retiming grid (`T_abc`), actuator limits included.
     pub t_abc: Duration,
-}
-
-/// The rows of eq. 14 at the given IK samples of a path, for the right or the left limit
-/// (`u.len()` rows per sample, in sample order).
-fn rows_at_samples(
-    plan: &MotionPlan,
-    path: &SegmentPath,
-    u: &[[f64; 6]],
-    samples: &[usize],
-    left: bool,
-) -> Result<Vec<Row>, StanceError> {
-    let mass = plan.robot.model.total_mass();
-    let s: Vec<f64> = samples.iter().map(|&j| path.samples[j].s).collect();
-    let w = samples
-        .iter()
-        .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
-        .collect();
-    let f = FactoredRows::new(u, s, w)?;
-    let mut rows = vec![Row::default(); samples.len() * u.len()];
-    f.fill(&mut rows)?;
-    Ok(rows)
+    /// Time of the actuator-limit rows within `t_abc`.
+    pub t_limits: Duration,
+    /// Projections of lifted torque rows made (each side once at most).
+    pub projections: usize,
 }
 
 impl SegmentRows {
     /// The rows at grid point `i`.
     pub fn rows_at(&self, i: usize) -> &[Row] {
-        &self.rows[self.offsets[i]..self.offsets[i + 1]]
+        self.points.rows_at(i)
     }
 
-    /// Computes the rows at every IK sample (both limits), once.
+    /// What the rows at grid point `i` stand for.
+    pub fn origins_at(&self, i: usize) -> &[RowOrigin] {
+        self.points.origins_at(i)
+    }
+
+    /// Computes both sides of the IK samples `samples` that have none yet.
+    fn compute(
+        &mut self,
+        plan: &MotionPlan,
+        path: &SegmentPath,
+        samples: &[usize],
+        ws: &mut LimitWorkspace,
+    ) -> Result<(), StanceError> {
+        let todo: Vec<usize> = samples
+            .iter()
+            .copied()
+            .filter(|&j| self.sides[j].is_none())
+            .collect();
+        if todo.is_empty() {
+            return Ok(());
+        }
+        let m = self.u.len();
+        let mass = plan.robot.model.total_mass();
+        let s: Vec<f64> = todo.iter().map(|&j| path.samples[j].s).collect();
+        let mut contact = [Vec::new(), Vec::new()];
+        for (side, left) in [false, true].into_iter().enumerate() {
+            let w = todo
+                .iter()
+                .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
+                .collect();
+            let f = FactoredRows::new(&self.u, s.clone(), w)?;
+            contact[side] = vec![Row::default(); todo.len() * m];
+            f.fill(&mut contact[side])?;
+        }
+        let t0 = Instant::now();
+        for (i, &j) in todo.iter().enumerate() {
+            let smp = &path.samples[j];
+            let mut sides: [SideRows; 2] = std::array::from_fn(|side| {
+                let c = &contact[side][i * m..(i + 1) * m];
+                SideRows {
+                    rows: c.to_vec(),
+                    origins: vec![RowOrigin::Contact; m],
+                    explicit: m,
+                    lifted: None,
+                }
+            });
+            if let Some(lp) = plan.limits.as_ref() {
+                let left_qss = if j > 0 {
+                    &path.samples[j - 1].q_ss
+                } else {
+                    &smp.q_ss
+                };
+                let [right, left] = &mut sides;
+                let lifted = sample_limit_rows(
+                    plan,
+                    lp,
+                    self.contacts.as_ref(),
+                    smp,
+                    [&smp.q_ss, left_qss],
+                    ws,
+                    [
+                        (&mut right.rows, &mut right.origins),
+                        (&mut left.rows, &mut left.origins),
+                    ],
+                )?;
+                for (side, l) in sides.iter_mut().zip(lifted) {
+                    prune_unreachable(&mut side.rows, &mut side.origins, m);
+                    side.explicit = side.rows.len();
+                    side.lifted = l.map(|(rows, origins)| {
+                        Box::new(LiftedSide {
+                            witness: vec![0.0; rows.extra()],
+                            rows,
+                            origins,
+                            projected: false,
+                        })
+                    });
+                }
+            }
+            self.sides[j] = Some(Box::new(sides));
+        }
+        self.t_limits += t0.elapsed();
+        Ok(())
+    }
+
+    /// Computes the rows at every IK sample (both sides), once.
     pub fn ensure_sample_rows(
         &mut self,
         plan: &MotionPlan,
         path: &SegmentPath,
     ) -> Result<(), StanceError> {
-        if self.sample_right.is_empty() {
-            let all: Vec<usize> = (0..path.samples.len()).collect();
-            self.sample_right = rows_at_samples(plan, path, &self.u, &all, false)?;
-            self.sample_left = rows_at_samples(plan, path, &self.u, &all, true)?;
-        }
-        Ok(())
+        let all: Vec<usize> = (0..path.samples.len()).collect();
+        self.compute(plan, path, &all, &mut LimitWorkspace::new(plan))
     }
 
-    /// The rows of IK sample `j`: the right limit (`left = false`) or the left one (after
+    /// The rows of IK sample `j`: the right side (`left = false`) or the left one (after
     /// [`Self::ensure_sample_rows`]).
-    pub fn sample_rows(&self, j: usize, left: bool) -> &[Row] {
-        let m = self.u.len();
-        let all = if left {
-            &self.sample_left
-        } else {
-            &self.sample_right
-        };
-        &all[j * m..(j + 1) * m]
+    pub fn sample_rows(&self, j: usize, left: bool) -> (&[Row], &[RowOrigin]) {
+        let s = &self.sides[j]
+            .as_ref()
+            .expect("rows computed at this sample")[usize::from(left)];
+        (&s.rows, &s.origins)
     }
 
-    /// Lays out the rows of the grid from rows at its points (`right`, `left`: `u.len()` per
-    /// grid point).
-    fn lay_out(&mut self, grid: Vec<usize>, right: &[Row], left: &[Row], per_point: bool) {
-        let (n, m) = (grid.len(), self.u.len());
-        self.rows.clear();
-        self.offsets.clear();
-        self.offsets.push(0);
-        for (i, &j) in grid.iter().enumerate() {
-            let at = if per_point { i } else { j };
-            if i + 1 < n {
-                self.rows.extend_from_slice(&right[at * m..(at + 1) * m]);
+    /// The side of IK sample `j` (computed).
+    pub fn side_mut(&mut self, j: usize, left: bool) -> &mut SideRows {
+        &mut self.sides[j]
+            .as_mut()
+            .expect("rows computed at this sample")[usize::from(left)]
+    }
+
+    /// Lays out the rows of the grid from the sides of its samples (computed).
+    fn lay_out(&mut self) {
+        let n = self.grid.len();
+        let mut out = PointRows::new();
+        for (i, &j) in self.grid.iter().enumerate() {
+            let sides = self.sides[j]
+                .as_ref()
+                .expect("rows computed at the grid's samples");
+            for (side, on) in [(0, i + 1 < n), (1, i > 0)] {
+                if on {
+                    out.rows.extend_from_slice(&sides[side].rows);
+                    out.origins.extend_from_slice(&sides[side].origins);
+                }
             }
-            if i > 0 {
-                self.rows.extend_from_slice(&left[at * m..(at + 1) * m]);
-            }
-            self.offsets.push(self.rows.len());
+            out.offsets.push(out.rows.len());
         }
-        self.grid = grid;
+        self.points = out;
     }
 
-    /// Takes the rows of a new grid (indices of IK samples, increasing, first and last sample
-    /// included) from the rows at the IK samples (after [`Self::ensure_sample_rows`]).
+    /// Takes a new grid (indices of IK samples, increasing, first and last sample included)
+    /// whose samples have rows (after [`Self::ensure_sample_rows`]).
     pub fn set_grid(&mut self, grid: Vec<usize>) {
-        let (right, left) = (
-            std::mem::take(&mut self.sample_right),
-            std::mem::take(&mut self.sample_left),
-        );
-        self.lay_out(grid, &right, &left, false);
-        self.sample_right = right;
-        self.sample_left = left;
+        self.grid = grid;
+        self.lay_out();
+    }
+
+    /// Adds the projection of the lifted rows of sample `j`'s side onto `(u, x)` to its rows
+    /// (once), and lays the grid out again; `false` when there was nothing to project.
+    pub fn project(
+        &mut self,
+        j: usize,
+        left: bool,
+        ws: &mut LimitWorkspace,
+    ) -> Result<bool, StanceError> {
+        let side = self.side_mut(j, left);
+        let Some(lifted) = side.lifted.as_mut().filter(|l| !l.projected) else {
+            return Ok(false);
+        };
+        let (rows, origins) = project_lifted(
+            &lifted.rows,
+            &lifted.origins,
+            &side.rows[..side.explicit],
+            ws,
+        )?;
+        lifted.projected = true;
+        side.rows.extend_from_slice(&rows);
+        side.origins.extend_from_slice(&origins);
+        self.projections += 1;
+        Ok(true)
+    }
+
+    /// Re-lays the grid out after projections.
+    pub fn refresh(&mut self) {
+        self.lay_out();
+    }
+
+    /// Whether the lifted rows of sample `j`'s side (if any, unprojected) hold at `(u, x)`.
+    pub fn lifted_holds(
+        &mut self,
+        j: usize,
+        left: bool,
+        u: f64,
+        x: f64,
+        member: &mut Membership,
+    ) -> Result<bool, StanceError> {
+        let side = self.side_mut(j, left);
+        match side.lifted.as_mut() {
+            Some(l) if !l.projected => Ok(member.contains(&l.rows, u, x, &mut l.witness)?),
+            _ => Ok(true),
+        }
     }
 }
 
@@ -215,7 +407,8 @@ pub fn eq14_of(sample: &IkSample, left: bool, mass: f64, gravity: [f64; 3]) -> [
     eq14_vectors(&q, mass, gravity, t.l1.into(), t.l2.into())
 }
 
-/// `U_stance` and the rows of segment `path` at every `substeps`-th IK sample.
+/// `U_stance` and the rows of segment `path` at every `substeps`-th IK sample (contact rows
+/// and, when the plan has them, actuator-limit rows).
 ///
 /// # Errors
 ///
@@ -243,22 +436,30 @@ pub fn segment_rows(
     }
     let u = giwc.facet_rows();
     let t1 = Instant::now();
+    let contacts = match &plan.limits {
+        Some(lp) if lp.any_torque() => {
+            let surfaces: Vec<usize> = path.contacts.iter().map(|c| c.surface).collect();
+            let poses: Vec<stance_robot::Pose> = path.contacts.iter().map(|c| c.pose).collect();
+            Some(SegmentContacts::new(plan, &surfaces, &poses, &stance)?)
+        }
+        _ => None,
+    };
     let grid: Vec<usize> = (0..path.samples.len()).step_by(substeps).collect();
-    let right = rows_at_samples(plan, path, &u, &grid, false)?;
-    let left = rows_at_samples(plan, path, &u, &grid, true)?;
     let mut out = SegmentRows {
         stance,
         u,
         certified: giwc.certified,
-        grid: Vec::new(),
-        rows: Vec::new(),
-        offsets: Vec::new(),
-        sample_right: Vec::new(),
-        sample_left: Vec::new(),
+        contacts,
+        grid: grid.clone(),
+        points: PointRows::new(),
+        sides: vec![None; path.samples.len()],
         t_u,
         t_abc: Duration::ZERO,
+        t_limits: Duration::ZERO,
+        projections: 0,
     };
-    out.lay_out(grid, &right, &left, true);
+    out.compute(plan, path, &grid, &mut LimitWorkspace::new(plan))?;
+    out.lay_out();
     out.t_abc = t1.elapsed();
     Ok(out)
 }

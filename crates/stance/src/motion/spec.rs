@@ -18,6 +18,8 @@
 //!              joint_range (0.95), substeps (4), com_blend (0.25)
 //! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), rest_to_rest (false),
 //!              between_samples (10)
+//! [limits]     velocity (1.0: the URDF's; false), acceleration (none; 30.0 or
+//!              {default = 30.0, J = 50.0}), torque (1.0: the URDF's efforts; false)
 //! [[segments]] name?, stance = {LF = "floor", RF = "floor"}, w_link?, gain?
 //! [[segments.moves]] duration (2), com = {by = [..]} | {to = [..]},
 //!                    links = [{surface = "RF", by = [..], rotate_by = [r, p, y]}
@@ -397,6 +399,9 @@ pub struct MotionSpec {
     /// Retiming options.
     #[serde(default)]
     pub retiming: RetimingSpec,
+    /// Actuator limits of the retiming (default: the URDF's velocity and effort limits).
+    #[serde(default)]
+    pub limits: crate::limits::LimitsSpec,
 }
 
 fn one() -> f64 {

@@ -66,6 +66,8 @@ pub struct SimOptions {
     /// A force pushing a robot surface's body during the simulation (for tests of the
     /// measurements).
     pub disturbance: Option<Disturbance>,
+    /// Retime under contact stability alone (`--no-limits`).
+    pub no_limits: bool,
 }
 
 /// An external force on the body of a robot surface, in world axes, over a time window.
@@ -299,6 +301,7 @@ pub fn simulate(
             skip_checks: true,
             time_scale: options.time_scale,
             check_friction: None,
+            no_limits: options.no_limits,
         },
     )?;
     if run.samples.is_empty() {

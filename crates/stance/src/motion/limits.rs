@@ -1,0 +1,650 @@
+//! Stage 3b, actuator-limit rows: joint velocity, acceleration and torque limits of a
+//! floating-base robot in contact, as rows in `(u, x) = (s'', s'^2)` beside the contact rows
+//! of eq. 14.
+//!
+//! # Math
+//!
+//! Along the whole-body path, joint `j` moves at `q_s,j s'` and accelerates at
+//! `q_s,j u + q_ss,j x`: its velocity and acceleration limits are rows of
+//! [`stance_topp::limits`]. Its torque needs the contact forces. The equations of motion are
+//!
+//! ```text
+//!     tau_a u + tau_b x + tau_c = S^T tau_act + sum_k J_k^T w_k
+//! ```
+//!
+//! with the inverse-dynamics coefficients along the path ([`stance_robot::torque_path_terms`]),
+//! the contact wrench `w_k` of contact `k` in its own frame (force, then moment about its
+//! origin) and its frame Jacobian `J_k` in that frame (`LOCAL`): the six base rows have no
+//! actuator and balance the contact wrenches; each actuated joint's torque is what remains,
+//! `tau_j = r_j(u, x) - sum_k J_k[:, j] . w_k`, with `|tau_j| <= T_j`. Each `w_k` lies in its
+//! contact wrench cone `H_k w_k <= 0` (the face form of the planned contact's span form
+//! `V_surf`: the same pyramids, friction and polygons as the GIWC).
+//!
+//! - A joint that is not on the chain from the base to any contact (`J_k[:, j] = 0` for all
+//!   `k`) has `tau_j = r_j(u, x)`: two rows.
+//! - With **one contact**, the base rows determine its wrench,
+//!   `w_1 = J_1,b^-T r_b(u, x)` (the `6 x 6` base block of `J_1` is invertible: it is the
+//!   adjoint of the contact frame from the base), so every torque is linear in `(u, x)`: two
+//!   rows per joint.
+//! - With **K >= 2 contacts**, the wrenches `w_2 .. w_K` are free (`y = (w_2, .., w_K) / (m |g|)`)
+//!   and `w_1 = J_1,b^-T (r_b - sum_k J_k,b^T w_k)`: every contact-wrench-cone row and every
+//!   chain joint's torque row is affine in `(u, x, y)`. The admissible `(u, x)` are the
+//!   projection of that polytope, computed exactly at every grid point
+//!   ([`stance_topp::lifted`]): a polygon whose edges are rows (the projection is the
+//!   redundantly actuated form of Pham and Pham's reachability analysis, with the extra
+//!   variables eliminated per grid point rather than carried into every stage's LP; see
+//!   `bench/peers/limits.md` for the measured choice).
+//!
+//! The projection is made within the bounding box of the point's other rows (contact rows of
+//! eq. 14 and the explicit limit rows), which is exact: the point's admissible set is the
+//! intersection of both.
+//!
+//! The rows of a projection carry the lifted rows that define them: a row whose definition
+//! involves a torque limit is reported as that joint's torque ([`RowOrigin::TorqueWithContacts`]),
+//! one that involves only contact wrench cones as contact stability.
+
+use nalgebra::{Matrix6, Matrix6xX, Vector6};
+use stance_contact::Stance;
+use stance_robot::{frame_jacobian, torque_path_terms_two, Data, ReferenceFrame};
+use stance_topp::lifted::{LiftedRows, Projection, Projector};
+use stance_topp::limits::{JointLimits, LimitKind, LimitTag};
+use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
+use stance_topp::{Row, Tolerances};
+
+use super::ik_stage::IkSample;
+use super::plan::MotionPlan;
+use crate::binding::RowOrigin;
+use crate::limits::{JointLimitInfo, LimitsSpec};
+use crate::StanceError;
+
+/// The actuated joints of a motion's robot and their limits.
+#[derive(Debug, Clone)]
+pub struct LimitsPlan {
+    /// Velocity index of each actuated coordinate (the movable joints but the base).
+    pub velocity_index: Vec<usize>,
+    /// Their names.
+    pub names: Vec<String>,
+    /// Velocity and acceleration limits per coordinate (torque limits infinite here).
+    pub kinematic: JointLimits,
+    /// The layout of their rows ([`JointLimits::layout`]).
+    pub kinematic_tags: Vec<LimitTag>,
+    /// Torque limits per coordinate (`f64::INFINITY`: none).
+    pub torque: Vec<f64>,
+    /// The limits as used, per joint.
+    pub info: Vec<JointLimitInfo>,
+}
+
+impl LimitsPlan {
+    /// The limits of `spec` for the plan's robot; `None` when none is finite.
+    ///
+    /// # Errors
+    ///
+    /// As [`LimitsSpec::resolve`].
+    pub fn new(
+        plan_model: &stance_robot::Model,
+        spec: &LimitsSpec,
+    ) -> Result<Option<Self>, StanceError> {
+        let joints: Vec<usize> = (1..plan_model.joints.len())
+            .filter(|&k| {
+                let j = &plan_model.joints[k];
+                j.dims().1 == 1 && j.kind != stance_robot::JointKind::FreeFlyer
+            })
+            .collect();
+        let resolved = spec.resolve(plan_model, &joints)?;
+        if !resolved.any() {
+            return Ok(None);
+        }
+        let mut kinematic = resolved.limits.clone();
+        let torque = std::mem::replace(&mut kinematic.torque, vec![f64::INFINITY; joints.len()]);
+        Ok(Some(Self {
+            kinematic_tags: kinematic.layout(),
+            velocity_index: joints.iter().map(|&k| plan_model.joints[k].idx_v).collect(),
+            names: joints
+                .iter()
+                .map(|&k| plan_model.joints[k].name.clone())
+                .collect(),
+            kinematic,
+            torque,
+            info: resolved.joints,
+        }))
+    }
+
+    /// Whether any torque limit is finite.
+    pub fn any_torque(&self) -> bool {
+        self.torque.iter().any(|t| t.is_finite())
+    }
+}
+
+/// A segment's contacts as the torque rows need them.
+#[derive(Debug, Clone)]
+pub struct SegmentContacts {
+    /// Model frame of each contact's robot surface.
+    pub frames: Vec<usize>,
+    /// Each contact's planned frame (`world_from_contact`): the frame of its wrench cone.
+    pub poses: Vec<stance_robot::Pose>,
+    /// Each contact's wrench cone in its own frame, face form (`h . w <= 0`, unit rows;
+    /// equations as two rows).
+    pub cwc: Vec<Vec<[f64; 6]>>,
+}
+
+impl SegmentContacts {
+    /// From the planned stance of a segment (its contacts in the order of the path's).
+    ///
+    /// # Errors
+    ///
+    /// [`StanceError::BadMotion`] when a contact's wrench cone cannot be converted.
+    pub fn new(
+        plan: &MotionPlan,
+        surfaces: &[usize],
+        poses: &[stance_robot::Pose],
+        stance: &Stance,
+    ) -> Result<Self, StanceError> {
+        let mut ws = polycone::Workspace::new();
+        let mut cwc = Vec::with_capacity(stance.contacts().len());
+        for c in stance.contacts() {
+            let v = c.v_surf(stance.friction_model());
+            let f = ws
+                .span_to_face(&v, &polycone::DdOptions::default())
+                .map_err(|e| {
+                    StanceError::BadMotion(format!(
+                        "the wrench cone of contact {} cannot be converted: {e}",
+                        c.name()
+                    ))
+                })?;
+            let mut rows = Vec::new();
+            let push = |rows: &mut Vec<[f64; 6]>, r: nalgebra::RowDVector<f64>| {
+                let mut a = [0.0; 6];
+                for k in 0..6 {
+                    a[k] = r[k];
+                }
+                rows.push(a);
+            };
+            for r in f.face.facets.row_iter() {
+                push(&mut rows, r.into_owned());
+            }
+            for r in f.face.equations.row_iter() {
+                push(&mut rows, r.into_owned());
+                push(&mut rows, -r.into_owned());
+            }
+            cwc.push(rows);
+        }
+        Ok(Self {
+            frames: surfaces
+                .iter()
+                .map(|&s| plan.robot.surfaces[s].frame)
+                .collect(),
+            poses: poses.to_vec(),
+            cwc,
+        })
+    }
+}
+
+/// Reusable buffers of [`sample_limit_rows`].
+#[derive(Debug, Clone)]
+pub struct LimitWorkspace {
+    data: Data,
+    jac: Vec<Matrix6xX<f64>>,
+    projector: Projector,
+    projection: Projection,
+    qs: Vec<f64>,
+    qss: Vec<f64>,
+    buf: Vec<Row>,
+    /// Projections made, LPs and pivots (for the report).
+    pub projections: usize,
+    /// LPs of the projections.
+    pub lps: usize,
+    /// Simplex pivots of the projections.
+    pub pivots: usize,
+}
+
+impl LimitWorkspace {
+    /// Buffers for the plan's robot.
+    pub fn new(plan: &MotionPlan) -> Self {
+        let m = &plan.robot.model;
+        Self {
+            data: Data::new(m),
+            jac: Vec::new(),
+            projector: Projector::new(),
+            projection: Projection::default(),
+            qs: Vec::new(),
+            qss: Vec::new(),
+            buf: Vec::new(),
+            projections: 0,
+            lps: 0,
+            pivots: 0,
+        }
+    }
+
+    /// Forgets the projection's warm start (a new segment).
+    pub fn reset(&mut self) {
+        self.projector.reset();
+    }
+}
+
+/// Largest contact wrench of a projection's extra variables, in weights `m |g|`: a bound the
+/// physical solutions never reach (the projection reports when a facet rests on it).
+const Y_BOUND: f64 = 1e3;
+
+/// The explicit rows and origins of one side of a sample.
+pub type SideLimits<'a> = (&'a mut Vec<Row>, &'a mut Vec<RowOrigin>);
+
+/// A side's torque rows with the contact forces as unknowns, and what each stands for.
+pub type Lifted = (LiftedRows, Vec<RowOrigin>);
+
+/// Appends the explicit limit rows of both sides of an IK sample (`q_ss_sides`: `q_ss` of the
+/// step leaving it and of the step arriving at it) to each side's rows, with their origins, and
+/// returns each side's torque rows with the contact forces as unknowns when the stance has two
+/// contacts or more (module doc); `contacts` is needed when torque limits apply. The two sides
+/// share the sample's kinematics, `tau_a`, `tau_c` and contact Jacobians.
+#[allow(clippy::too_many_arguments)]
+pub fn sample_limit_rows(
+    plan: &MotionPlan,
+    lp: &LimitsPlan,
+    contacts: Option<&SegmentContacts>,
+    sample: &IkSample,
+    q_ss_sides: [&[f64]; 2],
+    ws: &mut LimitWorkspace,
+    sides: [SideLimits<'_>; 2],
+) -> Result<[Option<Lifted>; 2], StanceError> {
+    let n = lp.velocity_index.len();
+    let tags = &lp.kinematic_tags;
+    let [(rows_r, origins_r), (rows_l, origins_l)] = sides;
+    let mut out: [(&mut Vec<Row>, &mut Vec<RowOrigin>); 2] =
+        [(rows_r, origins_r), (rows_l, origins_l)];
+    // velocity and acceleration
+    ws.qs.clear();
+    ws.qs
+        .extend(lp.velocity_index.iter().map(|&i| sample.q_s[i]));
+    for (side, (rows, origins)) in out.iter_mut().enumerate() {
+        ws.qss.clear();
+        ws.qss
+            .extend(lp.velocity_index.iter().map(|&i| q_ss_sides[side][i]));
+        ws.buf.clear();
+        ws.buf.resize(tags.len(), Row::default());
+        let tight = lp.kinematic.fill_rows(&ws.qs, &ws.qss, None, &mut ws.buf);
+        rows.extend_from_slice(&ws.buf);
+        for t in tags {
+            let mut t = *t;
+            if t.kind == LimitKind::Velocity {
+                t.coordinate = tight.unwrap_or(0);
+            }
+            origins.push(RowOrigin::Limit(t));
+        }
+    }
+    let Some(contacts) = contacts.filter(|_| lp.any_torque()) else {
+        return Ok([None, None]);
+    };
+    // torques: the inverse dynamics along the path (both sides) and the contact Jacobians
+    let m = &plan.robot.model;
+    torque_path_terms_two(
+        m,
+        &mut ws.data,
+        &sample.q,
+        &sample.q_s,
+        q_ss_sides[0],
+        q_ss_sides[1],
+        plan.gravity,
+    )
+    .map_err(StanceError::Robot)?;
+    let k = contacts.frames.len();
+    ws.jac.resize(k, Matrix6xX::zeros(m.nv));
+    for (c, &f) in contacts.frames.iter().enumerate() {
+        contact_jacobian(m, &ws.data, f, &contacts.poses[c], &mut ws.jac[c])?;
+    }
+    let jac = &ws.jac;
+    let on_chain = |iv: usize| jac.iter().any(|j| j.column(iv).iter().any(|&x| x != 0.0));
+    let chain: Vec<usize> = (0..n)
+        .filter(|&c| lp.torque[c].is_finite() && on_chain(lp.velocity_index[c]))
+        .collect();
+    let tp = &ws.data.torque_path;
+    let tau_b = [&tp.tau_b[..], &ws.data.tau_b_other[..]];
+    let push_abs =
+        |rows: &mut Vec<Row>, origins: &mut Vec<RowOrigin>, c: usize, abc: [f64; 3], t: f64| {
+            let (a, b, cc) = (abc[0] / t, abc[1] / t, abc[2] / t);
+            rows.push(Row { a, b, c: cc - 1.0 });
+            rows.push(Row {
+                a: -a,
+                b: -b,
+                c: -cc - 1.0,
+            });
+            for upper in [true, false] {
+                origins.push(RowOrigin::Limit(LimitTag {
+                    kind: LimitKind::Torque,
+                    coordinate: c,
+                    upper,
+                }));
+            }
+        };
+    // joints off every contact chain: tau_j = r_j(u, x)
+    for (side, (rows, origins)) in out.iter_mut().enumerate() {
+        for c in 0..n {
+            let t = lp.torque[c];
+            let iv = lp.velocity_index[c];
+            if t.is_finite() && !chain.contains(&c) {
+                push_abs(
+                    rows,
+                    origins,
+                    c,
+                    [tp.tau_a[iv], tau_b[side][iv], tp.tau_c[iv]],
+                    t,
+                );
+            }
+        }
+    }
+    if chain.is_empty() {
+        return Ok([None, None]);
+    }
+    // w_1 = M1 (r_b - sum_k J_k,b^T w_k), M1 = J_1,b^-T
+    let j1b = jac[0].fixed_view::<6, 6>(0, 0).into_owned();
+    let Some(m1) = j1b.transpose().try_inverse() else {
+        return Err(StanceError::BadMotion(
+            "a contact frame's Jacobian has a singular base block (the robot has no free-flyer \
+             base?): torque limits with contacts need a floating base"
+                .into(),
+        ));
+    };
+    let base = |v: &[f64]| Vector6::from_iterator(v[..6].iter().copied());
+    let col = |j: &Matrix6xX<f64>, iv: usize| Vector6::from_iterator(j.column(iv).iter().copied());
+    let (wa, wc) = (m1 * base(&tp.tau_a), m1 * base(&tp.tau_c));
+    let wb = [m1 * base(tau_b[0]), m1 * base(tau_b[1])];
+    if k == 1 {
+        for (side, (rows, origins)) in out.iter_mut().enumerate() {
+            for &c in &chain {
+                let iv = lp.velocity_index[c];
+                let j = col(&jac[0], iv);
+                push_abs(
+                    rows,
+                    origins,
+                    c,
+                    [
+                        tp.tau_a[iv] - j.dot(&wa),
+                        tau_b[side][iv] - j.dot(&wb[side]),
+                        tp.tau_c[iv] - j.dot(&wc),
+                    ],
+                    lp.torque[c],
+                );
+            }
+        }
+        return Ok([None, None]);
+    }
+    // K >= 2: lifted rows in (u, x, y), y_k = w_{k+1} / W
+    let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    let weight = if weight > 0.0 { weight } else { 1.0 };
+    let ky = 6 * (k - 1);
+    let nk: Vec<Matrix6<f64>> = (1..k)
+        .map(|q| m1 * jac[q].fixed_view::<6, 6>(0, 0).transpose() * weight)
+        .collect();
+    let mut d = vec![0.0; ky];
+    let mut result: [Option<Lifted>; 2] = [None, None];
+    for (side, slot) in result.iter_mut().enumerate() {
+        let rows_count = contacts.cwc.iter().map(Vec::len).sum::<usize>() + 2 * chain.len();
+        let mut lifted = LiftedRows::with_capacity(ky, Y_BOUND, rows_count);
+        let mut lifted_origin = Vec::with_capacity(rows_count);
+        // contact 1's cone: h . w_1 <= 0
+        for h in &contacts.cwc[0] {
+            let hv = Vector6::from_row_slice(h);
+            for (q, nq) in nk.iter().enumerate() {
+                let g = nq.transpose() * hv;
+                for i in 0..6 {
+                    d[6 * q + i] = -g[i];
+                }
+            }
+            lifted.push(hv.dot(&wa), hv.dot(&wb[side]), hv.dot(&wc), &d);
+            lifted_origin.push(RowOrigin::Contact);
+        }
+        // the other cones: W h . y_k <= 0
+        for q in 1..k {
+            for h in &contacts.cwc[q] {
+                d.fill(0.0);
+                for (i, x) in h.iter().enumerate() {
+                    d[6 * (q - 1) + i] = weight * x;
+                }
+                lifted.push(0.0, 0.0, 0.0, &d);
+                lifted_origin.push(RowOrigin::Contact);
+            }
+        }
+        // chain torques: tau_j = r_j - J_1j . w_1 - sum_k J_kj . W y_k
+        for &c in &chain {
+            let iv = lp.velocity_index[c];
+            let t = lp.torque[c];
+            let j1 = col(&jac[0], iv);
+            let a = tp.tau_a[iv] - j1.dot(&wa);
+            let b = tau_b[side][iv] - j1.dot(&wb[side]);
+            let cc = tp.tau_c[iv] - j1.dot(&wc);
+            for (q, nq) in nk.iter().enumerate() {
+                // + J_1j . N_q y_q - W J_qj . y_q
+                let g = nq.transpose() * j1 - col(&jac[q + 1], iv) * weight;
+                for i in 0..6 {
+                    d[6 * q + i] = g[i] / t;
+                }
+            }
+            lifted.push(a / t, b / t, cc / t - 1.0, &d);
+            for x in d.iter_mut() {
+                *x = -*x;
+            }
+            lifted.push(-a / t, -b / t, -cc / t - 1.0, &d);
+            for upper in [true, false] {
+                lifted_origin.push(RowOrigin::TorqueWithContacts(LimitTag {
+                    kind: LimitKind::Torque,
+                    coordinate: c,
+                    upper,
+                }));
+            }
+        }
+        *slot = Some((lifted, lifted_origin));
+    }
+    Ok(result)
+}
+
+/// The projection of lifted torque rows onto `(u, x)` within the bounding box of the side's
+/// explicit rows (module doc), as rows with their origins: a row whose facet involves a torque
+/// limit stands for that torque, one that involves only contact wrench cones for contact
+/// stability.
+///
+/// # Errors
+///
+/// [`StanceError::Topp`] when the projection's programs fail (a guard).
+pub fn project_lifted(
+    lifted: &LiftedRows,
+    lifted_origin: &[RowOrigin],
+    explicit: &[Row],
+    ws: &mut LimitWorkspace,
+) -> Result<(Vec<Row>, Vec<RowOrigin>), StanceError> {
+    let Some(bbox) = bounding_box(explicit) else {
+        return Ok((Vec::new(), Vec::new())); // the point is infeasible already
+    };
+    ws.projector.reset();
+    ws.projector
+        .project(lifted, bbox, 1e-9, &mut ws.projection)?;
+    ws.projections += 1;
+    ws.lps += ws.projection.lps;
+    ws.pivots += ws.projection.pivots;
+    if ws.projection.empty {
+        return Ok(empty_projection(lifted, lifted_origin, bbox, ws));
+    }
+    let mut origins = Vec::with_capacity(ws.projection.rows.len());
+    for sup in &ws.projection.support {
+        origins.push(
+            sup.iter()
+                .map(|&j| lifted_origin[j])
+                .find(|o| matches!(o, RowOrigin::TorqueWithContacts(_)))
+                .unwrap_or(RowOrigin::Contact),
+        );
+    }
+    Ok((ws.projection.rows.clone(), origins))
+}
+
+/// The rows of an empty projection: no `(u, x)` admits contact forces within the torque limits.
+/// Each torque limit whose two rows, removed alone, leave a nonempty projection is named by a
+/// violated constant row; when none does (several limits together), every torque limit of the
+/// lifted rows is named (and with no torque row, contact stability).
+fn empty_projection(
+    lifted: &LiftedRows,
+    lifted_origin: &[RowOrigin],
+    bbox: Box2,
+    ws: &mut LimitWorkspace,
+) -> (Vec<Row>, Vec<RowOrigin>) {
+    let empty = Row {
+        a: 0.0,
+        b: 0.0,
+        c: 1.0,
+    };
+    let mut joints: Vec<LimitTag> = Vec::new();
+    for o in lifted_origin {
+        if let RowOrigin::TorqueWithContacts(t) = o {
+            if !joints.iter().any(|j| j.coordinate == t.coordinate) {
+                joints.push(*t);
+            }
+        }
+    }
+    let mut culprits = Vec::new();
+    let mut reduced = LiftedRows::with_capacity(lifted.extra(), lifted.y_bound, lifted.len());
+    let mut probe = Projection::default();
+    for t in &joints {
+        reduced.clear();
+        for (j, o) in lifted_origin.iter().enumerate() {
+            if !matches!(o, RowOrigin::TorqueWithContacts(u) if u.coordinate == t.coordinate) {
+                let (a, b, c, d) = lifted.row(j);
+                reduced.push(a, b, c, d);
+            }
+        }
+        ws.projector.reset();
+        if ws
+            .projector
+            .project(&reduced, bbox, 1e-9, &mut probe)
+            .is_ok()
+            && !probe.empty
+        {
+            culprits.push(*t);
+        }
+    }
+    if culprits.is_empty() {
+        culprits = joints;
+    }
+    if culprits.is_empty() {
+        return (vec![empty], vec![RowOrigin::Contact]);
+    }
+    let origins: Vec<RowOrigin> = culprits
+        .iter()
+        .map(|t| RowOrigin::TorqueWithContacts(*t))
+        .collect();
+    (vec![empty; origins.len()], origins)
+}
+
+/// The Jacobian (6 x nv, linear rows first) of the frame rigidly attached to the robot surface
+/// `frame`'s body that coincides now with the contact's planned frame `world_from_contact`, in
+/// that frame's axes at its origin: the map from `v` to the twist of the body at the contact,
+/// whose transpose turns a contact wrench in the cone's frame into generalized forces. With
+/// `surface_from_contact = (R, p)`, `J_c = [R^T, -R^T [p]x; 0, R^T] J_surface` (`LOCAL`).
+///
+/// # Errors
+///
+/// [`StanceError::Robot`] for a frame the model does not have.
+pub fn contact_jacobian(
+    model: &stance_robot::Model,
+    data: &Data,
+    frame: usize,
+    world_from_contact: &stance_robot::Pose,
+    out: &mut Matrix6xX<f64>,
+) -> Result<(), StanceError> {
+    frame_jacobian(model, data, frame, ReferenceFrame::Local, out).map_err(StanceError::Robot)?;
+    let world_from_surface =
+        stance_robot::frame_placement(model, data, frame).map_err(StanceError::Robot)?;
+    let off = world_from_surface.inverse().compose(world_from_contact);
+    let rt = off.rotation.transpose();
+    let px = nalgebra::Matrix3::new(
+        0.0,
+        -off.translation.z,
+        off.translation.y,
+        off.translation.z,
+        0.0,
+        -off.translation.x,
+        -off.translation.y,
+        off.translation.x,
+        0.0,
+    );
+    let rpx = -rt * px;
+    // in place, column by column: (lin, ang) -> (R^T lin - R^T [p]x ang, R^T ang)
+    for mut col in out.column_iter_mut() {
+        let lin = nalgebra::Vector3::new(col[0], col[1], col[2]);
+        let ang = nalgebra::Vector3::new(col[3], col[4], col[5]);
+        if lin.iter().chain(ang.iter()).all(|&v| v == 0.0) {
+            continue; // not on the contact's chain: stays exactly zero
+        }
+        let l = rt * lin + rpx * ang;
+        let a = rt * ang;
+        for i in 0..3 {
+            col[i] = l[i];
+            col[3 + i] = a[i];
+        }
+    }
+    Ok(())
+}
+
+/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged;
+/// `None` when empty.
+pub(crate) fn bounding_box(rows: &[Row]) -> Option<Box2> {
+    let tol = Tolerances::default();
+    let bbox = Box2 {
+        u_lo: -tol.max_u,
+        u_hi: tol.max_u,
+        x_lo: 0.0,
+        x_hi: tol.max_x,
+    };
+    let lines = StageLines::from_rows(rows);
+    let mut stats = Lp2Stats::default();
+    let pair = |c: [f64; 2]| ((c, [-c[1], c[0]]), ([-c[0], -c[1]], [c[1], -c[0]]));
+    let mut ext = |c: [f64; 2]| {
+        let (hi, lo) = pair(c);
+        match lp2::solve_pair(&lines, bbox, [hi, lo], [&[], &[]], &tol, &mut stats) {
+            [Lp2::Optimal { u: u1, x: x1, .. }, Lp2::Optimal { u: u0, x: x0, .. }] => {
+                Some((c[0] * u0 + c[1] * x0, c[0] * u1 + c[1] * x1))
+            }
+            _ => None,
+        }
+    };
+    let (u_lo, u_hi) = ext([1.0, 0.0])?;
+    let (x_lo, x_hi) = ext([0.0, 1.0])?;
+    let pad = |lo: f64, hi: f64| 1e-6 * (hi - lo).abs().max(lo.abs()).max(hi.abs()) + 1e-9;
+    let (pu, px) = (pad(u_lo, u_hi), pad(x_lo, x_hi));
+    Some(Box2 {
+        u_lo: (u_lo - pu).max(-tol.max_u),
+        u_hi: (u_hi + pu).min(tol.max_u),
+        x_lo: (x_lo - px).max(0.0),
+        x_hi: (x_hi + px).min(tol.max_x),
+    })
+}
+
+/// Drops the acceleration and torque rows of a side (`rows[first..]`, with their origins) that
+/// no state within the bounding box of the other rows (`rows[..first]` and the velocity row)
+/// can reach: `max over the box of a u + b x + c < 0` with a margin. Exact, since the box is
+/// implied by rows that are kept; it spares the retiming most joints' rows (those of joints
+/// far from their limits).
+pub(crate) fn prune_unreachable(rows: &mut Vec<Row>, origins: &mut Vec<RowOrigin>, first: usize) {
+    let mut keep: Vec<Row> = rows[..first].to_vec();
+    keep.extend(
+        rows[first..]
+            .iter()
+            .zip(&origins[first..])
+            .filter(|(_, o)| matches!(o, RowOrigin::Limit(t) if t.kind == LimitKind::Velocity))
+            .map(|(r, _)| *r),
+    );
+    let Some(b) = bounding_box(&keep) else {
+        return; // the point is infeasible: every row is kept for the diagnosis
+    };
+    let mut j = first;
+    for i in first..rows.len() {
+        let r = rows[i];
+        let velocity = matches!(origins[i], RowOrigin::Limit(t) if t.kind == LimitKind::Velocity);
+        let top = (r.a * b.u_lo).max(r.a * b.u_hi) + (r.b * b.x_lo).max(r.b * b.x_hi) + r.c;
+        let scale =
+            (r.a * b.u_lo).abs().max((r.a * b.u_hi).abs()) + (r.b * b.x_hi).abs() + r.c.abs();
+        if velocity || top >= -1e-9 * scale {
+            rows[j] = r;
+            origins[j] = origins[i];
+            j += 1;
+        }
+    }
+    rows.truncate(j);
+    origins.truncate(j);
+}
