@@ -118,9 +118,8 @@ pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, Stanc
 pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
     let t_start = Instant::now();
     let mut plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
-    // the file's limits, checked whether or not the retiming enforces them
-    let checked_limits = plan.limits.clone();
     if options.no_limits {
+        // the file's limits stay in plan.actuator_limits: checked, not enforced
         plan.limits = None;
     }
     let t_plan = t_start.elapsed();
@@ -180,7 +179,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
                 r,
                 &samples,
                 options,
-                checked_limits.as_ref(),
+                plan.actuator_limits.as_ref(),
             )?);
         }
     }

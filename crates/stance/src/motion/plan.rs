@@ -89,9 +89,13 @@ pub struct MotionPlan {
     pub q0: Vec<f64>,
     /// Segments.
     pub segments: Vec<SegmentPlan>,
-    /// The actuated joints and their limits (`None`: no limit applies, contact stability
-    /// alone).
+    /// The actuated joints and the limits the retiming enforces (`None`: no limit applies, or
+    /// `--no-limits`: contact stability alone).
     pub limits: Option<super::limits::LimitsPlan>,
+    /// The robot's actuator limits as the file states them, enforced or not: the independent
+    /// checks report the ratios to them, and the simulator's actuators saturate at their
+    /// torques.
+    pub actuator_limits: Option<super::limits::LimitsPlan>,
     /// The file, for the options.
     pub spec: MotionSpec,
 }
@@ -185,6 +189,7 @@ impl MotionPlan {
         let q0 = initial(&spec, &names)?;
         let limits = super::limits::LimitsPlan::new(&robot.model, &spec.limits)?;
         Ok(Self {
+            actuator_limits: limits.clone(),
             limits,
             name: spec.name.clone().unwrap_or_else(|| "motion".into()),
             robot,

@@ -22,7 +22,9 @@
 //!   them is checked separately (the force check with the simulator's own friction, an inner
 //!   8-sided pyramid of 0.9 on the full areas).
 //! - **Actuators**: one per actuated joint, `force = kp ctrl - kp q - kv qdot` (a general
-//!   actuator with an affine bias), so that `ctrl = q* + (kv / kp) v* + tau_ff / kp` gives
+//!   actuator with an affine bias), saturated at the joint's torque limit of the motion
+//!   (`forcerange`, the file's `[limits]`, whether the retiming enforced them or not), so that
+//!   `ctrl = q* + (kv / kp) v* + tau_ff / kp` gives
 //!   `tau = tau_ff + kp (q* - q) + kv (v* - qdot)`: PD tracking plus feedforward, the PD part
 //!   integrated implicitly by MuJoCo's `implicitfast` integrator (stable at 1 ms with stiff
 //!   gains).
@@ -212,18 +214,30 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
     }
     write_body(&mut x, plan, o, 1, 2)?;
     let _ = writeln!(x, "  </worldbody>");
-    // actuators
+    // actuators, saturating at the motion's torque limits
     let _ = writeln!(x, "  <actuator>");
+    let torque_of = |name: &str| {
+        plan.actuator_limits.as_ref().and_then(|lp| {
+            lp.names
+                .iter()
+                .position(|n| n == name)
+                .map(|c| lp.torque[c])
+                .filter(|t| t.is_finite())
+        })
+    };
     for j in &m.joints[2..] {
         if matches!(
             j.kind,
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } | JointKind::Continuous { .. }
         ) {
             let n = xml_name(&j.name);
+            let range = torque_of(&j.name).map_or(String::new(), |t| {
+                format!(" forcelimited=\"true\" forcerange=\"{} {t}\"", -t)
+            });
             let _ = writeln!(
                 x,
                 "    <general name=\"{n}\" joint=\"{n}\" gaintype=\"fixed\" gainprm=\"{kp}\" \
-                 biastype=\"affine\" biasprm=\"0 {} {}\"/>",
+                 biastype=\"affine\" biasprm=\"0 {} {}\"{range}/>",
                 -o.kp,
                 -o.kv,
                 kp = o.kp
