@@ -34,6 +34,7 @@ mod bench;
 mod cones;
 mod contact;
 mod errors;
+mod joints;
 mod json;
 mod motion;
 mod robot;
@@ -90,6 +91,7 @@ fn _stance(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(topp::retime, m)?)?;
     m.add_class::<robot::Model>()?;
     m.add_function(wrap_pyfunction!(motion::motion, m)?)?;
+    m.add_function(wrap_pyfunction!(joints::retime_joints, m)?)?;
     m.add_function(wrap_pyfunction!(_restore, m)?)?;
     m.add_function(wrap_pyfunction!(bench::_bench_rust, m)?)?;
     Ok(())

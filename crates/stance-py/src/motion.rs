@@ -9,10 +9,11 @@ use crate::{errors, json};
 
 /// Runs a motion file (TOML or JSON) or a built-in motion (`"stair-climbing"`,
 /// `"box-climbing"`, `"small-sway"`) and returns the result of `stance motion` as a
-/// `stance.Result` (GIL released while it runs).
+/// `stance.Result` (GIL released while it runs); `limits=False` retimes under contact
+/// stability alone (`--no-limits`: the file's limits are still checked).
 #[pyfunction]
 #[pyo3(signature = (source, *, rest_to_rest = None, dt = None, grid = None, checks = true,
-    time_scale = None, check_friction = None))]
+    time_scale = None, check_friction = None, limits = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn motion<'py>(
     py: Python<'py>,
@@ -23,6 +24,7 @@ pub fn motion<'py>(
     checks: bool,
     time_scale: Option<f64>,
     check_friction: Option<f64>,
+    limits: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (mut spec, base_dir) =
         stance::input::motion(&source.to_string_lossy()).map_err(errors::facade)?;
@@ -41,6 +43,7 @@ pub fn motion<'py>(
         skip_checks: !checks,
         time_scale,
         check_friction,
+        no_limits: !limits,
     };
     let out = py.detach(|| run(spec, &options)).map_err(errors::facade)?;
     let d = json::to_python(py, &out)?;

@@ -65,3 +65,12 @@ def test_missing_jvrc1_is_a_not_installed_error(monkeypatch) -> None:  # type: i
         stance.motion("stair-climbing")
     with pytest.raises(ImportError):  # NotInstalledError is an ImportError too
         stance.motion("box-climbing")
+
+
+def test_motion_without_limits_is_faster_and_exceeds_them() -> None:
+    limited = stance.motion("small-sway", dt=0.005)
+    free = stance.motion("small-sway", dt=0.005, limits=False)
+    assert limited.status == free.status == "optimal"
+    assert free.duration < limited.duration
+    assert limited.checks.max_torque_ratio <= 1.0 + 1e-6
+    assert free.checks.max_torque_ratio > 1.0

@@ -238,6 +238,8 @@ impl JointLimits {
     /// the tightest velocity limit (`None` when no limited joint moves: the velocity row is
     /// then the constant `-1 <= 0`, as is the acceleration row of a joint that does not move).
     ///
+    /// See [`JointLimits::fill_rows_on_step`] for a path whose `q_s` is linear between samples.
+    ///
     /// ```
     /// use stance_topp::limits::JointLimits;
     /// use stance_topp::Row;
@@ -258,11 +260,40 @@ impl JointLimits {
         torque: Option<[&[f64]; 3]>,
         out: &mut [Row],
     ) -> Option<usize> {
+        self.fill_rows_on_step(q_s, None, q_ss, torque, out)
+    }
+
+    /// [`JointLimits::fill_rows`] for one side of a sample of a path whose `q_s` is linear
+    /// between samples (and `q_ss` constant, as the IK integrates a whole-body path): the
+    /// velocity row takes the larger `|q_s,j|` of the step's two ends (`q_s_other` is the other
+    /// end's), so that with `x` bounded at both ends of the step, `|q_s,j(s)| s'(s) <= V_j` holds
+    /// all along it (`|q_s,j|` and `x` are linear there, each at most its larger end value). The
+    /// acceleration `q_s u + q_ss x` is linear along the step within a grid interval, so its
+    /// rows at the ends bound it everywhere.
+    ///
+    /// ```
+    /// use stance_topp::limits::JointLimits;
+    /// use stance_topp::Row;
+    /// let mut l = JointLimits::none(1);
+    /// l.velocity = vec![1.0];
+    /// let mut rows = vec![Row::default(); 1];
+    /// l.fill_rows_on_step(&[0.5], Some(&[1.0]), &[0.0], None, &mut rows);
+    /// assert_eq!(rows[0].c, -1.0); // (1 / max(0.5, 1.0))^2
+    /// ```
+    pub fn fill_rows_on_step(
+        &self,
+        q_s: &[f64],
+        q_s_other: Option<&[f64]>,
+        q_ss: &[f64],
+        torque: Option<[&[f64]; 3]>,
+        out: &mut [Row],
+    ) -> Option<usize> {
         let mut k = 0;
         let mut tight = None;
         if self.velocity.iter().any(|v| v.is_finite()) {
             let mut best = f64::INFINITY;
-            for (j, (&d, &v)) in q_s.iter().zip(&self.velocity).enumerate() {
+            for (j, (&d0, &v)) in q_s.iter().zip(&self.velocity).enumerate() {
+                let d = q_s_other.map_or(d0.abs(), |o| d0.abs().max(o[j].abs()));
                 if d == 0.0 || v.is_infinite() {
                     continue;
                 }

@@ -253,7 +253,9 @@ pub fn culprits(rows: &[Row], tol: &Tolerances) -> Vec<usize> {
 /// - otherwise (the start speed, a stall) no constraint is named.
 ///
 /// Returns the point and the names, the speed requirement named `"the speed that grid point
-/// N needs"` or `"the end speed"`.
+/// N needs"` or `"the end speed"`; grid points are named by their index plus `offset` (the
+/// index of `k`'s first point in the caller's grid).
+#[allow(clippy::too_many_arguments)]
 pub fn explain(
     k: &stance_topp::CanonicalConstraints,
     origins: &[RowOrigin],
@@ -262,6 +264,7 @@ pub fn explain(
     controllable: &[Option<[f64; 2]>],
     sd_end: [f64; 2],
     tol: &Tolerances,
+    offset: usize,
 ) -> (usize, Vec<String>) {
     use stance_topp::Status;
     let n = k.num_points();
@@ -299,7 +302,7 @@ pub fn explain(
                     .collect();
                 if !over.is_empty() {
                     let mut c = describe(j, &over);
-                    c.push(format!("holding grid point {j} at rest"));
+                    c.push(format!("holding grid point {} at rest", j + offset));
                     return (j, c);
                 }
             }
@@ -340,7 +343,7 @@ pub fn explain(
                 c.push(if j + 1 == n {
                     "the end speed".into()
                 } else {
-                    format!("the speed that grid point {} needs", j + 1)
+                    format!("the speed that grid point {} needs", j + 1 + offset)
                 });
             }
             (j, c)

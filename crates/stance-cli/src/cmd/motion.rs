@@ -198,15 +198,7 @@ pub fn table(r: &MotionResult) -> String {
         );
     }
     if let Some(fl) = &r.failure {
-        let _ = writeln!(
-            o,
-            "  failure: {} in segment {} at grid point {} (s = {:.3}): {}",
-            fl.status,
-            fl.segment + 1,
-            fl.grid_point,
-            fl.s,
-            fl.reason
-        );
+        let _ = writeln!(o, "  failure: {}: {}", fl.status, fl.reason);
     }
     o
 }

@@ -17,7 +17,10 @@ Dynamics
     x = s'^2); retime(stance, com_waypoints, ...): eq. 14 along a CoM path
 Whole body
     Model.from_urdf(path, locked=...), Model.jvrc1(): centroidal quantities with Pinocchio's
-    conventions; motion(file | name): the result of ``stance motion``
+    conventions; motion(file | name, limits=True): the result of ``stance motion``
+Fixed-base robots
+    retime_joints(urdf, waypoints, limits={...}): a joint path retimed under joint velocity,
+    acceleration and torque limits (``stance retime-joints``, toppra's problem)
 pypoman users
     ``from stance import pypoman`` for pypoman's names and conventions.
 
@@ -45,6 +48,7 @@ from ._stance import (
     face_to_span,
     motion,
     retime,
+    retime_joints,
     span_to_face,
     topp,
 )
@@ -78,6 +82,7 @@ __all__ = [
     "face_to_span",
     "motion",
     "retime",
+    "retime_joints",
     "span_to_face",
     "topp",
 ]

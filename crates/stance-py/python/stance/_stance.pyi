@@ -329,6 +329,26 @@ def motion(
     checks: bool = True,
     time_scale: Optional[float] = None,
     check_friction: Optional[float] = None,
+    limits: bool = True,
+) -> Result: ...
+def retime_joints(
+    urdf: _PathLike,
+    waypoints: _ArrayLike,
+    *,
+    joints: Optional[Sequence[str]] = None,
+    locked: Optional[Mapping[str, float]] = None,
+    knots: Optional[_ArrayLike] = None,
+    interpolation: Literal["spline", "polyline"] = "spline",
+    spline: Literal["not-a-knot", "natural", "clamped"] = "not-a-knot",
+    gravity: Optional[_ArrayLike] = None,
+    grid_points: int = 101,
+    sd_start: float = 0.0,
+    sd_end: float = 0.0,
+    discretization: Literal["interpolation", "collocation"] = "interpolation",
+    max_violation_fraction: Optional[float] = 0.001,
+    samples_per_interval: int = 10,
+    dt: float = 0.01,
+    limits: Optional[Mapping[str, Any]] = None,
 ) -> Result: ...
 def _restore(kind: str, state: Any) -> Any: ...
 def _bench_rust(op: str, args: Tuple[Any, ...], repeats: int) -> List[float]: ...

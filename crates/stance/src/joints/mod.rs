@@ -809,6 +809,7 @@ fn explain(
         controllable,
         opts.sd_end,
         &opts.tol,
+        0,
     );
     let list = constraints.join(", ");
     let reason = match status {

@@ -224,17 +224,13 @@ fn reason(status: &Status, constraints: &[String]) -> String {
     let limits = constraints.iter().any(|c| {
         c.starts_with("torque") || c.starts_with("velocity") || c.starts_with("acceleration")
     });
-    let relax = if limits {
-        " (raise those limits in [limits], or move slower or less there)"
-    } else {
-        ""
-    };
     match status {
         Status::FeasibleSetEmpty { .. } => format!(
-            "no path speed and acceleration hold there{}{relax}{}",
+            "no path speed and acceleration hold there{}{}",
             named("what cannot be met"),
             if limits {
-                ""
+                " (the posture needs more than that whatever the timing: raise those limits in \
+                 [limits], or change the posture there: the CoM, the contacts)"
             } else {
                 " (the gravito-inertial wrench leaves the GIWC whatever the timing: move the CoM \
                  or the contacts)"
@@ -243,8 +239,13 @@ fn reason(status: &Status, constraints: &[String]) -> String {
         Status::ControllableSetEmpty { .. } => format!(
             "from there no admissible speed profile reaches the end of the motion: a later part \
              needs a speed that cannot be reached or kept (or, rest to rest, a segment that is \
-             not quasi-statically stable){}{relax}",
-            named("what cannot all hold there")
+             not quasi-statically stable){}{}",
+            named("what cannot all hold there"),
+            if limits {
+                " (raise those limits in [limits], or change the motion there)"
+            } else {
+                ""
+            }
         ),
         Status::StartOutsideControllable { .. } => {
             "the motion cannot start from rest: the initial posture is not statically stable".into()
@@ -258,6 +259,12 @@ fn reason(status: &Status, constraints: &[String]) -> String {
             .into(),
         Status::Optimal => String::new(),
     }
+}
+
+/// Names for the failures: the actuated joints' and the segments'.
+struct Names<'a> {
+    joints: &'a [String],
+    segments: &'a [String],
 }
 
 /// The global layout: constraints, segment starts on the grid, landing bounds.
@@ -356,8 +363,9 @@ fn solve_layout(
     ws: &mut Workspace,
     segments: &mut Vec<SegmentSolve>,
     controllable: &mut Vec<Option<[f64; 2]>>,
-    joints: &[String],
+    names: &Names<'_>,
 ) -> Result<(Option<Profile>, Option<RetimeFailure>, Duration), StanceError> {
+    let joints = names.joints;
     let nseg = l.seg_start.len() - 1;
     // `k` with its first grid point at `first` of the global grid and its origins from `row0`
     let locate = |status: &Status,
@@ -367,19 +375,27 @@ fn solve_layout(
                   sets: &[Option<[f64; 2]>],
                   sd_end: [f64; 2]| {
         let origins = &l.origins[row0..row0 + k.offsets()[k.num_points()]];
-        let (local, constraints) =
-            crate::binding::explain(k, origins, joints, *status, sets, sd_end, &opts.tol);
-        let global = first + local;
+        let (_, constraints) =
+            crate::binding::explain(k, origins, joints, *status, sets, sd_end, &opts.tol, first);
+        // the segment and point of the failure itself (the constraints may name a later point)
+        let global = first + status.grid_index().unwrap_or(0).min(k.num_points() - 1);
         let seg = (0..nseg)
             .rev()
             .find(|&q| l.seg_start[q] <= global)
             .unwrap_or(0);
+        let grid_point = global - l.seg_start[seg];
+        let s = l.constraints.grid()[global.min(l.constraints.num_points() - 1)];
         RetimeFailure {
             status: FailureStatus::Solver(*status),
             segment: seg,
-            grid_point: global - l.seg_start[seg],
-            s: l.constraints.grid()[global.min(l.constraints.num_points() - 1)],
-            reason: reason(status, &constraints),
+            grid_point,
+            s,
+            reason: format!(
+                "in segment {} ({}), grid point {grid_point} (s = {s:.3}): {}",
+                seg + 1,
+                names.segments.get(seg).map_or("", String::as_str),
+                reason(status, &constraints)
+            ),
             constraints,
         }
     };
@@ -507,7 +523,11 @@ pub fn retime(
         }
     }
     let opts = SolveOptions::new(plan.spec.retiming.discretization);
-    let joints: &[String] = plan.limits.as_ref().map_or(&[], |lp| &lp.names);
+    let segment_names: Vec<String> = plan.segments.iter().map(|s| s.name.clone()).collect();
+    let joints = &Names {
+        joints: plan.limits.as_ref().map_or(&[], |lp| &lp.names),
+        segments: &segment_names,
+    };
     let mut ws = Workspace::new();
     let mut segments = Vec::with_capacity(nseg);
     let mut refine = Refinement::default();

@@ -187,6 +187,7 @@ pub struct LimitWorkspace {
     projector: Projector,
     projection: Projection,
     qs: Vec<f64>,
+    qs_end: Vec<f64>,
     qss: Vec<f64>,
     buf: Vec<Row>,
     /// Projections made, LPs and pivots (for the report).
@@ -207,6 +208,7 @@ impl LimitWorkspace {
             projector: Projector::new(),
             projection: Projection::default(),
             qs: Vec::new(),
+            qs_end: Vec::new(),
             qss: Vec::new(),
             buf: Vec::new(),
             projections: 0,
@@ -232,7 +234,9 @@ pub type SideLimits<'a> = (&'a mut Vec<Row>, &'a mut Vec<RowOrigin>);
 pub type Lifted = (LiftedRows, Vec<RowOrigin>);
 
 /// Appends the explicit limit rows of both sides of an IK sample (`q_ss_sides`: `q_ss` of the
-/// step leaving it and of the step arriving at it) to each side's rows, with their origins, and
+/// step leaving it and of the step arriving at it; `q_s_ends`: `q_s` at the other end of each
+/// step, for the velocity rows of [`JointLimits::fill_rows_on_step`]) to each side's rows,
+/// with their origins, and
 /// returns each side's torque rows with the contact forces as unknowns when the stance has two
 /// contacts or more (module doc); `contacts` is needed when torque limits apply. The two sides
 /// share the sample's kinematics, `tau_a`, `tau_c` and contact Jacobians.
@@ -243,6 +247,7 @@ pub fn sample_limit_rows(
     contacts: Option<&SegmentContacts>,
     sample: &IkSample,
     q_ss_sides: [&[f64]; 2],
+    q_s_ends: [&[f64]; 2],
     ws: &mut LimitWorkspace,
     sides: [SideLimits<'_>; 2],
 ) -> Result<[Option<Lifted>; 2], StanceError> {
@@ -259,9 +264,14 @@ pub fn sample_limit_rows(
         ws.qss.clear();
         ws.qss
             .extend(lp.velocity_index.iter().map(|&i| q_ss_sides[side][i]));
+        ws.qs_end.clear();
+        ws.qs_end
+            .extend(lp.velocity_index.iter().map(|&i| q_s_ends[side][i]));
         ws.buf.clear();
         ws.buf.resize(tags.len(), Row::default());
-        let tight = lp.kinematic.fill_rows(&ws.qs, &ws.qss, None, &mut ws.buf);
+        let tight =
+            lp.kinematic
+                .fill_rows_on_step(&ws.qs, Some(&ws.qs_end), &ws.qss, None, &mut ws.buf);
         rows.extend_from_slice(&ws.buf);
         for t in tags {
             let mut t = *t;

@@ -199,11 +199,15 @@ impl SegmentRows {
                 }
             });
             if let Some(lp) = plan.limits.as_ref() {
+                let last = path.samples.len() - 1;
                 let left_qss = if j > 0 {
                     &path.samples[j - 1].q_ss
                 } else {
                     &smp.q_ss
                 };
+                // q_s at the other end of each side's step
+                let q_s_next = &path.samples[(j + 1).min(last)].q_s;
+                let q_s_prev = &path.samples[j.saturating_sub(1)].q_s;
                 let [right, left] = &mut sides;
                 let lifted = sample_limit_rows(
                     plan,
@@ -211,6 +215,7 @@ impl SegmentRows {
                     self.contacts.as_ref(),
                     smp,
                     [&smp.q_ss, left_qss],
+                    [q_s_next, q_s_prev],
                     ws,
                     [
                         (&mut right.rows, &mut right.origins),

@@ -1,0 +1,285 @@
+//! Actuator limits in whole-body motions (`[limits]`, `stance::motion::limits`): limits that do
+//! not bind change nothing; each kind binds alone, lengthens the motion and is named in the
+//! per-segment binding counts; the optimum with limits is never shorter than without; a torque
+//! limit below what gravity needs at rest makes the motion infeasible and names the joint and
+//! the segment; the independent checks keep every ratio at most one at 1 ms samples; the
+//! checks' joint torques equal Pinocchio's inverse dynamics for the chosen contact wrenches
+//! (testdata/robot/jvrc1.json). The small humanoid's motion needs no Python; the JVRC-1
+//! gallery motions (gallery/) skip, saying why, without the project virtualenv.
+
+use std::path::{Path, PathBuf};
+
+use stance::limits::{AccelerationSpec, Scale};
+use stance::motion::result::{MotionResult, MotionStatus};
+use stance::motion::{experiments, run, spec::MotionSpec, RunOptions};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn sway() -> MotionSpec {
+    experiments::by_name("small-sway").unwrap()
+}
+
+fn with(mut s: MotionSpec, velocity: Scale, acc: Option<f64>, torque: Scale) -> MotionSpec {
+    s.limits.velocity = velocity;
+    s.limits.acceleration = acc.map(AccelerationSpec::All);
+    s.limits.torque = torque;
+    s
+}
+
+fn duration(r: &MotionResult) -> f64 {
+    assert_eq!(r.status, MotionStatus::Optimal, "{:?}", r.failure);
+    r.duration.unwrap()
+}
+
+fn quick() -> RunOptions {
+    RunOptions {
+        skip_checks: true,
+        ..Default::default()
+    }
+}
+
+/// Sums of the per-segment binding counts: (velocity, acceleration, torque).
+fn bound(r: &MotionResult) -> (usize, usize, usize) {
+    r.segments.iter().fold((0, 0, 0), |(v, a, t), s| {
+        let b = s.binding.as_ref().unwrap();
+        (v + b.velocity, a + b.acceleration, t + b.torque)
+    })
+}
+
+#[test]
+fn limits_that_do_not_bind_leave_the_duration_unchanged() {
+    let none = run(with(sway(), Scale::Off, None, Scale::Off), &quick()).unwrap();
+    let loose = run(
+        with(
+            sway(),
+            Scale::Fraction(100.0),
+            Some(1e6),
+            Scale::Fraction(100.0),
+        ),
+        &quick(),
+    )
+    .unwrap();
+    let (a, b) = (duration(&none), duration(&loose));
+    eprintln!("small-sway: no limits {a:.9} s, limits 100 times the URDF's {b:.9} s");
+    assert!((a - b).abs() <= 1e-9 * a, "{a} vs {b}");
+    assert_eq!(bound(&loose), (0, 0, 0));
+    // and --no-limits is the same as no limits in the file
+    let flag = run(
+        sway(),
+        &RunOptions {
+            no_limits: true,
+            ..quick()
+        },
+    )
+    .unwrap();
+    assert_eq!(duration(&flag), a);
+}
+
+#[test]
+fn each_kind_of_limit_binds_alone_and_lengthens_the_motion() {
+    let base = duration(&run(with(sway(), Scale::Off, None, Scale::Off), &quick()).unwrap());
+    for (name, spec, which) in [
+        (
+            "velocity at 20 % of the URDF's",
+            with(sway(), Scale::Fraction(0.2), None, Scale::Off),
+            0,
+        ),
+        (
+            "acceleration 20 rad/s^2",
+            with(sway(), Scale::Off, Some(20.0), Scale::Off),
+            1,
+        ),
+        (
+            "torque at the URDF's efforts",
+            with(sway(), Scale::Off, None, Scale::Fraction(1.0)),
+            2,
+        ),
+    ] {
+        let r = run(spec, &quick()).unwrap();
+        let d = duration(&r);
+        let b = bound(&r);
+        eprintln!("small-sway, {name}: {d:.4} s (no limits {base:.4} s), bound {b:?}");
+        assert!(d > base * 1.01, "{name}: {d} vs {base}");
+        assert!([b.0, b.1, b.2][which] > 0, "{name}: {b:?}");
+    }
+}
+
+#[test]
+fn the_optimum_with_limits_is_never_shorter_than_without() {
+    let base = duration(&run(with(sway(), Scale::Off, None, Scale::Off), &quick()).unwrap());
+    for (v, a, t) in [
+        (1.0, Some(50.0), 1.0),
+        (0.5, None, 2.0),
+        (2.0, Some(100.0), 1.2),
+    ] {
+        let d = duration(
+            &run(
+                with(sway(), Scale::Fraction(v), a, Scale::Fraction(t)),
+                &quick(),
+            )
+            .unwrap(),
+        );
+        assert!(d >= base * (1.0 - 1e-12), "{v} {a:?} {t}: {d} < {base}");
+    }
+}
+
+#[test]
+fn a_torque_limit_below_gravity_at_rest_is_infeasible_and_named() {
+    // the torso lift (prismatic, 200 N) holds the upper body: at 20 % of its effort it cannot
+    let r = run(
+        with(sway(), Scale::Off, None, Scale::Fraction(0.2)),
+        &quick(),
+    )
+    .unwrap();
+    assert_eq!(r.status, MotionStatus::NotRetimable);
+    let f = r.failure.unwrap();
+    eprintln!("{f:?}");
+    assert!(
+        f.constraints.iter().any(|c| c.starts_with("torque of ")),
+        "{f:?}"
+    );
+    assert!(
+        f.reason.contains("segment 1 (shift onto the left foot)"),
+        "{}",
+        f.reason
+    );
+    assert!(f.reason.contains("raise"), "{}", f.reason);
+}
+
+/// Every ratio at most one at 1 ms samples with the limits enforced, and above one without
+/// them (the checks have teeth), on the small humanoid and, with JVRC-1, on the gallery.
+#[test]
+fn the_checks_keep_every_ratio_at_most_one() {
+    let mut cases: Vec<(String, MotionSpec, Option<PathBuf>)> = vec![(
+        "small-sway with a 20 rad/s^2 acceleration limit".into(),
+        with(
+            sway(),
+            Scale::Fraction(1.0),
+            Some(20.0),
+            Scale::Fraction(1.0),
+        ),
+        None,
+    )];
+    let root = root();
+    match stance::stance_robot::jvrc1::locate_urdf(Some(&root)) {
+        Ok(_) => {
+            for name in ["squat", "side-step", "hand-on-wall"] {
+                let path = root.join("gallery").join(format!("{name}.toml"));
+                let spec: MotionSpec = stance::input::read_file(&path).unwrap();
+                cases.push((name.into(), spec, path.parent().map(Path::to_path_buf)));
+            }
+        }
+        Err(why) => {
+            eprintln!("SKIPPED the gallery in the_checks_keep_every_ratio_at_most_one: {why}")
+        }
+    }
+    for (name, spec, base_dir) in cases {
+        let mut s = spec.clone();
+        s.retiming.dt = 0.001;
+        let opts = RunOptions {
+            base_dir: base_dir.clone(),
+            ..Default::default()
+        };
+        let r = run(s.clone(), &opts).unwrap();
+        let c = r.checks.as_ref().unwrap();
+        let ratios = [
+            c.max_velocity_ratio.unwrap(),
+            c.max_acceleration_ratio.unwrap(),
+            c.max_torque_ratio.unwrap(),
+        ];
+        eprintln!(
+            "{name}: {:.3} s, ratios {ratios:.4?}, largest joint acceleration {:.1} rad/s^2",
+            duration(&r),
+            c.max_joint_acceleration
+        );
+        for (kind, x) in ["velocity", "acceleration", "torque"].iter().zip(ratios) {
+            assert!(x <= 1.0 + 1e-6, "{name}: {kind} ratio {x}");
+        }
+        assert_eq!(c.samples_without_forces, 0);
+        let free = run(
+            s,
+            &RunOptions {
+                no_limits: true,
+                ..opts
+            },
+        )
+        .unwrap();
+        let fc = free.checks.as_ref().unwrap();
+        let top = fc
+            .max_acceleration_ratio
+            .unwrap()
+            .max(fc.max_torque_ratio.unwrap())
+            .max(fc.max_velocity_ratio.unwrap());
+        eprintln!(
+            "  without limits: {:.3} s, largest ratio {top:.2}, largest joint acceleration {:.1}",
+            duration(&free),
+            fc.max_joint_acceleration
+        );
+        assert!(
+            top > 1.0,
+            "{name}: the motion without limits never exceeds them"
+        );
+    }
+}
+
+/// The check's joint torques (`tau = rnea(q, v, a) - sum_k J_k^T w_k`) against Pinocchio's
+/// inverse dynamics and frame Jacobians (LOCAL) for the same wrenches on both soles of JVRC-1.
+#[test]
+fn joint_torques_with_contact_wrenches_match_pinocchio() {
+    use stance::motion::limit_checks::joint_torques;
+    use stance::stance_robot::{jvrc1, Data, Model};
+    let path = match jvrc1::locate_urdf(Some(&root())) {
+        Ok(p) => p,
+        Err(why) => {
+            eprintln!("SKIPPED joint_torques_with_contact_wrenches_match_pinocchio: {why}");
+            return;
+        }
+    };
+    let model = Model::from_urdf_file(path, &jvrc1::urdf_options()).unwrap();
+    let fx: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("testdata/robot/jvrc1.json")).unwrap(),
+    )
+    .unwrap();
+    let vecf = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let mut data = Data::new(&model);
+    let mut worst = 0.0f64;
+    for (c, case) in fx["cases"].as_array().unwrap().iter().enumerate() {
+        let (q, v) = (vecf(&case["q"]), vecf(&case["v"]));
+        let a = vecf(&case["path_terms"]["q_ss"]);
+        let wrenches = [
+            ("R_ANKLE_P_S", [10.0, -20.0, 300.0, 4.0, -6.0, 1.0]),
+            ("L_ANKLE_P_S", [-5.0, 15.0, 250.0, -3.0, 2.0, -0.5]),
+        ];
+        let mut reference = vecf(&case["rnea"]);
+        let mut contacts = Vec::new();
+        for (frame, w) in wrenches {
+            let jac: Vec<Vec<f64>> = case["frames"][frame]["jacobian_local"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(vecf)
+                .collect();
+            for (k, t) in reference.iter_mut().enumerate() {
+                *t -= (0..6).map(|r| jac[r][k] * w[r]).sum::<f64>();
+            }
+            contacts.push((model.frame_id(frame).unwrap(), w));
+        }
+        let tau =
+            joint_torques(&model, &mut data, &q, &v, &a, [0.0, 0.0, -9.81], &contacts).unwrap();
+        let scale = reference.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        for (k, (x, y)) in tau.iter().zip(&reference).enumerate() {
+            let e = (x - y).abs() / scale;
+            worst = worst.max(e);
+            assert!(e < 1e-9, "case {c}, entry {k}: {x} vs Pinocchio {y}");
+        }
+    }
+    eprintln!("joint torques with contact wrenches: worst relative error {worst:.1e}");
+}
