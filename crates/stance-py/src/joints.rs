@@ -18,7 +18,11 @@ use crate::{errors, json};
 #[pyo3(signature = (urdf, waypoints, *, joints = None, locked = None, knots = None,
     interpolation = "spline", spline = "not-a-knot", gravity = None, grid_points = 101,
     sd_start = 0.0, sd_end = 0.0, discretization = "interpolation",
-    max_violation_fraction = Some(1e-3), samples_per_interval = 10, dt = 0.01, limits = None))]
+    max_violation_fraction = Some(1e-3), samples_per_interval = 10, dt = 0.01, limits = None),
+    text_signature = "(urdf, waypoints, *, joints=None, locked=None, knots=None, \
+    interpolation='spline', spline='not-a-knot', gravity=None, grid_points=101, sd_start=0.0, \
+    sd_end=0.0, discretization='interpolation', max_violation_fraction=0.001, \
+    samples_per_interval=10, dt=0.01, limits=None)")]
 #[allow(clippy::too_many_arguments)]
 pub fn retime_joints<'py>(
     py: Python<'py>,

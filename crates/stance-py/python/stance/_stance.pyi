@@ -16,7 +16,7 @@ _BoolArray = npt.NDArray[np.bool_]
 _PathLike = Union[str, "os.PathLike[str]"]
 
 __version__: str
-__all__ = ['__version__', 'span_to_face', 'face_to_span', 'FaceForm', 'SpanForm', 'Contact', 'Stance', 'Giwc', 'Polygon', 'RobustRegion', 'SupportingForces', 'topp', 'ToppResult', 'retime', 'Model', 'motion', '_restore', '_bench_rust']
+__all__ = ['__version__', 'span_to_face', 'face_to_span', 'FaceForm', 'SpanForm', 'Contact', 'Stance', 'Giwc', 'Polygon', 'RobustRegion', 'SupportingForces', 'topp', 'ToppResult', 'retime', 'Model', 'motion', 'retime_joints', '_restore', '_bench_rust']
 
 @final
 class FaceForm:

@@ -190,6 +190,8 @@ pub struct LimitWorkspace {
     qs_end: Vec<f64>,
     qss: Vec<f64>,
     buf: Vec<Row>,
+    /// The bounding boxes' warm start, per side.
+    pub(crate) box_warm: [BoxWarm; 2],
     /// Projections made, LPs and pivots (for the report).
     pub projections: usize,
     /// LPs of the projections.
@@ -211,6 +213,7 @@ impl LimitWorkspace {
             qs_end: Vec::new(),
             qss: Vec::new(),
             buf: Vec::new(),
+            box_warm: [BoxWarm::default(); 2],
             projections: 0,
             lps: 0,
             pivots: 0,
@@ -594,6 +597,16 @@ pub fn contact_jacobian(
 /// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged;
 /// `None` when empty.
 pub(crate) fn bounding_box(rows: &[Row]) -> Option<Box2> {
+    bounding_box_warm(rows, &mut BoxWarm::default())
+}
+
+/// The lines active at the four extremes of the last [`bounding_box_warm`] (tried first by the
+/// next one: along a path the same rows bound the same sides).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct BoxWarm([[Option<usize>; 2]; 4]);
+
+/// [`bounding_box`] warm-started from `warm`, which it updates.
+pub(crate) fn bounding_box_warm(rows: &[Row], warm: &mut BoxWarm) -> Option<Box2> {
     let tol = Tolerances::default();
     let bbox = Box2 {
         u_lo: -tol.max_u,
@@ -603,18 +616,43 @@ pub(crate) fn bounding_box(rows: &[Row]) -> Option<Box2> {
     };
     let lines = StageLines::from_rows(rows);
     let mut stats = Lp2Stats::default();
-    let pair = |c: [f64; 2]| ((c, [-c[1], c[0]]), ([-c[0], -c[1]], [c[1], -c[0]]));
-    let mut ext = |c: [f64; 2]| {
-        let (hi, lo) = pair(c);
-        match lp2::solve_pair(&lines, bbox, [hi, lo], [&[], &[]], &tol, &mut stats) {
-            [Lp2::Optimal { u: u1, x: x1, .. }, Lp2::Optimal { u: u0, x: x0, .. }] => {
+    let mut ext = |c: [f64; 2], w: usize| {
+        let hi = (c, [-c[1], c[0]]);
+        let lo = ([-c[0], -c[1]], [c[1], -c[0]]);
+        let first: [Vec<usize>; 2] = [0, 1].map(|p| {
+            warm.0[w + p]
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&j| j < rows.len())
+                .collect()
+        });
+        match lp2::solve_pair(
+            &lines,
+            bbox,
+            [hi, lo],
+            [&first[0], &first[1]],
+            &tol,
+            &mut stats,
+        ) {
+            [Lp2::Optimal {
+                u: u1,
+                x: x1,
+                active: a1,
+            }, Lp2::Optimal {
+                u: u0,
+                x: x0,
+                active: a0,
+            }] => {
+                warm.0[w] = a1;
+                warm.0[w + 1] = a0;
                 Some((c[0] * u0 + c[1] * x0, c[0] * u1 + c[1] * x1))
             }
             _ => None,
         }
     };
-    let (u_lo, u_hi) = ext([1.0, 0.0])?;
-    let (x_lo, x_hi) = ext([0.0, 1.0])?;
+    let (u_lo, u_hi) = ext([1.0, 0.0], 0)?;
+    let (x_lo, x_hi) = ext([0.0, 1.0], 2)?;
     let pad = |lo: f64, hi: f64| 1e-6 * (hi - lo).abs().max(lo.abs()).max(hi.abs()) + 1e-9;
     let (pu, px) = (pad(u_lo, u_hi), pad(x_lo, x_hi));
     Some(Box2 {
@@ -630,7 +668,12 @@ pub(crate) fn bounding_box(rows: &[Row]) -> Option<Box2> {
 /// can reach: `max over the box of a u + b x + c < 0` with a margin. Exact, since the box is
 /// implied by rows that are kept; it spares the retiming most joints' rows (those of joints
 /// far from their limits).
-pub(crate) fn prune_unreachable(rows: &mut Vec<Row>, origins: &mut Vec<RowOrigin>, first: usize) {
+pub(crate) fn prune_unreachable(
+    rows: &mut Vec<Row>,
+    origins: &mut Vec<RowOrigin>,
+    first: usize,
+    warm: &mut BoxWarm,
+) {
     let mut keep: Vec<Row> = rows[..first].to_vec();
     keep.extend(
         rows[first..]
@@ -639,7 +682,7 @@ pub(crate) fn prune_unreachable(rows: &mut Vec<Row>, origins: &mut Vec<RowOrigin
             .filter(|(_, o)| matches!(o, RowOrigin::Limit(t) if t.kind == LimitKind::Velocity))
             .map(|(r, _)| *r),
     );
-    let Some(b) = bounding_box(&keep) else {
+    let Some(b) = bounding_box_warm(&keep, warm) else {
         return; // the point is infeasible: every row is kept for the diagnosis
     };
     let mut j = first;

@@ -119,6 +119,7 @@ pub struct SegmentInfo {
     pub binding: Option<crate::binding::Binding>,
     /// Grid-point sides whose torque rows with the contact forces were projected (where the
     /// profile needed them).
+    #[serde(default)]
     pub torque_projections: usize,
 }
 
@@ -153,6 +154,7 @@ pub struct ChecksInfo {
     /// smallest (`null` without limits).
     pub max_torque_ratio: Option<f64>,
     /// Largest joint acceleration at the samples, whatever the limits (rad/s^2 or m/s^2).
+    #[serde(default)]
     pub max_joint_acceleration: f64,
     /// Where each largest ratio occurs.
     pub limits: Option<LimitChecksInfo>,
@@ -213,6 +215,7 @@ pub struct Timings {
     pub t_topp_ms: f64,
     /// The lifted torque rows (torque limits with the contact forces): checks of the profile
     /// at the grid points, projections where it leaves them, and the solves again (ms).
+    #[serde(default)]
     pub t_lifted_ms: f64,
     /// The refinement between grid points (its row updates and solves).
     pub t_refine_ms: f64,

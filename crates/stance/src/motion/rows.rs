@@ -222,8 +222,8 @@ impl SegmentRows {
                         (&mut left.rows, &mut left.origins),
                     ],
                 )?;
-                for (side, l) in sides.iter_mut().zip(lifted) {
-                    prune_unreachable(&mut side.rows, &mut side.origins, m);
+                for (q, (side, l)) in sides.iter_mut().zip(lifted).enumerate() {
+                    prune_unreachable(&mut side.rows, &mut side.origins, m, &mut ws.box_warm[q]);
                     side.explicit = side.rows.len();
                     side.lifted = l.map(|(rows, origins)| {
                         Box::new(LiftedSide {
