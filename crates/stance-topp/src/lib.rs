@@ -132,7 +132,7 @@ pub use profile::{Profile, Residuals, Sample};
 #[allow(deprecated)]
 pub use solver::solve_with;
 pub use solver::{
-    end_speed_range, solve, Discretization, Solution, SolutionReport, SolveOptions, SolveStats,
-    Status, Workspace,
+    end_speed_range, solve, Cut, Cuts, Discretization, Separation, Solution, SolutionReport,
+    SolveOptions, SolveStats, Status, Workspace,
 };
 pub use tol::Tolerances;

@@ -36,10 +36,11 @@ use crate::constraints::Row;
 use crate::tol::Tolerances;
 
 /// The rows of one reachability stage: up to two leading rows (the next controllable set), the
-/// rows of grid point `i`, and with interpolation the rows of grid point `i + 1` evaluated at
-/// the next state: row `(a, b, c)` of `next` stands for `(a + 2 Delta b, b, c)`, i.e. it is
-/// evaluated at `(u, x + 2 Delta u)`. Global row indices run over `head[..n_head]`, then
-/// `here`, then `next`.
+/// rows of grid point `i` (and the cuts a separation oracle added to it), and with
+/// interpolation the rows of grid point `i + 1` (and its cuts) evaluated at the next state: row
+/// `(a, b, c)` of `next` stands for `(a + 2 Delta b, b, c)`, i.e. it is evaluated at
+/// `(u, x + 2 Delta u)`. Global row indices run over `head[..n_head]`, then `here`,
+/// `here_cuts`, `next`, `next_cuts`.
 #[derive(Debug, Clone, Copy)]
 pub struct StageLines<'a> {
     /// Leading rows (the first `n_head` are used).
@@ -48,8 +49,12 @@ pub struct StageLines<'a> {
     pub n_head: usize,
     /// Rows of grid point `i`.
     pub here: &'a [Row],
+    /// Cuts of grid point `i` ([`crate::solver::Separation`]).
+    pub here_cuts: &'a [Row],
     /// Rows of grid point `i + 1` (interpolation; empty for collocation).
     pub next: &'a [Row],
+    /// Cuts of grid point `i + 1` (interpolation).
+    pub next_cuts: &'a [Row],
     /// `2 Delta_i`.
     pub two_delta: f64,
 }
@@ -68,7 +73,9 @@ impl<'a> StageLines<'a> {
             head: [Row::default(); 2],
             n_head: 0,
             here: rows,
+            here_cuts: &[],
             next: &[],
+            next_cuts: &[],
             two_delta: 0.0,
         }
     }
@@ -80,7 +87,11 @@ impl<'a> StageLines<'a> {
     /// assert_eq!(StageLines::from_rows(&[]).len(), 0);
     /// ```
     pub fn len(&self) -> usize {
-        self.n_head + self.here.len() + self.next.len()
+        self.n_head
+            + self.here.len()
+            + self.here_cuts.len()
+            + self.next.len()
+            + self.next_cuts.len()
     }
 
     /// Whether there are no rows.
@@ -105,26 +116,42 @@ impl<'a> StageLines<'a> {
     #[inline]
     pub fn get(&self, j: usize) -> Row {
         if j < self.n_head {
-            self.head[j]
-        } else if j < self.n_head + self.here.len() {
-            self.here[j - self.n_head]
+            return self.head[j];
+        }
+        let j = j - self.n_head;
+        if j < self.here.len() {
+            return self.here[j];
+        }
+        let j = j - self.here.len();
+        if j < self.here_cuts.len() {
+            return self.here_cuts[j];
+        }
+        let j = j - self.here_cuts.len();
+        let r = if j < self.next.len() {
+            self.next[j]
         } else {
-            let r = self.next[j - self.n_head - self.here.len()];
-            Row {
-                a: r.a + self.two_delta * r.b,
-                b: r.b,
-                c: r.c,
-            }
+            self.next_cuts[j - self.next.len()]
+        };
+        Row {
+            a: r.a + self.two_delta * r.b,
+            b: r.b,
+            c: r.c,
         }
     }
 
-    /// The three segments `(rows, two_delta, first global index)`.
+    /// The five segments `(rows, two_delta, first global index)`.
     #[inline]
-    pub(crate) fn segments(&self) -> [(&[Row], f64, usize); 3] {
+    pub(crate) fn segments(&self) -> [(&[Row], f64, usize); 5] {
+        let h = self.n_head;
+        let a = h + self.here.len();
+        let b = a + self.here_cuts.len();
+        let c = b + self.next.len();
         [
             (&self.head[..self.n_head], 0.0, 0),
-            (self.here, 0.0, self.n_head),
-            (self.next, self.two_delta, self.n_head + self.here.len()),
+            (self.here, 0.0, h),
+            (self.here_cuts, 0.0, a),
+            (self.next, self.two_delta, b),
+            (self.next_cuts, self.two_delta, c),
         ]
     }
 }
@@ -187,6 +214,9 @@ pub(crate) fn first_violated(
     x: f64,
     feas2: f64,
 ) -> Option<usize> {
+    if from >= rows.len() {
+        return None;
+    }
     let xe = x + td * u;
     let scale2 = point_scale2(u, xe);
     let precise = |q: usize, r: &Row| -> Option<usize> {
@@ -431,6 +461,9 @@ fn first_violated2(
     v: &[Vertex; 2],
     feas2: f64,
 ) -> Option<usize> {
+    if from >= rows.len() {
+        return None;
+    }
     let (u0, x0) = (v[0].u, v[0].x + td * v[0].u);
     let (u1, x1) = (v[1].u, v[1].x + td * v[1].u);
     let (s0, s1) = (point_scale2(u0, x0), point_scale2(u1, x1));

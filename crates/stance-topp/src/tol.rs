@@ -85,3 +85,10 @@ pub const MAX_ABS_COEFFICIENT: f64 = 1e100;
 /// `1/time^2`. Default `1e30`: with coefficients up to [`MAX_ABS_COEFFICIENT`], the kernel's
 /// squared products stay below about 1e260.
 pub const MAX_BOX: f64 = 1e30;
+
+/// Largest number of cuts a separation oracle may add to one LP of the reachability passes
+/// before the solve stops with an error ([`crate::Separation`]). Unit: cuts. Default 64: a
+/// guard against an oracle whose cuts do not converge (on the random lifted polytopes of
+/// `tests/lifted.rs` the cutting-plane loop of [`crate::lifted::Membership::separate`] needs
+/// at most 8).
+pub const MAX_CUTS_PER_LP: usize = 64;

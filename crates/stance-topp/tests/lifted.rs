@@ -251,7 +251,7 @@ fn membership_agrees_with_the_projection() {
         Projector::new()
             .project(&rows, bbox, 1e-10, &mut out)
             .unwrap();
-        let mut witness = vec![0.0; k];
+        let mut witness = stance_topp::lifted::Witnesses::new();
         for _ in 0..200 {
             let (u, x) = (rng.next() * 6.0, 2.5 + rng.next() * 2.0);
             let worst = out
@@ -269,7 +269,8 @@ fn membership_agrees_with_the_projection() {
                 "case {case}: ({u}, {x}) at distance {worst}"
             );
             if got {
-                assert!(Membership::holds_at(&rows, u, x, &witness));
+                let y = witness.first().unwrap_or(&[]);
+                assert!(Membership::holds_at(&rows, u, x, y));
                 inside += 1;
             } else {
                 outside += 1;
@@ -281,6 +282,100 @@ fn membership_agrees_with_the_projection() {
         member.lps, member.witnessed
     );
     assert!(inside > 100 && outside > 100);
+}
+
+/// The cuts of `Membership::separate`: none at admissible states, at the others a row that the
+/// state violates and that clarabel finds valid over the whole lifted polytope; and the
+/// cutting-plane loop (maximize over the cuts so far, separate the optimum) reaches clarabel's
+/// support of the polytope in every direction, in few cuts.
+#[test]
+fn cuts_separate_and_converge_to_the_support() {
+    use stance_topp::lifted::Membership;
+    let mut rng = Rng(99);
+    let bbox = Box2 {
+        u_lo: -40.0,
+        u_hi: 40.0,
+        x_lo: 0.0,
+        x_hi: 30.0,
+    };
+    let mut member = Membership::new();
+    let (mut cuts_checked, mut max_rounds, mut loops) = (0, 0, 0);
+    for case in 0..40 {
+        let k = [0, 1, 6, 12][case % 4];
+        let rows = random_rows(&mut rng, k, 10 + case % 30, false);
+        let mut witness = stance_topp::lifted::Witnesses::new();
+        for _ in 0..30 {
+            let (u, x) = (rng.next() * 20.0, 15.0 + rng.next() * 15.0);
+            let inside = support_clarabel(
+                &rows,
+                Box2 {
+                    u_lo: u,
+                    u_hi: u,
+                    x_lo: x,
+                    x_hi: x,
+                },
+                [1.0, 0.0],
+            )
+            .is_some();
+            match member.separate(&rows, u, x, &mut witness).unwrap() {
+                None => assert!(
+                    inside,
+                    "case {case}: ({u}, {x}) accepted, clarabel: outside"
+                ),
+                Some(cut) => {
+                    let r = cut.row;
+                    assert!(!inside, "case {case}: ({u}, {x}) cut, clarabel: inside");
+                    assert!(
+                        r.a * u + r.b * x + r.c > 0.0,
+                        "case {case}: {r:?} not violated"
+                    );
+                    let h = support_clarabel(&rows, bbox, [r.a, r.b]).unwrap();
+                    let n = r.a.hypot(r.b).max(r.c.abs() * 1e-12);
+                    assert!(
+                        (h + r.c) / n <= 1e-6 * (1.0 + h.abs() / n),
+                        "case {case}: cut {r:?} invalid (support {h})"
+                    );
+                    cuts_checked += 1;
+                }
+            }
+        }
+        // the cutting-plane loop in 16 directions
+        for q in 0..16 {
+            let th = q as f64 * std::f64::consts::TAU / 16.0 + 0.05;
+            let c = [th.cos(), th.sin()];
+            let mut cuts: Vec<stance_topp::Row> = Vec::new();
+            let mut rounds = 0;
+            let value = loop {
+                let lines = StageLines::from_rows(&cuts);
+                let Lp2::Optimal { u, x, .. } = lp2::solve(
+                    &lines,
+                    bbox,
+                    c,
+                    [-c[1], c[0]],
+                    &[],
+                    &Tolerances::default(),
+                    &mut Lp2Stats::default(),
+                ) else {
+                    panic!("case {case}: the cuts emptied a nonempty polytope");
+                };
+                match member.separate(&rows, u, x, &mut witness).unwrap() {
+                    None => break c[0] * u + c[1] * x,
+                    Some(cut) => cuts.push(cut.row),
+                }
+                rounds += 1;
+                assert!(rounds < 64, "case {case}: the cuts do not converge");
+            };
+            let theirs = support_clarabel(&rows, bbox, c).unwrap();
+            assert!(
+                (value - theirs).abs() <= 1e-6 * (1.0 + theirs.abs()),
+                "case {case}, direction {c:?}: {value} vs clarabel {theirs}"
+            );
+            max_rounds = max_rounds.max(rounds);
+            loops += 1;
+        }
+    }
+    eprintln!("{cuts_checked} cuts checked; {loops} loops, at most {max_rounds} cuts each");
+    assert!(cuts_checked > 100);
 }
 
 /// A lifted set of the box climbing (right foot and hand, torque limits) on which the

@@ -69,11 +69,15 @@ proptest! {
         td in 0.0f64..0.5,
         obj in 0usize..4,
         warm in prop::collection::vec(0usize..20, 0..4),
+        split in (0usize..13, 0usize..7),
     ) {
         let mut h = [Row::default(); 2];
         let n_head = head.len().min(2);
         h[..n_head].copy_from_slice(&head[..n_head]);
-        let lines = StageLines { head: h, n_head, here: &here, next: &next, two_delta: td };
+        // a grid point's rows and the cuts added to it are the same kind of line
+        let (here, here_cuts) = here.split_at(split.0.min(here.len()));
+        let (next, next_cuts) = next.split_at(split.1.min(next.len()));
+        let lines = StageLines { head: h, n_head, here, here_cuts, next, next_cuts, two_delta: td };
         let all: Vec<Row> = (0..lines.len()).map(|j| lines.get(j)).collect();
         let bbox = Box2 { u_lo: -5.0, u_hi: 5.0, x_lo: 0.0, x_hi: 5.0 };
         let (c, t) = [([0.0, 1.0], [1.0, 0.0]), ([0.0, -1.0], [-1.0, 0.0]), ([0.6, 0.8], [-0.8, 0.6]), ([-0.6, -0.8], [0.8, -0.6])][obj];

@@ -134,11 +134,3 @@ pub const BINDING: f64 = 1e-6;
 /// mistake without hanging the command (each sample costs an inverse dynamics, about a
 /// microsecond for an arm).
 pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
-
-/// Largest number of rounds of projections of the lifted torque rows (solve, check the
-/// profile at the grid points, project where it leaves them, solve again). Unit: rounds.
-/// Default 40: each round projects every grid point the profile violates, and the violations
-/// move along the path as the profile slows down before a binding torque; a motion that still
-/// needs more is reported with the rows as they are, which are a relaxation (the checks then
-/// measure the excess).
-pub const MAX_LIFTED_ROUNDS: usize = 40;

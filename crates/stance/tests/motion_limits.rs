@@ -283,3 +283,104 @@ fn joint_torques_with_contact_wrenches_match_pinocchio() {
     }
     eprintln!("joint torques with contact wrenches: worst relative error {worst:.1e}");
 }
+
+/// The torque limits with the contact forces as unknowns enter the retiming as cuts of a
+/// separation oracle (`stance::motion::separation`). Against the exact projections of every
+/// lifted side (`stance_topp::lifted::Projector`, the expanding polygon, an independent
+/// algorithm): every cut kept is valid (the projection lies on its side), and adding the exact
+/// projections to the solved constraints changes nothing (the cuts were enough: the profile is
+/// the one of the exact sets). On the box climbing (JVRC-1, two and three contacts, torque
+/// limits binding with the forces); skipped without the project virtualenv.
+#[test]
+fn cuts_give_the_profile_of_the_exact_projections() {
+    use stance::motion::run_full;
+    use stance_topp::lifted::{Projection, Projector};
+    use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
+    use stance_topp::{CanonicalConstraints, Row, SolveOptions, Tolerances};
+    if let Err(why) = stance::stance_robot::jvrc1::locate_urdf(Some(&root())) {
+        eprintln!("SKIPPED cuts_give_the_profile_of_the_exact_projections: {why}");
+        return;
+    }
+    let spec = experiments::by_name("box-climbing").unwrap();
+    let run = run_full(spec.clone(), &quick()).unwrap();
+    let rt = run.retimed.as_ref().unwrap();
+    let d_cuts = duration(&run.result);
+    let k = &rt.constraints;
+    let bbox = Box2 {
+        u_lo: -1e4,
+        u_hi: 1e4,
+        x_lo: 0.0,
+        x_hi: 1e4,
+    };
+    let mut extra: Vec<Vec<Row>> = vec![Vec::new(); k.num_points()];
+    let (mut projector, mut out) = (Projector::new(), Projection::default());
+    let (mut sides, mut cuts, mut worst) = (0, 0, 0.0f64);
+    for (seg, r) in run.rows.iter().enumerate() {
+        let last = r.grid.len() - 1;
+        for (i, &j) in r.grid.iter().enumerate() {
+            let Some(both) = r.sides[j].as_ref() else {
+                continue;
+            };
+            for (left, on) in [(false, i < last), (true, i > 0)] {
+                let side = &both[usize::from(left)];
+                let Some(lifted) = side.lifted.as_ref().filter(|_| on) else {
+                    continue;
+                };
+                projector.reset();
+                projector
+                    .project(&lifted.rows, bbox, 1e-10, &mut out)
+                    .unwrap();
+                assert!(!out.empty, "segment {seg}, sample {j}: empty projection");
+                sides += 1;
+                // the cuts are valid: the polygon's support in their normal is at most -c
+                for cut in &side.rows[side.explicit..] {
+                    let n = cut.a.hypot(cut.b);
+                    let dir = [cut.a / n, cut.b / n];
+                    let Lp2::Optimal { u, x, .. } = lp2::solve(
+                        &StageLines::from_rows(&out.rows),
+                        bbox,
+                        dir,
+                        [-dir[1], dir[0]],
+                        &[],
+                        &Tolerances::default(),
+                        &mut Lp2Stats::default(),
+                    ) else {
+                        panic!("segment {seg}, sample {j}: the projection's rows are empty")
+                    };
+                    let support = cut.a * u + cut.b * x;
+                    let excess = (support + cut.c) / n.max(1e-300);
+                    worst = worst.max(excess);
+                    assert!(
+                        excess <= 1e-7 * (1.0 + support.abs() / n.max(1e-300)),
+                        "segment {seg}, sample {j}: cut {cut:?} cuts the projection by {excess}"
+                    );
+                    cuts += 1;
+                }
+                extra[rt.seg_start[seg] + i].extend_from_slice(&out.rows);
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    let mut offsets = vec![0];
+    for (i, e) in extra.iter().enumerate() {
+        rows.extend_from_slice(k.rows_at(i));
+        rows.extend_from_slice(e);
+        offsets.push(rows.len());
+    }
+    let bounds = (0..k.num_points()).map(|i| k.x_bounds_at(i)).collect();
+    let exact = CanonicalConstraints::new(k.grid().to_vec(), offsets, rows)
+        .unwrap()
+        .with_x_bounds(bounds)
+        .unwrap();
+    let sol = stance_topp::solve(&exact, &SolveOptions::new(spec.retiming.discretization)).unwrap();
+    let d_exact = sol.duration().unwrap();
+    eprintln!(
+        "box climbing: {sides} lifted sides, {cuts} cuts kept (worst excess {worst:.1e}); \
+         {d_cuts:.9} s with the cuts, {d_exact:.9} s with the exact projections added"
+    );
+    assert!(cuts > 0, "no cut: the test tests nothing");
+    assert!(
+        (d_exact - d_cuts).abs() <= 1e-7 * d_cuts,
+        "{d_cuts} with the cuts, {d_exact} with the exact projections"
+    );
+}

@@ -11,9 +11,22 @@
 //! admissible when `t >= -eps`, and that `y`, being central, stays a witness for nearby states
 //! (the next grid point, the next check), so most checks cost one evaluation of the rows.
 //! A positive answer is always certified by a witness evaluated in the rows themselves.
+//!
+//! **Cuts.** A state that is not admissible is separated from those that are by the dual of
+//! the program. Write its rows `g_j . (y, t) <= h_j(u, x)` with
+//! `h_j = -(a_j u + b_j x + c_j) / (|r_j| s_j)` and the box as rows of constant right-hand
+//! side. At the optimum the active rows' multipliers `lambda >= 0` give `e_t = G_A^T lambda`,
+//! so for any `(u, x)` and any feasible `(y, t)`, `t <= phi(u, x) = lambda . h_A(u, x)` (weak
+//! duality), with equality at the state tested: `phi(u_0, x_0) = t* < 0`. An admissible state
+//! has a feasible `(y, 0)`, hence `phi >= 0`: the row `-phi(u, x) <= 0`, linear in `(u, x)`,
+//! holds at every admissible state and is violated by `-t*` at the tested one. It is the
+//! tangent plane of the concave margin function `t*(u, x)` at that state (Kelley's cutting
+//! plane): where the state lies on the same piece of `t*` as the boundary of the projection,
+//! it is a facet of the projection.
 
 use super::lp::{LpStatus, Program, Simplex, MAX_VARS};
 use super::project::LiftedRows;
+use crate::constraints::Row;
 use crate::error::ToppError;
 
 /// Reusable state of [`Membership::contains`].
@@ -22,13 +35,169 @@ pub struct Membership {
     program: Program,
     simplex: Simplex,
     c: Vec<f64>,
-    /// The last witness found (tried after the caller's: neighbouring states along a path
-    /// share their forces).
-    last: Vec<f64>,
+    /// The witnesses found last, whatever the polytope (tried after the caller's: neighbouring
+    /// grid points along a path share their forces).
+    recent: Witnesses,
+    /// Lifted row and weight `1 / (|r| s)` of each row of the program.
+    map: Vec<(usize, f64)>,
     /// Programs solved (the witnesses failed).
     pub lps: usize,
     /// Checks answered by the witness alone.
     pub witnessed: usize,
+}
+
+/// Contact-force witnesses of one lifted polytope: the `y` of the admissible states checked
+/// last, the most recently useful first (at most [`MAX_WITNESSES`]). Along a path the same
+/// polytope is asked about a few different states (the two ends of a controllable set, the
+/// forward pass's state): one witness each.
+///
+/// Each witness keeps the state it was checked at and its smallest slack there, `sigma`: the
+/// rows are unit in `(u, x, y)`, so `|(a, b)| <= 1` and the witness holds at every state within
+/// `sigma` of that one without evaluating the rows.
+#[derive(Debug, Clone, Default)]
+pub struct Witnesses {
+    ws: Vec<Witness>,
+    /// The row that rejected a witness last (tried first: a witness that fails usually fails
+    /// there).
+    hint: usize,
+    /// The margin program's optimal active set where it last gave a cut: the next state asked
+    /// about lies on that cut, usually on the same piece of the margin function, where the same
+    /// active set is optimal.
+    cut_basis: Vec<usize>,
+}
+
+#[derive(Debug, Clone)]
+struct Witness {
+    y: Vec<f64>,
+    at: [f64; 2],
+    slack: f64,
+}
+
+/// Witnesses kept per polytope.
+pub const MAX_WITNESSES: usize = 4;
+
+impl Witnesses {
+    /// None yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The most recently useful witness.
+    ///
+    /// ```
+    /// assert!(stance_topp::lifted::Witnesses::new().first().is_none());
+    /// ```
+    pub fn first(&self) -> Option<&[f64]> {
+        self.ws.first().map(|w| w.y.as_slice())
+    }
+
+    /// Whether one of them holds at `(u, x)` (it moves to the front), with a lower bound of its
+    /// smallest slack there. `own`: these are the polytope's own witnesses (else a workspace's
+    /// recent ones, of any polytope: their anchors say nothing here, and those of another size
+    /// never hold). `hint`: the row tried first, updated to the row that rejected the last
+    /// witness.
+    fn find(
+        &mut self,
+        rows: &LiftedRows,
+        u: f64,
+        x: f64,
+        hint: &mut usize,
+        own: bool,
+    ) -> Option<f64> {
+        if own {
+            let dist = |w: &Witness| (u - w.at[0]).hypot(x - w.at[1]);
+            if let Some(i) = self.ws.iter().position(|w| dist(w) < w.slack) {
+                let bound = self.ws[i].slack - dist(&self.ws[i]);
+                self.ws[..=i].rotate_right(1);
+                return Some(bound);
+            }
+        }
+        for i in 0..self.ws.len() {
+            match scan(rows, u, x, &self.ws[i].y, *hint) {
+                Ok(slack) => {
+                    let w = &mut self.ws[i];
+                    // re-anchored where the slack is larger
+                    if own && slack > w.slack {
+                        (w.at, w.slack) = ([u, x], slack);
+                    }
+                    self.ws[..=i].rotate_right(1);
+                    return Some(slack);
+                }
+                Err(j) => *hint = j,
+            }
+        }
+        None
+    }
+
+    /// Adds `y`, which holds at `(u, x)` with smallest slack `slack`, in front (the oldest goes
+    /// beyond [`MAX_WITNESSES`]).
+    fn remember(&mut self, y: &[f64], at: [f64; 2], slack: f64) {
+        if self.ws.len() < MAX_WITNESSES {
+            self.ws.push(Witness {
+                y: y.to_vec(),
+                at,
+                slack,
+            });
+        } else {
+            let last = self.ws.last_mut().expect("full");
+            last.y.clear();
+            last.y.extend_from_slice(y);
+            (last.at, last.slack) = (at, slack);
+        }
+        self.ws.rotate_right(1);
+    }
+}
+
+/// The rows at `(u, x, y)`, row `hint` first: `Ok(smallest slack)` (0 where a row holds only
+/// within the tolerance) when every row holds within the tolerance, else `Err(a violated
+/// row)`. A `y` of the wrong length violates row 0.
+fn scan(rows: &LiftedRows, u: f64, x: f64, y: &[f64], hint: usize) -> Result<f64, usize> {
+    if y.len() != rows.extra() {
+        return Err(0);
+    }
+    let scale = y
+        .iter()
+        .fold(u.abs().max(x.abs()).max(1.0), |a, v| a.max(v.abs()));
+    let lim = EPS * scale;
+    let value = |j: usize| {
+        let (a, b, c, d) = rows.row(j);
+        let mut v = a * u + b * x + c;
+        for (dk, yk) in d.iter().zip(y) {
+            v += dk * yk;
+        }
+        v
+    };
+    if hint < rows.len() && value(hint) > lim {
+        return Err(hint);
+    }
+    let mut slack = f64::INFINITY;
+    for j in 0..rows.len() {
+        let v = value(j);
+        if v > lim {
+            return Err(j);
+        }
+        slack = slack.min(-v);
+    }
+    Ok(slack.max(0.0))
+}
+
+/// A row in `(u, x)` valid for every admissible state ([`Membership::separate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiftedCut {
+    /// `a u + b x + c <= 0`.
+    pub row: Row,
+    /// The lifted rows it combines, with their weights, largest first.
+    pub support: Vec<(usize, f64)>,
+}
+
+/// The margin program's outcome.
+enum Margin {
+    /// Solved: the largest margin `t` (the optimum is in the simplex).
+    Solved(f64),
+    /// No extra variables: the rows are in `(u, x)` already.
+    NoExtra,
+    /// Row `j` is `c <= 0` with `c > 0`: nothing is admissible.
+    ConstantRow(usize),
 }
 
 /// Relative tolerance of a row at a state: `value <= EPS |row| max(1, |(u, x, y)|)`.
@@ -43,42 +212,33 @@ impl Membership {
         Self::default()
     }
 
-    /// Whether every row holds at `(u, x, y)` (within the tolerance; the rows are unit).
-    pub fn holds_at(rows: &LiftedRows, u: f64, x: f64, y: &[f64]) -> bool {
-        if y.len() != rows.extra() {
-            return false;
-        }
-        let scale = y
-            .iter()
-            .fold(u.abs().max(x.abs()).max(1.0), |a, v| a.max(v.abs()));
-        let lim = EPS * scale;
-        (0..rows.len()).all(|j| {
-            let (a, b, c, d) = rows.row(j);
-            let mut v = a * u + b * x + c;
-            for (dk, yk) in d.iter().zip(y) {
-                v += dk * yk;
-            }
-            v <= lim
-        })
+    /// Simplex pivots of the programs solved so far.
+    pub fn pivots(&self) -> usize {
+        self.simplex.pivots
     }
 
-    /// Whether `(u, x)` admits a `y` with `|y_i| <= rows.y_bound` (module doc); `witness` is
-    /// tried first, then the last witness this workspace found, and it is replaced by the
-    /// program's `y` when both fail.
+    /// Whether every row holds at `(u, x, y)` (within the tolerance; the rows are unit).
+    pub fn holds_at(rows: &LiftedRows, u: f64, x: f64, y: &[f64]) -> bool {
+        scan(rows, u, x, y, 0).is_ok()
+    }
+
+    /// Whether `(u, x)` admits a `y` with `|y_i| <= rows.y_bound` (module doc): the
+    /// `witnesses` are tried first, then the ones this workspace found last, then the
+    /// margin program, whose `y` joins the witnesses when it holds.
     ///
     /// # Errors
     ///
     /// [`ToppError::InvalidValue`] when the program fails (a guard).
     ///
     /// ```
-    /// use stance_topp::lifted::{LiftedRows, Membership};
+    /// use stance_topp::lifted::{LiftedRows, Membership, Witnesses};
     /// // |u - y| <= 1, |y| <= 2: u in [-3, 3]
     /// let mut r = LiftedRows::new(1, 10.0);
     /// r.push(1.0, 0.0, -1.0, &[-1.0]);
     /// r.push(-1.0, 0.0, -1.0, &[1.0]);
     /// r.push(0.0, 0.0, -2.0, &[1.0]);
     /// r.push(0.0, 0.0, -2.0, &[-1.0]);
-    /// let (mut m, mut w) = (Membership::new(), vec![0.0]);
+    /// let (mut m, mut w) = (Membership::new(), Witnesses::new());
     /// assert!(m.contains(&r, 2.9, 1.0, &mut w).unwrap());
     /// assert!(!m.contains(&r, 3.1, 1.0, &mut w).unwrap());
     /// ```
@@ -87,20 +247,181 @@ impl Membership {
         rows: &LiftedRows,
         u: f64,
         x: f64,
-        witness: &mut Vec<f64>,
+        witnesses: &mut Witnesses,
     ) -> Result<bool, ToppError> {
+        if self.witnessed(rows, u, x, witnesses) {
+            return Ok(true);
+        }
+        match self.max_margin(rows, u, x, &mut witnesses.cut_basis)? {
+            Margin::Solved(_) => Ok(self.keep_witness(rows, u, x, witnesses)),
+            Margin::NoExtra | Margin::ConstantRow(_) => Ok(false),
+        }
+    }
+
+    /// Whether a known witness holds at `(u, x)` (the caller's, then the workspace's recent
+    /// ones).
+    fn witnessed(&mut self, rows: &LiftedRows, u: f64, x: f64, w: &mut Witnesses) -> bool {
+        if rows.extra() == 0 {
+            return Self::holds_at(rows, u, x, &[]);
+        }
+        let mut hint = w.hint;
+        let found = w.find(rows, u, x, &mut hint, true);
+        w.hint = hint;
+        if found.is_some() {
+            self.witnessed += 1;
+            return true;
+        }
+        if let Some(slack) = self.recent.find(rows, u, x, &mut w.hint, false) {
+            self.witnessed += 1;
+            w.remember(&self.recent.ws[0].y, [u, x], slack);
+            return true;
+        }
+        false
+    }
+
+    /// Whether the margin program's `y` holds at `(u, x)`; if so it joins the witnesses.
+    fn keep_witness(&mut self, rows: &LiftedRows, u: f64, x: f64, w: &mut Witnesses) -> bool {
+        let y = &self.simplex.v[..rows.extra()];
+        match scan(rows, u, x, y, 0) {
+            Ok(slack) => {
+                w.remember(y, [u, x], slack);
+                self.recent.remember(y, [u, x], slack);
+                true
+            }
+            Err(_) => false,
+        }
+    }
+
+    /// [`Membership::contains`] that, when `(u, x)` is not admissible, returns a row in `(u, x)`
+    /// that every admissible state satisfies and `(u, x)` violates (module doc: the dual of the
+    /// margin program), with the lifted rows behind it by weight, largest first. `None` when
+    /// `(u, x)` is admissible: a witness holds, or the largest margin is at least
+    /// `-EPS max(1, |u|, |x|)`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Membership::contains`].
+    ///
+    /// ```
+    /// use stance_topp::lifted::{LiftedRows, Membership};
+    /// // |u - y| <= 1, |y| <= 2: u in [-3, 3]; at u = 4 the cut is u <= 3 (up to a factor)
+    /// let mut r = LiftedRows::new(1, 10.0);
+    /// r.push(1.0, 0.0, -1.0, &[-1.0]);
+    /// r.push(-1.0, 0.0, -1.0, &[1.0]);
+    /// r.push(0.0, 0.0, -2.0, &[1.0]);
+    /// r.push(0.0, 0.0, -2.0, &[-1.0]);
+    /// let (mut m, mut w) = (Membership::new(), stance_topp::lifted::Witnesses::new());
+    /// assert!(m.separate(&r, 2.9, 1.0, &mut w).unwrap().is_none());
+    /// let cut = m.separate(&r, 4.0, 1.0, &mut w).unwrap().unwrap();
+    /// let (a, b, c) = (cut.row.a, cut.row.b, cut.row.c);
+    /// assert!(a > 0.0 && b.abs() < 1e-12 && (c / a + 3.0).abs() < 1e-12);
+    /// assert_eq!(cut.support[0].0, 0); // u - y <= 1 first
+    /// ```
+    pub fn separate(
+        &mut self,
+        rows: &LiftedRows,
+        u: f64,
+        x: f64,
+        witnesses: &mut Witnesses,
+    ) -> Result<Option<LiftedCut>, ToppError> {
+        if self.witnessed(rows, u, x, witnesses) {
+            return Ok(None);
+        }
+        let scale = u.abs().max(x.abs()).max(1.0);
+        match self.max_margin(rows, u, x, &mut witnesses.cut_basis)? {
+            Margin::NoExtra => {
+                // the most violated row is the cut
+                let mut best = (EPS * scale, None);
+                for j in 0..rows.len() {
+                    let (a, b, c, _) = rows.row(j);
+                    let v = a * u + b * x + c;
+                    if v > best.0 {
+                        best = (v, Some(j));
+                    }
+                }
+                Ok(best.1.map(|j| {
+                    let (a, b, c, _) = rows.row(j);
+                    LiftedCut {
+                        row: Row { a, b, c },
+                        support: vec![(j, 1.0)],
+                    }
+                }))
+            }
+            Margin::ConstantRow(j) => Ok(Some(LiftedCut {
+                row: Row {
+                    a: 0.0,
+                    b: 0.0,
+                    c: rows.row(j).2,
+                },
+                support: vec![(j, 1.0)],
+            })),
+            Margin::Solved(t) => {
+                if self.keep_witness(rows, u, x, witnesses) || t >= -EPS * scale {
+                    return Ok(None);
+                }
+                witnesses.cut_basis.clone_from(&self.simplex.active);
+                Ok(Some(self.dual_cut(rows)))
+            }
+        }
+    }
+
+    /// The cut of the margin program's optimum (module doc): with the multipliers `lambda >= 0`
+    /// of its active rows, `sum_rows lambda (a u + b x + c) / (|r| s) - sum_bounds lambda rhs
+    /// <= 0` (negative multipliers, within the simplex's tolerance, are dropped and their
+    /// effect bounded by the box).
+    fn dual_cut(&self, rows: &LiftedRows) -> LiftedCut {
+        let p = &self.program;
+        let m = p.m();
+        let mut row = Row {
+            a: 0.0,
+            b: 0.0,
+            c: 0.0,
+        };
+        let mut dropped = 0.0;
+        let mut support = Vec::new();
+        for (&j, &l) in self.simplex.active.iter().zip(&self.simplex.lambda) {
+            if l <= 0.0 {
+                dropped -= l;
+                continue;
+            }
+            if j < m {
+                let (r, w) = self.map[j];
+                let (a, b, c, _) = rows.row(r);
+                let f = l * w;
+                row.a += f * a;
+                row.b += f * b;
+                row.c += f * c;
+                support.push((r, f));
+            } else {
+                let b = j - m;
+                let rhs = if b.is_multiple_of(2) {
+                    p.hi[b / 2]
+                } else {
+                    -p.lo[b / 2]
+                };
+                row.c -= l * rhs;
+            }
+        }
+        // |g . v| <= |v| <= sqrt(k) y_bound at t = 0 for a dropped (unit) row
+        row.c -= dropped * (rows.extra() as f64).sqrt() * rows.y_bound;
+        support.sort_by(|a, b| b.1.total_cmp(&a.1));
+        LiftedCut { row, support }
+    }
+
+    /// Solves the margin program at `(u, x)` (module doc) from `start` when given (taken: the
+    /// active set where these rows last gave a cut), else from the last program's optimal
+    /// active set (the neighbouring grid point's, usually: the same rows in the same order,
+    /// moved a little); the optimum stays in the simplex.
+    fn max_margin(
+        &mut self,
+        rows: &LiftedRows,
+        u: f64,
+        x: f64,
+        start: &mut Vec<usize>,
+    ) -> Result<Margin, ToppError> {
         let k = rows.extra();
-        if Self::holds_at(rows, u, x, witness) {
-            self.witnessed += 1;
-            return Ok(true);
-        }
-        if self.last.len() == k && Self::holds_at(rows, u, x, &self.last) {
-            self.witnessed += 1;
-            witness.clone_from(&self.last);
-            return Ok(true);
-        }
         if k == 0 {
-            return Ok(false);
+            return Ok(Margin::NoExtra);
         }
         if k + 1 > MAX_VARS {
             return Err(ToppError::InvalidValue {
@@ -116,19 +437,21 @@ impl Membership {
         p.n = k + 1;
         p.g.clear();
         p.h.clear();
+        self.map.clear();
         for j in 0..rows.len() {
+            // (the rows are unit in (a, b, d): the weight is 1 / s_j)
             let (a, b, c, d) = rows.row(j);
-            let norm = (a * a + b * b + d.iter().map(|v| v * v).sum::<f64>()).sqrt();
-            if norm == 0.0 {
+            let w = rows.weight(j);
+            if w == 0.0 {
                 if c > 0.0 {
-                    return Ok(false);
+                    return Ok(Margin::ConstantRow(j));
                 }
                 continue;
             }
-            let s = (d.iter().map(|v| v * v).sum::<f64>() / (norm * norm) + 1.0).sqrt();
-            p.g.extend(d.iter().map(|v| v / norm / s));
-            p.g.push(1.0 / s);
-            p.h.push(-(a * u + b * x + c) / norm / s);
+            p.g.extend(d.iter().map(|v| v * w));
+            p.g.push(w);
+            p.h.push(-(a * u + b * x + c) * w);
+            self.map.push((j, w));
         }
         p.lo.clear();
         p.hi.clear();
@@ -140,19 +463,14 @@ impl Membership {
         self.c.resize(k + 1, 0.0);
         self.c[k] = 1.0;
         self.lps += 1;
-        let status = self.simplex.solve_or_retry(&self.program, &self.c);
-        match status {
-            LpStatus::Optimal => {
-                witness.clear();
-                witness.extend_from_slice(&self.simplex.v[..k]);
-                let ok = Self::holds_at(rows, u, x, witness);
-                if ok {
-                    self.last.clone_from(witness);
-                }
-                Ok(ok)
-            }
-            LpStatus::Infeasible => Ok(false),
-            LpStatus::Failed => Err(ToppError::InvalidValue {
+        if start.len() == k + 1 {
+            std::mem::swap(&mut self.simplex.active, start);
+        }
+        start.clear();
+        match self.simplex.solve_or_retry(&self.program, &self.c) {
+            LpStatus::Optimal => Ok(Margin::Solved(self.simplex.v[k])),
+            // (t >= -MAX_MARGIN is always feasible: a guard)
+            LpStatus::Infeasible | LpStatus::Failed => Err(ToppError::InvalidValue {
                 what: "lifted rows",
                 detail: "the membership program failed (singular or cycling); report this \
                          input"

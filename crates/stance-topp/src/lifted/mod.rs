@@ -4,5 +4,5 @@ pub mod lp;
 pub mod member;
 pub mod project;
 
-pub use member::Membership;
+pub use member::{LiftedCut, Membership, Witnesses};
 pub use project::{LiftedRows, Projection, Projector};

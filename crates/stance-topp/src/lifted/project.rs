@@ -35,6 +35,9 @@ pub struct LiftedRows {
     k: usize,
     /// Per row: `a, b, c, d_0 .. d_{k-1}`.
     data: Vec<f64>,
+    /// Per row: `1 / sqrt(|d|^2 + 1)` (the row's weight in the margin program of
+    /// [`super::member`]), 0 for a constant row.
+    weight: Vec<f64>,
     /// Bound on every extra variable (in their unit).
     pub y_bound: f64,
 }
@@ -50,6 +53,7 @@ impl LiftedRows {
         Self {
             k,
             data: Vec::new(),
+            weight: Vec::new(),
             y_bound,
         }
     }
@@ -59,6 +63,7 @@ impl LiftedRows {
         Self {
             k,
             data: Vec::with_capacity(rows * (3 + k)),
+            weight: Vec::with_capacity(rows),
             y_bound,
         }
     }
@@ -66,6 +71,7 @@ impl LiftedRows {
     /// Removes every row (keeps `k` and the bound).
     pub fn clear(&mut self) {
         self.data.clear();
+        self.weight.clear();
     }
 
     /// Number of extra variables.
@@ -86,14 +92,23 @@ impl LiftedRows {
     /// Appends `a u + b x + c + d . y <= 0` (`d` of length `k`), normalized.
     pub fn push(&mut self, a: f64, b: f64, c: f64, d: &[f64]) {
         debug_assert_eq!(d.len(), self.k);
-        let norm = (a * a + b * b + d.iter().map(|x| x * x).sum::<f64>()).sqrt();
-        let s = if norm > 0.0 && norm.is_finite() {
-            1.0 / norm
+        let dd = d.iter().map(|x| x * x).sum::<f64>();
+        let norm = (a * a + b * b + dd).sqrt();
+        let (s, w) = if norm > 0.0 && norm.is_finite() {
+            (1.0 / norm, 1.0 / (dd / (norm * norm) + 1.0).sqrt())
         } else {
-            1.0
+            (1.0, 0.0)
         };
         self.data.extend_from_slice(&[a * s, b * s, c * s]);
         self.data.extend(d.iter().map(|x| x * s));
+        self.weight.push(w);
+    }
+
+    /// Row `j`'s weight `1 / sqrt(|d|^2 + 1)` in the margin program (0 for a row with
+    /// `a = b = d = 0`, a constant).
+    #[inline]
+    pub(crate) fn weight(&self, j: usize) -> f64 {
+        self.weight[j]
     }
 
     /// Row `j` as `(a, b, c, d)`.

@@ -281,6 +281,8 @@ pub struct SolveStats {
     pub moves: usize,
     /// Line evaluations inside the 1-D sub-problems.
     pub inner_steps: usize,
+    /// Rows a [`crate::Separation`] oracle added (cutting planes).
+    pub cuts: usize,
 }
 
 /// Result of [`crate::solve`].
@@ -301,6 +303,9 @@ pub struct Solution {
     pub hit_box: bool,
     /// Work counters.
     pub stats: SolveStats,
+    /// The cuts a separation oracle added, per grid point, in the caller's units (empty
+    /// without an oracle; [`super::separation`]).
+    pub cuts: super::separation::Cuts,
 }
 
 impl Solution {

@@ -1,12 +1,14 @@
 //! Backward controllable sets and the greedy forward pass.
 
 use super::options::{Discretization, Solution, SolveOptions, SolveStats, Status};
+use super::separation::{Cuts, OnUnitGrid, Separation};
 use crate::constraints::CanonicalConstraints;
 use crate::constraints::Row;
 use crate::error::ToppError;
 use crate::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use crate::profile::Profile;
 use crate::tol::Tolerances;
+use crate::tol::MAX_CUTS_PER_LP;
 
 /// Reusable state of the solver. The passes read the rows in place (a stage is a view of the
 /// rows of one or two grid points, see [`lp2::StageLines`]) and allocate nothing but the
@@ -38,7 +40,46 @@ impl Workspace {
         k: &CanonicalConstraints,
         opts: &SolveOptions,
     ) -> Result<Solution, ToppError> {
-        solve_in(k, opts)
+        solve_in(k, opts, None)
+    }
+
+    /// [`Workspace::solve`] with grid points that have constraints beyond their rows, given by
+    /// a separation oracle ([`super::separation`]): every LP's optimum is checked by it and
+    /// cut off while it is not admissible, so that the profile is that of the exact sets. The
+    /// cuts found are in [`Solution::cuts`].
+    ///
+    /// # Errors
+    ///
+    /// As [`Workspace::solve`], and the oracle's errors; [`ToppError::InvalidValue`] when one
+    /// LP takes more than 64 cuts (an oracle whose cuts do not converge).
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Cut, Row, Separation, SolveOptions, ToppError,
+    ///     Workspace};
+    /// // |u| <= 1, and an oracle that also wants u <= 0.5 at every point
+    /// struct Half;
+    /// impl Separation for Half {
+    ///     fn separate(&mut self, _: usize, u: f64, _: f64) -> Result<Option<Cut>, ToppError> {
+    ///         Ok((u > 0.5 + 1e-12).then_some(Cut { row: Row { a: 1.0, b: 0.0, c: -0.5 }, tag: 7 }))
+    ///     }
+    /// }
+    /// let rows = vec![Row { a: 1.0, b: 0.0, c: -1.0 }, Row { a: -1.0, b: 0.0, c: -1.0 }];
+    /// let s: Vec<f64> = (0..=50).map(|i| i as f64 / 50.0).collect();
+    /// let offsets: Vec<usize> = (0..=51).map(|i| 2 * i).collect();
+    /// let k = CanonicalConstraints::new(s, offsets, rows.repeat(51)).unwrap();
+    /// let sol = Workspace::new().solve_separated(&k, &SolveOptions::default(), &mut Half).unwrap();
+    /// // accelerate at 0.5 over [0, 2/3] (to s' = sqrt(2/3), in 2 sqrt(2/3)), brake at 1 over
+    /// // [2/3, 1] (in sqrt(2/3)): duration 3 sqrt(2/3) = sqrt(6)
+    /// assert!((sol.duration().unwrap() - 6f64.sqrt()).abs() < 0.02, "{:?}", sol.duration());
+    /// assert!(sol.cuts.len() > 0 && sol.cuts.tags.iter().flatten().all(|&t| t == 7));
+    /// ```
+    pub fn solve_separated(
+        &mut self,
+        k: &CanonicalConstraints,
+        opts: &SolveOptions,
+        sep: &mut dyn Separation,
+    ) -> Result<Solution, ToppError> {
+        solve_in(k, opts, Some(sep))
     }
 
     /// An empty workspace.
@@ -54,6 +95,7 @@ impl Workspace {
 
 /// The rows of stage `i` (`k_next = Some(K_{i+1})`) or of the end point alone
 /// (`k_next = None`), and the bounding box.
+#[allow(clippy::too_many_arguments)]
 fn assemble<'a>(
     k: &'a CanonicalConstraints,
     disc: Discretization,
@@ -61,13 +103,16 @@ fn assemble<'a>(
     k_next: Option<[f64; 2]>,
     with_interp: bool,
     tol: &Tolerances,
+    cuts: &'a Cuts,
 ) -> (StageLines<'a>, Box2) {
     let s = k.grid();
     let mut lines = StageLines {
         head: [Row::default(); 2],
         n_head: 0,
         here: k.rows_at(i),
+        here_cuts: cuts.at(i),
         next: &[],
+        next_cuts: &[],
         two_delta: 0.0,
     };
     if let Some([lo, hi]) = k_next {
@@ -89,6 +134,7 @@ fn assemble<'a>(
         lines.n_head = K_LINES;
         if with_interp && disc == Discretization::Interpolation {
             lines.next = k.rows_at(i + 1);
+            lines.next_cuts = cuts.at(i + 1);
         }
     }
     let [xl, xh] = k.x_bounds_at(i);
@@ -137,21 +183,32 @@ pub fn solve_with(
     ws.solve(k, opts)
 }
 
-/// The body of [`Workspace::solve`].
-fn solve_in(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
+/// The body of [`Workspace::solve`] and [`Workspace::solve_separated`].
+fn solve_in(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    sep: Option<&mut dyn Separation>,
+) -> Result<Solution, ToppError> {
     opts.validate()?;
     // Solved on s~ = (s - s_0) / L (L a power of two, s~_N in (0.5, 1]) when the grid is far
     // from unit range or origin: the answer does not depend on the unit or the origin of the
     // path parameter.
     let Some((k_unit, l)) = k.on_unit_grid()? else {
-        return solve_unit(k, opts);
+        return solve_unit(k, opts, sep);
     };
     let unit_opts = SolveOptions {
         sd_start: opts.sd_start / l,
         sd_end: [opts.sd_end[0] / l, opts.sd_end[1] / l],
         ..*opts
     };
-    let sol = solve_unit(&k_unit, &unit_opts)?;
+    let sol = match sep {
+        Some(inner) => solve_unit(
+            &k_unit,
+            &unit_opts,
+            Some(&mut OnUnitGrid { inner, l } as &mut dyn Separation),
+        )?,
+        None => solve_unit(&k_unit, &unit_opts, None)?,
+    };
     let l2 = l * l;
     let status = match sol.status {
         Status::StartOutsideControllable { x_start, lo, hi } => Status::StartOutsideControllable {
@@ -166,6 +223,16 @@ fn solve_in(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, T
         let u = p.u().iter().map(|u| u * l).collect();
         Profile::from_valid_states(k.grid().to_vec(), x, u)
     });
+    // the cuts back in the caller's units: (a / L, b / L^2, c), scaled into the window
+    let mut cuts = sol.cuts;
+    for r in cuts.rows.iter_mut().flatten() {
+        *r = Row {
+            a: r.a / l,
+            b: r.b / l2,
+            c: r.c,
+        };
+        crate::constraints::into_window(r);
+    }
     Ok(Solution {
         status,
         controllable: sol
@@ -174,18 +241,29 @@ fn solve_in(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, T
             .map(|c| c.map(|[lo, hi]| [lo * l2, hi * l2]))
             .collect(),
         profile,
+        cuts,
         ..sol
     })
 }
 
 /// [`Workspace::solve`] on a grid the solver works on as it is (`s_0 = 0`, `s_N` in `(0.5, 1]`).
-fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, ToppError> {
+fn solve_unit(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    mut sep: Option<&mut dyn Separation>,
+) -> Result<Solution, ToppError> {
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
     let mut stats = SolveStats::default();
     let mut hit_box = false;
     let mut controllable: Vec<Option<[f64; 2]>> = vec![None; n];
+    // (no storage without an oracle: `Cuts::at` is empty past the end)
+    let mut cuts = if sep.is_some() {
+        Cuts::new(n)
+    } else {
+        Cuts::default()
+    };
 
     let end = [opts.sd_end[0].powi(2), opts.sd_end[1].powi(2)];
     let backward = backward_pass(
@@ -197,9 +275,11 @@ fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution,
         &mut controllable,
         &mut stats,
         &mut hit_box,
-    );
+        &mut sep,
+        &mut cuts,
+    )?;
     if let Err(i_fail) = backward {
-        let status = diagnose(k, disc, &tol, i_fail, &mut stats);
+        let status = diagnose(k, disc, &tol, i_fail, &mut stats, &cuts);
         return Ok(Solution {
             status,
             discretization: disc,
@@ -207,46 +287,84 @@ fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution,
             profile: None,
             hit_box,
             stats,
+            cuts,
         });
     }
-    let fail = |status| Solution {
-        status,
-        discretization: disc,
-        controllable: controllable.clone(),
-        profile: None,
-        hit_box,
-        stats,
-    };
 
     // Forward pass.
     let x_start = opts.sd_start * opts.sd_start;
     let [lo0, hi0] = controllable[0].expect("backward pass succeeded");
     if x_start < lo0 - tol.state * lo0.max(1.0) || x_start > hi0 + tol.state * hi0.max(1.0) {
-        return Ok(fail(Status::StartOutsideControllable {
-            x_start,
-            lo: lo0,
-            hi: hi0,
-        }));
+        return Ok(Solution {
+            status: Status::StartOutsideControllable {
+                x_start,
+                lo: lo0,
+                hi: hi0,
+            },
+            discretization: disc,
+            controllable,
+            profile: None,
+            hit_box,
+            stats,
+            cuts,
+        });
     }
     let s = k.grid();
     let mut x = vec![0.0; n];
     let mut u = vec![0.0; n - 1];
     x[0] = x_start.clamp(lo0, hi0);
     let mut fwd_active = None;
+    let mut failed = None;
     for i in 0..n - 1 {
         let [lo1, hi1] = controllable[i + 1].expect("backward pass succeeded");
-        let (lines, bbox) = assemble(k, disc, i, Some([lo1, hi1]), true, &tol);
-        let xi = x[i];
-        let Some((u_hi, act)) = forward_step(&lines, bbox, xi, fwd_active, &tol) else {
-            return Ok(fail(Status::ForwardPassFailed { index: i }));
-        };
-        if opts.warm_start {
-            fwd_active = act;
-        }
         let two_delta = 2.0 * (s[i + 1] - s[i]);
+        let xi = x[i];
+        let mut rounds = 0;
+        let u_hi = loop {
+            let (lines, bbox) = assemble(k, disc, i, Some([lo1, hi1]), true, &tol, &cuts);
+            let Some((u_hi, act)) = forward_step(&lines, bbox, xi, fwd_active, &tol) else {
+                break None;
+            };
+            if opts.warm_start {
+                fwd_active = act;
+            }
+            let Some(sep) = sep.as_deref_mut() else {
+                break Some(u_hi);
+            };
+            // the step's state at its grid point, and with interpolation the next point's
+            let x_next = xi + two_delta * u_hi;
+            let mut cut = sep.separate(i, u_hi, xi)?.map(|c| (i, c));
+            if cut.is_none() && disc == Discretization::Interpolation {
+                cut = sep.separate(i + 1, u_hi, x_next)?.map(|c| (i + 1, c));
+            }
+            let Some((p, c)) = cut else {
+                break Some(u_hi);
+            };
+            cuts.push(p, c);
+            stats.cuts += 1;
+            rounds += 1;
+            if rounds > MAX_CUTS_PER_LP {
+                return Err(too_many_cuts(i));
+            }
+        };
+        let Some(u_hi) = u_hi else {
+            failed = Some(i);
+            break;
+        };
         let x_next = (xi + two_delta * u_hi).clamp(lo1, hi1).max(0.0);
         u[i] = (x_next - xi) / two_delta;
         x[i + 1] = x_next;
+    }
+    if let Some(index) = failed {
+        return Ok(Solution {
+            status: Status::ForwardPassFailed { index },
+            discretization: disc,
+            controllable,
+            profile: None,
+            hit_box,
+            stats,
+            cuts,
+        });
     }
     let profile = Profile::from_valid_states(s.to_vec(), x, u);
     let status = match profile.first_stall() {
@@ -260,7 +378,18 @@ fn solve_unit(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution,
         profile: Some(profile),
         hit_box,
         stats,
+        cuts,
     })
+}
+
+fn too_many_cuts(i: usize) -> ToppError {
+    ToppError::InvalidValue {
+        what: "separation oracle",
+        detail: format!(
+            "its cuts did not converge at grid point {i} ({MAX_CUTS_PER_LP} cuts on one LP); \
+             report this input"
+        ),
+    }
 }
 
 /// One greedy step: the largest `u` with `(u, x_i)` admissible at the stage (its rows include
@@ -332,8 +461,9 @@ fn add_stats(stats: &mut SolveStats, s: &Lp2Stats) {
     stats.inner_steps += s.inner_steps;
 }
 
-/// Fills `controllable`; `Err(i)` when `K_i` is empty (or grid point `i` has a violated constant
-/// row).
+/// Fills `controllable`; `Ok(Err(i))` when `K_i` is empty (or grid point `i` has a violated
+/// constant row). With a separation oracle, each stage's optima are cut off until it accepts
+/// them (module [`super::separation`]).
 #[allow(clippy::too_many_arguments)]
 fn backward_pass(
     k: &CanonicalConstraints,
@@ -344,15 +474,40 @@ fn backward_pass(
     controllable: &mut [Option<[f64; 2]>],
     stats: &mut SolveStats,
     hit_box: &mut bool,
-) -> Result<(), usize> {
+    sep: &mut Option<&mut dyn Separation>,
+    cuts: &mut Cuts,
+) -> Result<Result<(), usize>, ToppError> {
     let n = k.num_points();
+    let s = k.grid();
     // K_N: the end interval intersected with the states feasible at s_N.
-    let (lines, mut bbox) = assemble(k, disc, n - 1, None, false, tol);
-    bbox.x_lo = bbox.x_lo.max(end[0]);
-    bbox.x_hi = bbox.x_hi.min(end[1]);
-    let range = x_range(&lines, bbox, tol, [None, None], stats, hit_box);
-    let Some((mut kn, _)) = range else {
-        return Err(n - 1);
+    let mut rounds = 0;
+    let mut kn = loop {
+        let (lines, mut bbox) = assemble(k, disc, n - 1, None, false, tol, cuts);
+        bbox.x_lo = bbox.x_lo.max(end[0]);
+        bbox.x_hi = bbox.x_hi.min(end[1]);
+        let Some((set, _, optima)) = x_range(&lines, bbox, tol, [None, None], stats, hit_box)
+        else {
+            return Ok(Err(n - 1));
+        };
+        let Some(sep) = sep.as_deref_mut() else {
+            break set;
+        };
+        let mut cut = None;
+        for (u, x) in optima {
+            if let Some(c) = sep.separate(n - 1, u, x)? {
+                cut = Some(c);
+                break;
+            }
+        }
+        let Some(c) = cut else {
+            break set;
+        };
+        cuts.push(n - 1, c);
+        stats.cuts += 1;
+        rounds += 1;
+        if rounds > MAX_CUTS_PER_LP {
+            return Err(too_many_cuts(n - 1));
+        }
     };
     // A fixed end speed: keep it exact (the LP returns it up to round-off).
     if end[0] == end[1] {
@@ -362,23 +517,58 @@ fn backward_pass(
     let mut active = [None, None];
     for i in (0..n - 1).rev() {
         let k_next = controllable[i + 1].expect("set above");
-        let (lines, bbox) = assemble(k, disc, i, Some(k_next), true, tol);
-        let warm_idx = if warm { active } else { [None, None] };
-        match x_range(&lines, bbox, tol, warm_idx, stats, hit_box) {
-            Some((set, act)) => {
+        let two_delta = 2.0 * (s[i + 1] - s[i]);
+        let mut rounds = 0;
+        loop {
+            let (lines, bbox) = assemble(k, disc, i, Some(k_next), true, tol, cuts);
+            let warm_idx = if warm { active } else { [None, None] };
+            let Some((set, act, optima)) = x_range(&lines, bbox, tol, warm_idx, stats, hit_box)
+            else {
+                return Ok(Err(i));
+            };
+            let Some(sep) = sep.as_deref_mut() else {
                 controllable[i] = Some(set);
                 active = act;
+                break;
+            };
+            let mut cut = None;
+            for (u, x) in optima {
+                if let Some(c) = sep.separate(i, u, x)? {
+                    cut = Some((i, c));
+                    break;
+                }
+                if disc == Discretization::Interpolation {
+                    if let Some(c) = sep.separate(i + 1, u, x + two_delta * u)? {
+                        cut = Some((i + 1, c));
+                        break;
+                    }
+                }
             }
-            None => return Err(i),
+            let Some((p, c)) = cut else {
+                controllable[i] = Some(set);
+                active = act;
+                break;
+            };
+            cuts.push(p, c);
+            stats.cuts += 1;
+            rounds += 1;
+            if rounds > MAX_CUTS_PER_LP {
+                return Err(too_many_cuts(i));
+            }
         }
     }
-    Ok(())
+    Ok(Ok(()))
 }
 
 /// Lines active at the two optima of [`x_range`] (`[max-x actives, min-x actives]`).
 type Actives = [Option<[Option<usize>; 2]>; 2];
 
-/// `[min x, max x]` over the current stage lines and `bbox`, or `None` when empty.
+/// What [`x_range`] finds: `[min x, max x]`, the lines active at the two optima, and the
+/// optima `(u, x)` (max first).
+type XRange = ([f64; 2], Actives, [(f64, f64); 2]);
+
+/// `[min x, max x]` over the current stage lines and `bbox`, the lines active at the two
+/// optima, and the optima `(u, x)` themselves (max first), or `None` when empty.
 fn x_range(
     lines: &StageLines<'_>,
     bbox: Box2,
@@ -386,7 +576,7 @@ fn x_range(
     warm: Actives,
     stats: &mut SolveStats,
     hit_box: &mut bool,
-) -> Option<([f64; 2], Actives)> {
+) -> Option<XRange> {
     // Warm start: the K lines (almost always active) and the previous stage's actives.
     let mut first = [[0usize; 2 + K_LINES]; 2];
     let mut nf = [0usize; 2];
@@ -435,9 +625,10 @@ fn x_range(
     if near(x_hi, tol.max_x) || near(u_hi, tol.max_u) || near(u_lo, tol.max_u) {
         *hit_box = true;
     }
+    let optima = [(u_hi, x_hi), (u_lo, x_lo)];
     let x_lo = x_lo.max(0.0);
     let x_hi = x_hi.max(x_lo);
-    Some(([x_lo, x_hi], [Some(a_hi), Some(a_lo)]))
+    Some(([x_lo, x_hi], [Some(a_hi), Some(a_lo)], optima))
 }
 
 /// After the backward pass failed at `i_fail`: the smallest grid point whose own rows admit no
@@ -450,17 +641,18 @@ fn diagnose(
     tol: &Tolerances,
     i_fail: usize,
     stats: &mut SolveStats,
+    cuts: &Cuts,
 ) -> Status {
     let n = k.num_points();
     let mut hit = false;
     for i in 0..n {
-        let (lines, bbox) = assemble(k, disc, i, None, false, tol);
+        let (lines, bbox) = assemble(k, disc, i, None, false, tol, cuts);
         if x_range(&lines, bbox, tol, [None, None], stats, &mut hit).is_none() {
             return Status::FeasibleSetEmpty { index: i };
         }
     }
     for i in 0..n - 1 {
-        let (lines, bbox) = assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol);
+        let (lines, bbox) = assemble(k, disc, i, Some([0.0, f64::INFINITY]), true, tol, cuts);
         if x_range(&lines, bbox, tol, [None, None], stats, &mut hit).is_none() {
             return Status::FeasibleSetEmpty { index: i };
         }
@@ -513,6 +705,7 @@ fn end_speed_range_unit(
     let mut stats = SolveStats::default();
     let mut hit = false;
     let mut controllable = vec![None; n];
+    let cuts = &mut Cuts::default();
     if backward_pass(
         k,
         disc,
@@ -522,7 +715,9 @@ fn end_speed_range_unit(
         &mut controllable,
         &mut stats,
         &mut hit,
-    )
+        &mut None,
+        cuts,
+    )?
     .is_err()
     {
         return Ok(None);
@@ -536,7 +731,7 @@ fn end_speed_range_unit(
     let mut reach = [x_start.clamp(lo0, hi0); 2];
     for i in 0..n - 1 {
         let k_next = controllable[i + 1].expect("backward pass succeeded");
-        let (lines, mut bbox) = assemble(k, disc, i, Some(k_next), true, &tol);
+        let (lines, mut bbox) = assemble(k, disc, i, Some(k_next), true, &tol, cuts);
         bbox.x_lo = bbox.x_lo.max(reach[0]);
         bbox.x_hi = bbox.x_hi.min(reach[1]);
         let two_delta = 2.0 * (s[i + 1] - s[i]);

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod lp;
+pub mod random;
 
 use stance_topp::CanonicalConstraints;
 

@@ -32,9 +32,9 @@ use std::time::{Duration, Instant};
 use stance_topp::{CanonicalConstraints, Profile, Row, Solution, SolveOptions, Status, Workspace};
 
 use super::ik_stage::{frame_path_velocity, IkStageWorkspace, SegmentPath};
-use super::limits::LimitWorkspace;
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
+use super::separation::LiftedOracle;
 use crate::binding::RowOrigin;
 use crate::StanceError;
 use stance_topp::lifted::Membership;
@@ -171,11 +171,14 @@ pub struct Retimed {
     pub t_topp: Duration,
     /// Time to lay out the global rows (part of `T_abc`).
     pub t_assemble: Duration,
-    /// Time of the checks, projections and solves for the lifted torque rows on the initial
-    /// grid (part of the retiming's cost: the profile is exact only after them).
+    /// Time of the first solve (on the initial grid), its separation oracle and the layout of
+    /// the cuts it found included.
+    pub t_first: Duration,
+    /// Time in the separation oracle of the lifted torque rows during the first solve (part of
+    /// `t_first`).
     pub t_lifted: Duration,
-    /// Rounds of those projections.
-    pub lifted_rounds: usize,
+    /// Cuts of the lifted torque rows found by the first solve.
+    pub cuts: usize,
     /// What the refinement between grid points did.
     pub refinement: Refinement,
     /// Controllable sets `[lo, hi]` of `x = s'^2` at the grid points (`None` where empty or not
@@ -275,6 +278,53 @@ struct Layout {
     s_offset: Vec<f64>,
 }
 
+/// What a layout is made from besides the rows.
+struct LayoutInputs<'a> {
+    paths: &'a [SegmentPath],
+    margin: f64,
+    boundary_x_max: &'a [f64],
+}
+
+impl LayoutInputs<'_> {
+    fn lay_out(&self, rows: &[SegmentRows]) -> Result<Layout, StanceError> {
+        layout(self.paths, rows, self.margin, self.boundary_x_max)
+    }
+}
+
+/// One solve of `k` (the layout's points from `offset` on), with the separation oracle of the
+/// lifted torque rows when some grid point has them; the cuts found are kept in `rows`.
+/// Returns the solution, the cuts kept and the oracle's time.
+fn solve_with_oracle(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    ws: &mut Workspace,
+    rows: &mut [SegmentRows],
+    seg_start: &[usize],
+    offset: usize,
+) -> Result<(Solution, usize, Duration), StanceError> {
+    Ok(match LiftedOracle::new(rows, seg_start) {
+        Some(mut oracle) => {
+            oracle.offset = offset;
+            let sol = ws.solve_separated(k, opts, &mut oracle)?;
+            let t = oracle.elapsed;
+            (sol, oracle.keep_cuts(), t)
+        }
+        None => (ws.solve(k, opts)?, 0, Duration::ZERO),
+    })
+}
+
+/// One solve of the layout (module doc), its outcome located.
+struct Solved {
+    profile: Option<Profile>,
+    failure: Option<RetimeFailure>,
+    /// Solve time (the oracle's and the cuts' layout included).
+    t: Duration,
+    /// The oracle's time.
+    t_oracle: Duration,
+    /// Cuts found and kept.
+    cuts: usize,
+}
+
 /// Lays out the segments' rows on the global grid (module doc), with `x` bounded above by
 /// `x_max[k]` at the boundary before segment `k` (chained) or zero there (rest to rest).
 fn layout(
@@ -355,20 +405,25 @@ fn segment_constraints(l: &Layout, k: usize) -> Result<CanonicalConstraints, Sta
 }
 
 /// One solve of the layout: the profile or the located failure, and the per-segment solves
-/// (rest to rest).
+/// (rest to rest). The cuts of the lifted torque rows found are kept in `rows` and the layout
+/// made again with them (so that the failure's constraints and the binding see them).
+#[allow(clippy::too_many_arguments)]
 fn solve_layout(
-    l: &Layout,
+    l: &mut Layout,
+    inputs: &LayoutInputs<'_>,
+    rows: &mut [SegmentRows],
     mode: RetimingMode,
     opts: &SolveOptions,
     ws: &mut Workspace,
     segments: &mut Vec<SegmentSolve>,
     controllable: &mut Vec<Option<[f64; 2]>>,
     names: &Names<'_>,
-) -> Result<(Option<Profile>, Option<RetimeFailure>, Duration), StanceError> {
+) -> Result<Solved, StanceError> {
     let joints = names.joints;
     let nseg = l.seg_start.len() - 1;
     // `k` with its first grid point at `first` of the global grid and its origins from `row0`
-    let locate = |status: &Status,
+    let locate = |l: &Layout,
+                  status: &Status,
                   k: &CanonicalConstraints,
                   first: usize,
                   row0: usize,
@@ -405,14 +460,20 @@ fn solve_layout(
     match mode {
         RetimingMode::Chained => {
             let t1 = Instant::now();
-            let sol: Solution = ws.solve(&l.constraints, opts)?;
+            let (sol, cuts, t_oracle) =
+                solve_with_oracle(&l.constraints, opts, ws, rows, &l.seg_start, 0)?;
+            if cuts > 0 {
+                rows.iter_mut().for_each(SegmentRows::refresh);
+                *l = inputs.lay_out(rows)?;
+            }
             let t = t1.elapsed();
             controllable.clone_from(&sol.controllable);
-            match (&sol.status, sol.profile) {
-                (Status::Optimal, Some(p)) => Ok((Some(p), None, t)),
-                (status, _) => Ok((
+            let (profile, failure) = match (&sol.status, sol.profile) {
+                (Status::Optimal, Some(p)) => (Some(p), None),
+                (status, _) => (
                     None,
                     Some(locate(
+                        l,
                         status,
                         &l.constraints,
                         0,
@@ -420,19 +481,34 @@ fn solve_layout(
                         &sol.controllable,
                         opts.sd_end,
                     )),
-                    t,
-                )),
-            }
+                ),
+            };
+            Ok(Solved {
+                profile,
+                failure,
+                t,
+                t_oracle,
+                cuts,
+            })
         }
         RetimingMode::RestToRest => {
             let (mut s_all, mut x_all, mut u_all) = (Vec::new(), Vec::new(), Vec::new());
             let mut total = Duration::ZERO;
+            let (mut t_oracle, mut cuts) = (Duration::ZERO, 0);
             for k in 0..nseg {
-                let kk = segment_constraints(l, k)?;
+                let mut kk = segment_constraints(l, k)?;
                 let t2 = Instant::now();
-                let sol = ws.solve(&kk, opts)?;
+                let (sol, n_cuts, t_o) =
+                    solve_with_oracle(&kk, opts, ws, rows, &l.seg_start, l.seg_start[k])?;
+                if n_cuts > 0 {
+                    rows.iter_mut().for_each(SegmentRows::refresh);
+                    *l = inputs.lay_out(rows)?;
+                    kk = segment_constraints(l, k)?;
+                }
                 let t = t2.elapsed();
                 total += t;
+                t_oracle += t_o;
+                cuts += n_cuts;
                 for (i, c) in sol.controllable.iter().enumerate() {
                     controllable[l.seg_start[k] + i] = *c;
                 }
@@ -452,6 +528,7 @@ fn solve_layout(
                     (status, _) => {
                         let a = l.seg_start[k];
                         let f = locate(
+                            l,
                             status,
                             &kk,
                             a,
@@ -459,15 +536,23 @@ fn solve_layout(
                             &sol.controllable,
                             [0.0, 0.0],
                         );
-                        return Ok((None, Some(f), total));
+                        return Ok(Solved {
+                            profile: None,
+                            failure: Some(f),
+                            t: total,
+                            t_oracle,
+                            cuts,
+                        });
                     }
                 }
             }
-            Ok((
-                Some(Profile::from_states(s_all, x_all, u_all)?),
-                None,
-                total,
-            ))
+            Ok(Solved {
+                profile: Some(Profile::from_states(s_all, x_all, u_all)?),
+                failure: None,
+                t: total,
+                t_oracle,
+                cuts,
+            })
         }
     }
 }
@@ -531,12 +616,19 @@ pub fn retime(
     let mut ws = Workspace::new();
     let mut segments = Vec::with_capacity(nseg);
     let mut refine = Refinement::default();
+    let inputs = LayoutInputs {
+        paths,
+        margin,
+        boundary_x_max: &boundary_x_max,
+    };
     let t_layout = Instant::now();
-    let mut l = layout(paths, rows, margin, &boundary_x_max)?;
+    let mut l = inputs.lay_out(rows)?;
     let mut t_assemble = t_layout.elapsed();
     let mut controllable = Vec::new();
-    let (mut profile, mut failure, mut t_topp) = solve_layout(
-        &l,
+    let first = solve_layout(
+        &mut l,
+        &inputs,
+        rows,
         mode,
         &opts,
         &mut ws,
@@ -544,39 +636,13 @@ pub fn retime(
         &mut controllable,
         joints,
     )?;
-    // Lifted torque rows (torque limits with the contact forces as unknowns) are projected
-    // where the profile leaves them at a grid point, then the motion is solved again: the
-    // profile of this relaxation is the exact one once it satisfies them everywhere (module
-    // doc). Then the refinement: IK samples where the rows do not hold (with half the margin)
-    // become grid points.
+    let (t_first, t_lifted, cuts) = (first.t, first.t_oracle, first.cuts);
+    let (mut profile, mut failure, mut t_topp) = (first.profile, first.failure, first.t);
+    // The refinement: IK samples where the rows do not hold (with half the margin), or whose
+    // lifted torque rows admit no contact forces, become grid points.
     let t_refine = Instant::now();
-    let mut t_lifted = Duration::ZERO;
     let mut sample_rows_ready = false;
-    let mut lifted_rounds = 0;
     while let Some(p) = &profile {
-        let t_l = Instant::now();
-        let (projected, _) = lifted_pass(plan, paths, rows, &l.s_offset, p, false)?;
-        if projected > 0 && lifted_rounds < crate::tol::MAX_LIFTED_ROUNDS {
-            lifted_rounds += 1;
-            rows.iter_mut().for_each(SegmentRows::refresh);
-            l = layout(paths, rows, margin, &boundary_x_max)?;
-            (profile, failure, t_topp) = solve_layout(
-                &l,
-                mode,
-                &opts,
-                &mut ws,
-                &mut segments,
-                &mut controllable,
-                joints,
-            )?;
-            if refine.rounds == 0 {
-                t_lifted += t_l.elapsed();
-            }
-            continue;
-        }
-        if refine.rounds == 0 {
-            t_lifted += t_l.elapsed();
-        }
         if refine.rounds >= crate::tol::MAX_REFINE_ROUNDS {
             break;
         }
@@ -588,7 +654,7 @@ pub fn retime(
             sample_rows_ready = true;
         }
         let values = sample_row_values(paths, rows, &l.s_offset, p);
-        let (_, lifted_bad) = lifted_pass(plan, paths, rows, &l.s_offset, p, true)?;
+        let lifted_bad = lifted_samples_failing(plan, paths, rows, &l.s_offset, p)?;
         let mut added = 0;
         for k in 0..nseg {
             let mut bad: Vec<usize> = values[k]
@@ -618,10 +684,12 @@ pub fn retime(
         refine.rounds += 1;
         refine.points_added += added;
         let t_lay = Instant::now();
-        l = layout(paths, rows, margin, &boundary_x_max)?;
+        l = inputs.lay_out(rows)?;
         t_assemble = t_lay.elapsed();
-        (profile, failure, t_topp) = solve_layout(
-            &l,
+        let again = solve_layout(
+            &mut l,
+            &inputs,
+            rows,
             mode,
             &opts,
             &mut ws,
@@ -629,6 +697,7 @@ pub fn retime(
             &mut controllable,
             joints,
         )?;
+        (profile, failure, t_topp) = (again.profile, again.failure, again.t);
     }
     refine.elapsed = t_refine.elapsed();
     // per-segment re-solves of a chained profile, for their T_TOPP
@@ -640,7 +709,14 @@ pub fn retime(
             let kk = segment_constraints(&l, k)?;
             let o = opts.with_start(sd[a]).with_end(sd[b]);
             let t2 = Instant::now();
-            let again = ws.solve(&kk, &o)?;
+            // (cuts found here are valid but not kept: the motion's profile is solved)
+            let again = match LiftedOracle::new(rows, &l.seg_start) {
+                Some(mut oracle) => {
+                    oracle.offset = a;
+                    ws.solve_separated(&kk, &o, &mut oracle)?
+                }
+                None => ws.solve(&kk, &o)?,
+            };
             let t = t2.elapsed();
             let d = again.duration().unwrap_or(f64::INFINITY);
             segments.push(SegmentSolve {
@@ -667,8 +743,9 @@ pub fn retime(
         landings,
         t_topp,
         t_assemble,
+        t_first,
         t_lifted,
-        lifted_rounds,
+        cuts,
         refinement: refine,
         controllable,
         feasible,
@@ -768,77 +845,44 @@ fn state_at(profile: &Profile, s: f64, left: bool) -> (f64, f64) {
     (u[i], (x[i] + 2.0 * u[i] * (s - grid[i])).max(0.0))
 }
 
-/// The unprojected lifted torque rows under the profile (module doc of [`super::rows`]): at
-/// the grid points, each side at the states of both intervals around the point (the solver
-/// applies a point's rows to both), projected where they fail; with `samples`, at every IK
-/// sample off the grid, each side at its own interval's state, returning per segment the
-/// samples where they fail. Returns the number of projections made, and those samples.
-fn lifted_pass(
+/// The IK samples off the grid whose lifted torque rows (module doc of [`super::rows`]) admit
+/// no contact forces at the profile's state there (each side at its own interval's state),
+/// per segment.
+fn lifted_samples_failing(
     plan: &MotionPlan,
     paths: &[SegmentPath],
     rows: &mut [SegmentRows],
     s_offset: &[f64],
     profile: &Profile,
-    samples: bool,
-) -> Result<(usize, Vec<Vec<usize>>), StanceError> {
+) -> Result<Vec<Vec<usize>>, StanceError> {
     use rayon::prelude::*;
     if plan.limits.as_ref().is_none_or(|lp| !lp.any_torque()) {
-        return Ok((0, vec![Vec::new(); rows.len()]));
+        return Ok(vec![Vec::new(); rows.len()]);
     }
-    let out: Vec<(usize, Vec<usize>)> = rows
-        .par_iter_mut()
+    rows.par_iter_mut()
         .zip(paths.par_iter())
         .enumerate()
-        .map(
-            |(k, (r, path))| -> Result<(usize, Vec<usize>), StanceError> {
-                let mut member = Membership::new();
-                let mut ws = LimitWorkspace::new(plan);
-                let last = path.samples.len() - 1;
-                let mut projected = 0;
-                let mut bad = Vec::new();
-                let candidates: Vec<usize> = if samples {
-                    (0..=last)
-                        .filter(|j| r.grid.binary_search(j).is_err())
-                        .collect()
-                } else {
-                    r.grid.clone()
-                };
-                for j in candidates {
-                    if r.sides[j].is_none() {
+        .map(|(k, (r, path))| -> Result<Vec<usize>, StanceError> {
+            let mut member = Membership::new();
+            let last = path.samples.len() - 1;
+            let mut bad = Vec::new();
+            for j in 0..=last {
+                if r.grid.binary_search(&j).is_ok() || r.sides[j].is_none() {
+                    continue;
+                }
+                let s = s_offset[k] + path.samples[j].s;
+                for left in [false, true] {
+                    if (left && j == 0) || (!left && j == last) {
                         continue;
                     }
-                    let s = s_offset[k] + path.samples[j].s;
-                    for left in [false, true] {
-                        if (left && j == 0) || (!left && j == last) {
-                            continue;
-                        }
-                        // the solver applies a grid point's rows to the states of both intervals
-                        // around it (at the motion's ends both are the same interval's)
-                        let states: Vec<(f64, f64)> = if samples {
-                            vec![state_at(profile, s, left)]
-                        } else {
-                            vec![state_at(profile, s, false), state_at(profile, s, true)]
-                        };
-                        let mut ok = true;
-                        for (u, x) in states {
-                            if !r.lifted_holds(j, left, u, x, &mut member)? {
-                                ok = false;
-                                break;
-                            }
-                        }
-                        if !ok {
-                            if samples {
-                                bad.push(j);
-                            } else if r.project(j, left, &mut ws)? {
-                                projected += 1;
-                            }
-                        }
+                    let (u, x) = state_at(profile, s, left);
+                    if !r.lifted_holds(j, left, u, x, &mut member)? {
+                        bad.push(j);
+                        break;
                     }
                 }
-                Ok((projected, bad))
-            },
-        )
-        .collect::<Result<_, _>>()?;
-    let projected = out.iter().map(|o| o.0).sum();
-    Ok((projected, out.into_iter().map(|o| o.1).collect()))
+            }
+            Ok(bad)
+        })
+        .collect()
 }

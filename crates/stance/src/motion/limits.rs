@@ -29,24 +29,20 @@
 //! - With **K >= 2 contacts**, the wrenches `w_2 .. w_K` are free (`y = (w_2, .., w_K) / (m |g|)`)
 //!   and `w_1 = J_1,b^-T (r_b - sum_k J_k,b^T w_k)`: every contact-wrench-cone row and every
 //!   chain joint's torque row is affine in `(u, x, y)`. The admissible `(u, x)` are the
-//!   projection of that polytope, computed exactly at every grid point
-//!   ([`stance_topp::lifted`]): a polygon whose edges are rows (the projection is the
-//!   redundantly actuated form of Pham and Pham's reachability analysis, with the extra
-//!   variables eliminated per grid point rather than carried into every stage's LP; see
-//!   `bench/peers/limits.md` for the measured choice).
+//!   projection of that polytope (the redundantly actuated form of Pham and Pham's
+//!   reachability analysis). The retiming never computes it: its separation oracle
+//!   ([`super::separation`]) tests the states the solver's LPs reach and cuts off those that
+//!   admit no contact forces ([`stance_topp::lifted::Membership::separate`]), so the extra
+//!   variables are eliminated only where the profile needs it.
 //!
-//! The projection is made within the bounding box of the point's other rows (contact rows of
-//! eq. 14 and the explicit limit rows), which is exact: the point's admissible set is the
-//! intersection of both.
-//!
-//! The rows of a projection carry the lifted rows that define them: a row whose definition
-//! involves a torque limit is reported as that joint's torque ([`RowOrigin::TorqueWithContacts`]),
-//! one that involves only contact wrench cones as contact stability.
+//! A cut carries the lifted rows that define it: one whose definition involves a torque limit
+//! is reported as that joint's torque ([`RowOrigin::TorqueWithContacts`], the torque row of
+//! largest weight), one that involves only contact wrench cones as contact stability.
 
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use stance_contact::Stance;
 use stance_robot::{frame_jacobian, torque_path_terms_two, Data, ReferenceFrame};
-use stance_topp::lifted::{LiftedRows, Projection, Projector};
+use stance_topp::lifted::LiftedRows;
 use stance_topp::limits::{JointLimits, LimitKind, LimitTag};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
 use stance_topp::{Row, Tolerances};
@@ -184,20 +180,12 @@ impl SegmentContacts {
 pub struct LimitWorkspace {
     data: Data,
     jac: Vec<Matrix6xX<f64>>,
-    projector: Projector,
-    projection: Projection,
     qs: Vec<f64>,
     qs_end: Vec<f64>,
     qss: Vec<f64>,
     buf: Vec<Row>,
     /// The bounding boxes' warm start, per side.
     pub(crate) box_warm: [BoxWarm; 2],
-    /// Projections made, LPs and pivots (for the report).
-    pub projections: usize,
-    /// LPs of the projections.
-    pub lps: usize,
-    /// Simplex pivots of the projections.
-    pub pivots: usize,
 }
 
 impl LimitWorkspace {
@@ -207,27 +195,18 @@ impl LimitWorkspace {
         Self {
             data: Data::new(m),
             jac: Vec::new(),
-            projector: Projector::new(),
-            projection: Projection::default(),
             qs: Vec::new(),
             qs_end: Vec::new(),
             qss: Vec::new(),
             buf: Vec::new(),
             box_warm: [BoxWarm::default(); 2],
-            projections: 0,
-            lps: 0,
-            pivots: 0,
         }
-    }
-
-    /// Forgets the projection's warm start (a new segment).
-    pub fn reset(&mut self) {
-        self.projector.reset();
     }
 }
 
-/// Largest contact wrench of a projection's extra variables, in weights `m |g|`: a bound the
-/// physical solutions never reach (the projection reports when a facet rests on it).
+/// Largest contact wrench of the lifted rows' extra variables, in weights `m |g|`: a bound the
+/// physical solutions never reach (a cut may rest on it: it is valid, and looser than needed,
+/// only where no force below a thousand weights would hold the motion).
 const Y_BOUND: f64 = 1e3;
 
 /// The explicit rows and origins of one side of a sample.
@@ -449,101 +428,6 @@ pub fn sample_limit_rows(
     Ok(result)
 }
 
-/// The projection of lifted torque rows onto `(u, x)` within the bounding box of the side's
-/// explicit rows (module doc), as rows with their origins: a row whose facet involves a torque
-/// limit stands for that torque, one that involves only contact wrench cones for contact
-/// stability.
-///
-/// # Errors
-///
-/// [`StanceError::Topp`] when the projection's programs fail (a guard).
-pub fn project_lifted(
-    lifted: &LiftedRows,
-    lifted_origin: &[RowOrigin],
-    explicit: &[Row],
-    ws: &mut LimitWorkspace,
-) -> Result<(Vec<Row>, Vec<RowOrigin>), StanceError> {
-    let Some(bbox) = bounding_box(explicit) else {
-        return Ok((Vec::new(), Vec::new())); // the point is infeasible already
-    };
-    ws.projector.reset();
-    ws.projector
-        .project(lifted, bbox, 1e-9, &mut ws.projection)?;
-    ws.projections += 1;
-    ws.lps += ws.projection.lps;
-    ws.pivots += ws.projection.pivots;
-    if ws.projection.empty {
-        return Ok(empty_projection(lifted, lifted_origin, bbox, ws));
-    }
-    let mut origins = Vec::with_capacity(ws.projection.rows.len());
-    for sup in &ws.projection.support {
-        origins.push(
-            sup.iter()
-                .map(|&j| lifted_origin[j])
-                .find(|o| matches!(o, RowOrigin::TorqueWithContacts(_)))
-                .unwrap_or(RowOrigin::Contact),
-        );
-    }
-    Ok((ws.projection.rows.clone(), origins))
-}
-
-/// The rows of an empty projection: no `(u, x)` admits contact forces within the torque limits.
-/// Each torque limit whose two rows, removed alone, leave a nonempty projection is named by a
-/// violated constant row; when none does (several limits together), every torque limit of the
-/// lifted rows is named (and with no torque row, contact stability).
-fn empty_projection(
-    lifted: &LiftedRows,
-    lifted_origin: &[RowOrigin],
-    bbox: Box2,
-    ws: &mut LimitWorkspace,
-) -> (Vec<Row>, Vec<RowOrigin>) {
-    let empty = Row {
-        a: 0.0,
-        b: 0.0,
-        c: 1.0,
-    };
-    let mut joints: Vec<LimitTag> = Vec::new();
-    for o in lifted_origin {
-        if let RowOrigin::TorqueWithContacts(t) = o {
-            if !joints.iter().any(|j| j.coordinate == t.coordinate) {
-                joints.push(*t);
-            }
-        }
-    }
-    let mut culprits = Vec::new();
-    let mut reduced = LiftedRows::with_capacity(lifted.extra(), lifted.y_bound, lifted.len());
-    let mut probe = Projection::default();
-    for t in &joints {
-        reduced.clear();
-        for (j, o) in lifted_origin.iter().enumerate() {
-            if !matches!(o, RowOrigin::TorqueWithContacts(u) if u.coordinate == t.coordinate) {
-                let (a, b, c, d) = lifted.row(j);
-                reduced.push(a, b, c, d);
-            }
-        }
-        ws.projector.reset();
-        if ws
-            .projector
-            .project(&reduced, bbox, 1e-9, &mut probe)
-            .is_ok()
-            && !probe.empty
-        {
-            culprits.push(*t);
-        }
-    }
-    if culprits.is_empty() {
-        culprits = joints;
-    }
-    if culprits.is_empty() {
-        return (vec![empty], vec![RowOrigin::Contact]);
-    }
-    let origins: Vec<RowOrigin> = culprits
-        .iter()
-        .map(|t| RowOrigin::TorqueWithContacts(*t))
-        .collect();
-    (vec![empty; origins.len()], origins)
-}
-
 /// The Jacobian (6 x nv, linear rows first) of the frame rigidly attached to the robot surface
 /// `frame`'s body that coincides now with the contact's planned frame `world_from_contact`, in
 /// that frame's axes at its origin: the map from `v` to the twist of the body at the contact,
@@ -594,18 +478,13 @@ pub fn contact_jacobian(
     Ok(())
 }
 
-/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged;
-/// `None` when empty.
-pub(crate) fn bounding_box(rows: &[Row]) -> Option<Box2> {
-    bounding_box_warm(rows, &mut BoxWarm::default())
-}
-
 /// The lines active at the four extremes of the last [`bounding_box_warm`] (tried first by the
 /// next one: along a path the same rows bound the same sides).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct BoxWarm([[Option<usize>; 2]; 4]);
 
-/// [`bounding_box`] warm-started from `warm`, which it updates.
+/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged
+/// (`None` when empty), warm-started from `warm`, which it updates.
 pub(crate) fn bounding_box_warm(rows: &[Row], warm: &mut BoxWarm) -> Option<Box2> {
     let tol = Tolerances::default();
     let bbox = Box2 {

@@ -42,6 +42,7 @@ pub mod references;
 pub mod result;
 pub mod robot;
 pub mod rows;
+pub mod separation;
 pub mod spec;
 pub mod stand;
 pub mod trajectory;
@@ -198,6 +199,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble));
     let t_topp = retimed.as_ref().map_or(0.0, |r| ms(r.t_topp));
     let t_lifted = retimed.as_ref().map_or(0.0, |r| ms(r.t_lifted));
+    let t_first = retimed.as_ref().map_or(0.0, |r| ms(r.t_first));
     let result = MotionResult {
         name: plan.name.clone(),
         status,
@@ -241,8 +243,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             t_lifted_ms: t_lifted,
             t_u_abc_topp_ms: ms(t_rows_wall)
                 + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble))
-                + t_topp
-                + t_lifted,
+                + t_first,
             t_pipeline_ms: ms(t_pipeline),
         },
     };
@@ -434,7 +435,7 @@ fn segment_infos(
                 max_com_error: path.max_com_error,
                 max_contact_drift: path.max_contact_drift,
                 binding: retimed.and_then(|rt| segment_binding(plan, rt, k)),
-                torque_projections: r.map_or(0, |r| r.projections),
+                torque_cuts: r.map_or(0, |r| r.cuts),
             }
         })
         .collect()

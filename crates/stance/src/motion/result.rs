@@ -117,10 +117,10 @@ pub struct SegmentInfo {
     /// (`null` without a profile); the grid point a segment shares with the next counts in the
     /// next.
     pub binding: Option<crate::binding::Binding>,
-    /// Grid-point sides whose torque rows with the contact forces were projected (where the
-    /// profile needed them).
+    /// Cuts of the torque rows with the contact forces as unknowns that the retiming needed
+    /// (rows in `(u, x)` valid at their grid point's side; none without two contacts or more).
     #[serde(default)]
-    pub torque_projections: usize,
+    pub torque_cuts: usize,
 }
 
 /// The independent checks (module `checks`).
@@ -213,8 +213,8 @@ pub struct Timings {
     pub t_abc_ms: f64,
     /// The retiming solve (the last one, after refinement).
     pub t_topp_ms: f64,
-    /// The lifted torque rows (torque limits with the contact forces): checks of the profile
-    /// at the grid points, projections where it leaves them, and the solves again (ms).
+    /// The separation oracle of the lifted torque rows (torque limits with the contact forces)
+    /// during the first solve, part of that solve's time (ms).
     #[serde(default)]
     pub t_lifted_ms: f64,
     /// The refinement between grid points (its row updates and solves).

@@ -17,22 +17,20 @@
 //! evaluates them under the profile.
 //!
 //! Each side of a sample also has the actuator-limit rows of [`super::limits`]; where the torque
-//! limits involve the contact forces (two contacts or more), its lifted rows are kept and
-//! projected onto `(u, x)` only when the retiming needs them ([`SegmentRows::project`]: where
-//! the profile leaves them, see [`super::chain`]).
+//! limits involve the contact forces (two contacts or more), its lifted rows are kept, and the
+//! retiming's separation oracle ([`super::separation`]) adds to the side the cuts in `(u, x)`
+//! it needed ([`SegmentRows::add_cut`]): the projection onto `(u, x)` is never computed.
 
 use std::time::{Duration, Instant};
 
 use stance_contact::{Contact, GiwcOptions, Stance};
 use stance_topp::factored::{eq14_vectors, FactoredRows};
-use stance_topp::lifted::{LiftedRows, Membership};
+use stance_topp::lifted::{LiftedRows, Membership, Witnesses};
 use stance_topp::path::PathPoint;
 use stance_topp::Row;
 
 use super::ik_stage::{IkSample, SegmentPath};
-use super::limits::{
-    project_lifted, prune_unreachable, sample_limit_rows, LimitWorkspace, SegmentContacts,
-};
+use super::limits::{prune_unreachable, sample_limit_rows, LimitWorkspace, SegmentContacts};
 use super::plan::MotionPlan;
 use crate::binding::RowOrigin;
 use crate::StanceError;
@@ -85,28 +83,27 @@ impl PointRows {
 }
 
 /// Torque rows with the contact forces as unknowns at one side of a sample (rows in
-/// `(u, x, y)`), until projected.
+/// `(u, x, y)`).
 #[derive(Debug, Clone)]
 pub struct LiftedSide {
     /// The rows.
     pub rows: LiftedRows,
     /// What each row stands for.
     pub origins: Vec<RowOrigin>,
-    /// The contact forces of the last admissible state found (module doc of
+    /// The contact forces of the last admissible states found (module doc of
     /// [`stance_topp::lifted::member`]).
-    pub witness: Vec<f64>,
-    /// The projection has been added to the side's rows.
-    pub projected: bool,
+    pub witnesses: Witnesses,
 }
 
 /// The rows of one side of an IK sample: the step leaving it (right) or arriving at it (left).
 #[derive(Debug, Clone)]
 pub struct SideRows {
-    /// Contact rows of eq. 14, explicit limit rows, then the projection of `lifted` once made.
+    /// Contact rows of eq. 14, explicit limit rows, then the cuts of `lifted` the retiming
+    /// found.
     pub rows: Vec<Row>,
     /// What each row stands for.
     pub origins: Vec<RowOrigin>,
-    /// Rows before the projection's.
+    /// Rows before the cuts.
     pub explicit: usize,
     /// The torque rows with the contact forces as unknowns (two contacts or more).
     pub lifted: Option<Box<LiftedSide>>,
@@ -142,8 +139,8 @@ pub struct SegmentRows {
     pub t_abc: Duration,
     /// Time of the actuator-limit rows within `t_abc`.
     pub t_limits: Duration,
-    /// Projections of lifted torque rows made (each side once at most).
-    pub projections: usize,
+    /// Cuts of the lifted torque rows kept in the sides' rows.
+    pub cuts: usize,
 }
 
 impl SegmentRows {
@@ -227,10 +224,9 @@ impl SegmentRows {
                     side.explicit = side.rows.len();
                     side.lifted = l.map(|(rows, origins)| {
                         Box::new(LiftedSide {
-                            witness: vec![0.0; rows.extra()],
+                            witnesses: Witnesses::new(),
                             rows,
                             origins,
-                            projected: false,
                         })
                     });
                 }
@@ -293,37 +289,21 @@ impl SegmentRows {
         self.lay_out();
     }
 
-    /// Adds the projection of the lifted rows of sample `j`'s side onto `(u, x)` to its rows
-    /// (once), and lays the grid out again; `false` when there was nothing to project.
-    pub fn project(
-        &mut self,
-        j: usize,
-        left: bool,
-        ws: &mut LimitWorkspace,
-    ) -> Result<bool, StanceError> {
+    /// Adds a cut of the lifted rows of sample `j`'s side (valid for every admissible state of
+    /// that side) to its rows; the grid's rows change at the next [`Self::refresh`].
+    pub fn add_cut(&mut self, j: usize, left: bool, row: Row, origin: RowOrigin) {
         let side = self.side_mut(j, left);
-        let Some(lifted) = side.lifted.as_mut().filter(|l| !l.projected) else {
-            return Ok(false);
-        };
-        let (rows, origins) = project_lifted(
-            &lifted.rows,
-            &lifted.origins,
-            &side.rows[..side.explicit],
-            ws,
-        )?;
-        lifted.projected = true;
-        side.rows.extend_from_slice(&rows);
-        side.origins.extend_from_slice(&origins);
-        self.projections += 1;
-        Ok(true)
+        side.rows.push(row);
+        side.origins.push(origin);
+        self.cuts += 1;
     }
 
-    /// Re-lays the grid out after projections.
+    /// Re-lays the grid out after cuts.
     pub fn refresh(&mut self) {
         self.lay_out();
     }
 
-    /// Whether the lifted rows of sample `j`'s side (if any, unprojected) hold at `(u, x)`.
+    /// Whether the lifted rows of sample `j`'s side (if any) hold at `(u, x)`.
     pub fn lifted_holds(
         &mut self,
         j: usize,
@@ -334,8 +314,8 @@ impl SegmentRows {
     ) -> Result<bool, StanceError> {
         let side = self.side_mut(j, left);
         match side.lifted.as_mut() {
-            Some(l) if !l.projected => Ok(member.contains(&l.rows, u, x, &mut l.witness)?),
-            _ => Ok(true),
+            Some(l) => Ok(member.contains(&l.rows, u, x, &mut l.witnesses)?),
+            None => Ok(true),
         }
     }
 }
@@ -461,7 +441,7 @@ pub fn segment_rows(
         t_u,
         t_abc: Duration::ZERO,
         t_limits: Duration::ZERO,
-        projections: 0,
+        cuts: 0,
     };
     out.compute(plan, path, &grid, &mut LimitWorkspace::new(plan))?;
     out.lay_out();
