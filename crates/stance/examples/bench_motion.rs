@@ -5,7 +5,8 @@
 //! `REPEAT` times and writes:
 //!
 //! - `timings`: medians over the repeats of every stage (ms), per segment and in all, the IK
-//!   time per step (us), the checks (ms in all, us per sample);
+//!   time per step (us), the checks (ms in all, us per sample), and the first run's
+//!   `t_u_abc_topp_ms` (a fresh process);
 //! - per segment: the GIWC's generators (rows, wrench at the world origin, the span form given
 //!   to the double description) and the rows of `U_stance` (unit, `u . w <= 0`);
 //! - the whole motion's retiming constraints as solved (grid, rows `a, b, c` per grid point, the
@@ -38,7 +39,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Err(_) => toml::from_str(&std::fs::read_to_string(&args[1])?)?,
     };
     let repeat: usize = args[2].parse()?;
-    let mut runs = Vec::new();
+    // The first run is kept whole; of the others only the results (a run's rows and paths are
+    // tens of megabytes: keeping them all would make every run allocate fresh memory, which a
+    // user's single run in a process does not pay more than once either).
+    let mut first = None;
+    let mut results = Vec::new();
     let mut wall = Vec::new();
     for i in 0..repeat.max(1) {
         let options = RunOptions {
@@ -46,17 +51,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         };
         let t = Instant::now();
-        runs.push(run_full(spec.clone(), &options)?);
+        let run = run_full(spec.clone(), &options)?;
         wall.push(t.elapsed().as_secs_f64() * 1e3);
+        results.push(run.result.clone());
+        if i == 0 {
+            first = Some(run);
+        }
     }
-    let first = &runs[0];
+    let first = first.expect("one run at least");
     let res = &first.result;
     let nseg = first.paths.len();
     let seg_median = |f: &dyn Fn(&stance::motion::result::SegmentInfo) -> f64, k: usize| {
-        median(runs.iter().map(|r| f(&r.result.segments[k])).collect())
+        median(results.iter().map(|r| f(&r.segments[k])).collect())
     };
     let total_median = |f: &dyn Fn(&stance::motion::result::Timings) -> f64| {
-        median(runs.iter().map(|r| f(&r.result.timings)).collect())
+        median(results.iter().map(|r| f(&r.timings)).collect())
     };
     let ik_steps: usize = res.segments.iter().map(|s| s.ik_steps).sum();
     let mut segments = Vec::new();
@@ -122,7 +131,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "name": res.name,
         "status": res.status,
         "duration": res.duration,
-        "repeat": runs.len(),
+        "repeat": results.len(),
         "segments": segments,
         "constraints": constraints,
         "timings": {
@@ -135,6 +144,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "t_topp_ms": total_median(&|t| t.t_topp_ms),
             "t_refine_ms": total_median(&|t| t.t_refine_ms),
             "t_u_abc_topp_ms": total_median(&|t| t.t_u_abc_topp_ms),
+            "t_lifted_ms": total_median(&|t| t.t_lifted_ms),
+            // the first run's (a fresh process: cold caches and memory)
+            "t_u_abc_topp_first_ms": res.timings.t_u_abc_topp_ms,
             "t_pipeline_ms": total_median(&|t| t.t_pipeline_ms),
             "t_wall_ms": median(wall[1.min(wall.len() - 1)..].to_vec()),
             "t_checks_ms": checks.map(|c| c.t_checks_ms),

@@ -186,11 +186,19 @@ impl SegmentRows {
         let t0 = Instant::now();
         for (i, &j) in todo.iter().enumerate() {
             let smp = &path.samples[j];
+            // room for the limit rows (velocity and acceleration, two per torque) without a copy
+            let room = m + plan
+                .limits
+                .as_ref()
+                .map_or(0, |lp| lp.kinematic_tags.len() + 2 * lp.torque.len());
             let mut sides: [SideRows; 2] = std::array::from_fn(|side| {
-                let c = &contact[side][i * m..(i + 1) * m];
+                let mut rows = Vec::with_capacity(room);
+                rows.extend_from_slice(&contact[side][i * m..(i + 1) * m]);
+                let mut origins = Vec::with_capacity(room);
+                origins.resize(m, RowOrigin::Contact);
                 SideRows {
-                    rows: c.to_vec(),
-                    origins: vec![RowOrigin::Contact; m],
+                    rows,
+                    origins,
                     explicit: m,
                     lifted: None,
                 }
