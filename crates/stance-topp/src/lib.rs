@@ -113,6 +113,22 @@
 //!   sweep (`tests/random.rs`, ignored test `sweep_greedy_vs_lp_on_rough_rows`). The
 //!   controllable sets themselves match the LP to 1e-6.
 //! - The returned [`Solution`] allocates its vectors; the LP kernel and the passes do not.
+//! - Separation ([`Workspace::solve_separated`]): the profile is that of the exact sets only if
+//!   the oracle's cuts are valid (the solver cannot tell) and its acceptance is honest; each
+//!   LP takes at most [`tol::MAX_CUTS_PER_LP`] cuts. The cuts found are kept per grid point in
+//!   [`Solution::cuts`]; [`end_speed_range`] takes no oracle. Accepting every LP optimum
+//!   certifies the controllable sets' ends; the sets are then exact by convexity, which needs
+//!   the oracle's constraints to be convex (the lifted rows are).
+//! - [`lifted`]: at most 20 extra variables in a membership test and 18 in a projection
+//!   ([`lifted::lp::MAX_VARS`]; a stance of five contacts with torque limits is beyond it, an
+//!   error that says so), each bounded by `y_bound` (a cut or facet resting on that bound is valid but looser than the
+//!   physics); the small dense simplex refactors `n^3` per solve, so a program costs a few
+//!   microseconds at 13 variables and 100 rows. Kelley's cuts are tangent planes of the margin
+//!   function, not always facets of the projection: a state far outside may take a few cuts
+//!   (at most 8 on the random polytopes of `tests/lifted.rs`).
+//! - [`limits`]: symmetric limits only (`|v| <= V`, `|a| <= A`, `|tau| <= T`); the velocity
+//!   limit is a bound on `x` at each grid point (with the larger `|q_s|` of an IK step's ends
+//!   where the caller gives them), so between grid points it holds only as [`between`] refines.
 
 pub mod between;
 pub mod constraints;

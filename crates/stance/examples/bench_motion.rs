@@ -1,8 +1,8 @@
 //! Benchmark runner for `bench/peers/motion.py`: a whole-body motion through the pipeline,
 //! repeated, with what the peers need to redo its parts on the same inputs.
 //!
-//! Usage: `bench_motion NAME|FILE REPEAT OUTPUT.json`. Runs the motion (chained, checks once)
-//! `REPEAT` times and writes:
+//! Usage: `bench_motion NAME|FILE REPEAT OUTPUT.json [--no-limits]`. Runs the motion (chained,
+//! checks once; with `--no-limits` under contact stability alone) `REPEAT` times and writes:
 //!
 //! - `timings`: medians over the repeats of every stage (ms), per segment and in all, the IK
 //!   time per step (us), the checks (ms in all, us per sample), and the first run's
@@ -31,8 +31,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() != 4 {
-        return Err("usage: bench_motion NAME|FILE REPEAT OUTPUT.json".into());
+    let no_limits = args.len() == 5 && args[4] == "--no-limits";
+    if args.len() != 4 && !no_limits {
+        return Err("usage: bench_motion NAME|FILE REPEAT OUTPUT.json [--no-limits]".into());
     }
     let spec: MotionSpec = match experiments::by_name(&args[1]) {
         Ok(s) => s,
@@ -48,6 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for i in 0..repeat.max(1) {
         let options = RunOptions {
             skip_checks: i > 0,
+            no_limits,
             ..Default::default()
         };
         let t = Instant::now();

@@ -108,20 +108,27 @@ fn each_kind_of_limit_binds_alone_and_lengthens_the_motion() {
 
 #[test]
 fn the_optimum_with_limits_is_never_shorter_than_without() {
-    let base = duration(&run(with(sway(), Scale::Off, None, Scale::Off), &quick()).unwrap());
+    let none = run(with(sway(), Scale::Off, None, Scale::Off), &quick()).unwrap();
+    assert!(none.limits.is_none(), "no limit enforced, none reported");
+    let base = duration(&none);
     for (v, a, t) in [
         (1.0, Some(50.0), 1.0),
         (0.5, None, 2.0),
         (2.0, Some(100.0), 1.2),
     ] {
-        let d = duration(
-            &run(
-                with(sway(), Scale::Fraction(v), a, Scale::Fraction(t)),
-                &quick(),
-            )
-            .unwrap(),
-        );
+        let r = run(
+            with(sway(), Scale::Fraction(v), a, Scale::Fraction(t)),
+            &quick(),
+        )
+        .unwrap();
+        let d = duration(&r);
         assert!(d >= base * (1.0 - 1e-12), "{v} {a:?} {t}: {d} < {base}");
+        // the limits as enforced, per joint: the URDF's scaled, the acceleration as given
+        let joints = r.limits.as_ref().expect("the enforced limits");
+        let hip = joints.iter().find(|j| j.name == "l_hip_p").unwrap();
+        assert!((hip.velocity.unwrap() - 8.0 * v).abs() < 1e-12, "{hip:?}");
+        assert!((hip.torque.unwrap() - 150.0 * t).abs() < 1e-9, "{hip:?}");
+        assert_eq!(hip.acceleration, a);
     }
 }
 
@@ -383,4 +390,84 @@ fn cuts_give_the_profile_of_the_exact_projections() {
         (d_exact - d_cuts).abs() <= 1e-7 * d_cuts,
         "{d_cuts} with the cuts, {d_exact} with the exact projections"
     );
+}
+
+/// Talos's URDF in the project virtualenv's `example-robot-data` (`scripts/setup-venv.sh
+/// --peers`), or why not.
+fn talos_urdf() -> Result<PathBuf, String> {
+    let venv = std::env::var_os("STANCE_VENV").map_or_else(|| root().join(".venv"), PathBuf::from);
+    let lib = std::fs::read_dir(venv.join("lib")).map_err(|e| {
+        format!(
+            "no virtualenv at {} ({e}): run scripts/setup-venv.sh --peers",
+            venv.display()
+        )
+    })?;
+    lib.flatten()
+        .map(|d| {
+            d.path().join(
+                "site-packages/cmeel.prefix/share/example-robot-data/robots/talos_data/robots/\
+                 talos_reduced.urdf",
+            )
+        })
+        .find(|p| p.is_file())
+        .ok_or_else(|| {
+            "example-robot-data is not in the virtualenv (scripts/setup-venv.sh --peers)".into()
+        })
+}
+
+/// Another robot, from PyPI, with motions written for it (gallery/talos-*.toml): Talos squats
+/// and steps under its URDF's velocity and effort limits and a 20 rad/s^2 acceleration limit,
+/// every ratio at most one at 1 ms samples and supporting forces at every sample; with 60 % of
+/// its efforts the squat's knees bind with the contact forces as unknowns (cuts), still within
+/// the limits. Skipped without example-robot-data in the virtualenv.
+#[test]
+fn talos_from_example_robot_data_keeps_its_limits() {
+    use stance::motion::spec::RobotRef;
+    let urdf = match talos_urdf() {
+        Ok(p) => p,
+        Err(why) => {
+            eprintln!("SKIPPED talos_from_example_robot_data_keeps_its_limits: {why}");
+            return;
+        }
+    };
+    let load = |name: &str| -> MotionSpec {
+        let path = root().join("gallery").join(format!("talos-{name}.toml"));
+        let mut spec: MotionSpec = stance::input::read_file(&path).unwrap();
+        let RobotRef::Urdf(r) = &mut spec.robot else {
+            panic!("talos-{name}.toml names its URDF")
+        };
+        r.urdf = urdf.display().to_string();
+        spec.retiming.dt = 0.001;
+        spec
+    };
+    let mut squat_weak = load("squat");
+    squat_weak.limits.torque = Scale::Fraction(0.6);
+    for (name, spec) in [
+        ("squat", load("squat")),
+        ("step", load("step")),
+        ("squat at 60 % of the efforts", squat_weak),
+    ] {
+        let r = run(spec, &RunOptions::default()).unwrap();
+        let c = r.checks.as_ref().unwrap();
+        let ratios = [
+            c.max_velocity_ratio.unwrap(),
+            c.max_acceleration_ratio.unwrap(),
+            c.max_torque_ratio.unwrap(),
+        ];
+        let cuts: usize = r.segments.iter().map(|s| s.torque_cuts).sum();
+        eprintln!(
+            "Talos {name}: {:.3} s, ratios {ratios:.4?}, {cuts} torque cuts",
+            duration(&r)
+        );
+        for (kind, x) in ["velocity", "acceleration", "torque"].iter().zip(ratios) {
+            assert!(x <= 1.0 + 1e-6, "Talos {name}: {kind} ratio {x}");
+        }
+        assert_eq!(c.samples_without_forces, 0, "Talos {name}");
+        if name.contains("60 %") {
+            assert!(
+                cuts > 0 && ratios[2] > 0.99,
+                "the torque limits bind: {cuts} cuts"
+            );
+        }
+    }
 }

@@ -1,8 +1,9 @@
 //! The MuJoCo validation (`stance::sim`): the generated model against the project's, the
 //! contacts' rectangles, a standing robot's weight, measurements that see a pushed foot slip,
 //! and short simulations. They need MuJoCo in the project virtualenv (`scripts/setup-venv.sh`
-//! installs it; `.ci/run` runs it first) and skip, saying why, without it. The paper's four
-//! experiments run in the ignored test at the end (about a minute).
+//! installs it; `.ci/run` runs it first) and skip, saying why, without it. The paper's
+//! experiments and the gallery's motions with and without actuator limits run in the ignored
+//! tests at the end (about a minute and a half).
 
 use stance::motion::plan::MotionPlan;
 use stance::motion::{experiments, ik_stage, spec::MotionSpec};
@@ -240,5 +241,42 @@ fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {
         .unwrap();
         eprintln!("{name} x{k}: {}", r.reason);
         assert_eq!(r.held, hold, "{name} x{k}: {}", r.reason);
+    }
+}
+
+/// Motions written for the actuator limits (gallery/), on JVRC-1 whose simulated actuators
+/// saturate at the torque limits: the squat and the hand on a wall, retimed with their limits
+/// (20 rad/s^2, 1.5 times the URDF's efforts), hold as retimed and fail 1.5 times faster;
+/// retimed without limits (thousands of rad/s^2, torques beyond the actuators) they fail as
+/// retimed. About half a minute.
+#[test]
+#[ignore = "about half a minute of simulation; run with --ignored"]
+fn the_gallery_holds_with_its_limits_and_fails_without() {
+    if !available("the_gallery", true) {
+        return;
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../gallery");
+    for (name, limits, k, hold) in [
+        ("squat", true, 1.0, true),
+        ("hand-on-wall", true, 1.0, true),
+        ("squat", false, 1.0, false),
+        ("hand-on-wall", false, 1.0, false),
+        ("squat", true, 1.5, false),
+        ("hand-on-wall", true, 1.5, false),
+    ] {
+        let spec: MotionSpec =
+            stance::input::read_file(&root.join(format!("{name}.toml"))).unwrap();
+        let (_, r) = simulate(
+            spec,
+            &SimOptions {
+                time_scale: Some(k),
+                no_limits: !limits,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let with = if limits { "with" } else { "without" };
+        eprintln!("{name} {with} limits x{k}: {}", r.reason);
+        assert_eq!(r.held, hold, "{name} {with} limits x{k}: {}", r.reason);
     }
 }

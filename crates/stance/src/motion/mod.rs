@@ -208,6 +208,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             .as_ref()
             .map(|p| p.duration() / options.time_scale.unwrap_or(1.0)),
         robot: robot_info(&plan),
+        limits: plan.limits.as_ref().map(|l| l.info.clone()),
         gravity: plan.gravity,
         environment: environment_info(&plan),
         friction_model: plan.spec.planning.friction_model,

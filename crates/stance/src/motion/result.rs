@@ -240,6 +240,9 @@ pub struct MotionResult {
     pub duration: Option<f64>,
     /// The robot.
     pub robot: RobotInfo,
+    /// The actuator limits the retiming enforced, per joint (`null` without: `--no-limits`, or
+    /// none finite); the checks use the file's (`checks.limits`).
+    pub limits: Option<Vec<crate::limits::JointLimitInfo>>,
     /// Gravity (m/s^2, world).
     pub gravity: [f64; 3],
     /// The environment surfaces.
