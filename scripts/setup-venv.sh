@@ -4,7 +4,8 @@
 #   always:   bench/peers/requirements-tests.txt: jvrc-description (the JVRC-1 humanoid URDF,
 #             used by stance-robot's tests) and mujoco (`stance simulate` and its tests)
 #   --peers:  the peers used as black-box oracles by bench/peers/ and the fixture scripts
-#             (pycddlib, pypoman, toppra, Pinocchio, NumPy, SciPy), and the Debian packages
+#             (pycddlib, pypoman, toppra, Pinocchio, NumPy, SciPy; example-robot-data's UR5, Panda
+#             and Talos URDFs), and the Debian packages
 #             they build against (cddlib, GMP, Eigen headers; needs root for apt-get)
 # Idempotent: re-running it only installs what is missing.
 set -euo pipefail

@@ -272,31 +272,7 @@ pub fn torque_path_terms(
     q_ss: &[f64],
     gravity: [f64; 3],
 ) -> Result<(), RobotError> {
-    check_len(model, "path velocity q_s", q_s)?;
-    check_len(model, "path acceleration q_ss", q_ss)?;
-    check_gravity(&gravity)?;
-    let restore = kinematics(model, data, q)?;
-    fill_inertias(model, data);
-    let mut t = std::mem::take(&mut data.torque_path);
-    for x in [&mut t.tau_a, &mut t.tau_b, &mut t.tau_c] {
-        x.resize(model.nv, 0.0);
-    }
-    let g = Vector3::from(gravity);
-    pass(model, data, None, None, g, &mut t.tau_c);
-    pass(model, data, None, Some(q_s), Vector3::zeros(), &mut t.tau_a);
-    pass(
-        model,
-        data,
-        Some(q_s),
-        Some(q_ss),
-        Vector3::zeros(),
-        &mut t.tau_b,
-    );
-    data.torque_path = t;
-    if restore {
-        forward_kinematics(model, data, q)?;
-    }
-    Ok(())
+    path_terms(model, data, q, q_s, q_ss, None, gravity)
 }
 
 /// [`torque_path_terms`] for two path accelerations at once, `q_ss` and `q_ss_other` (the two
@@ -331,38 +307,45 @@ pub fn torque_path_terms_two(
     q_ss_other: &[f64],
     gravity: [f64; 3],
 ) -> Result<(), RobotError> {
+    path_terms(model, data, q, q_s, q_ss, Some(q_ss_other), gravity)
+}
+
+/// The body of [`torque_path_terms`] and [`torque_path_terms_two`]: `tau_c` (gravity), `tau_a`
+/// (`q_s` as acceleration), `tau_b` (`q_s` as velocity, `q_ss` as acceleration), and with
+/// `other` the second `tau_b` into `data.tau_b_other`, after one forward kinematics.
+fn path_terms(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    q_s: &[f64],
+    q_ss: &[f64],
+    other: Option<&[f64]>,
+    gravity: [f64; 3],
+) -> Result<(), RobotError> {
     check_len(model, "path velocity q_s", q_s)?;
     check_len(model, "path acceleration q_ss", q_ss)?;
-    check_len(model, "path acceleration q_ss", q_ss_other)?;
+    if let Some(o) = other {
+        check_len(model, "path acceleration q_ss", o)?;
+    }
     check_gravity(&gravity)?;
     let restore = kinematics(model, data, q)?;
     fill_inertias(model, data);
     let mut t = std::mem::take(&mut data.torque_path);
-    let mut b = std::mem::take(&mut data.tau_b_other);
-    for x in [&mut t.tau_a, &mut t.tau_b, &mut t.tau_c, &mut b] {
+    for x in [&mut t.tau_a, &mut t.tau_b, &mut t.tau_c] {
         x.resize(model.nv, 0.0);
     }
     let g = Vector3::from(gravity);
+    let zero = Vector3::zeros();
     pass(model, data, None, None, g, &mut t.tau_c);
-    pass(model, data, None, Some(q_s), Vector3::zeros(), &mut t.tau_a);
-    pass(
-        model,
-        data,
-        Some(q_s),
-        Some(q_ss),
-        Vector3::zeros(),
-        &mut t.tau_b,
-    );
-    pass(
-        model,
-        data,
-        Some(q_s),
-        Some(q_ss_other),
-        Vector3::zeros(),
-        &mut b,
-    );
+    pass(model, data, None, Some(q_s), zero, &mut t.tau_a);
+    pass(model, data, Some(q_s), Some(q_ss), zero, &mut t.tau_b);
+    if let Some(o) = other {
+        let mut b = std::mem::take(&mut data.tau_b_other);
+        b.resize(model.nv, 0.0);
+        pass(model, data, Some(q_s), Some(o), zero, &mut b);
+        data.tau_b_other = b;
+    }
     data.torque_path = t;
-    data.tau_b_other = b;
     if restore {
         forward_kinematics(model, data, q)?;
     }
