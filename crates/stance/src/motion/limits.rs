@@ -184,6 +184,8 @@ pub struct LimitWorkspace {
     qs_end: Vec<f64>,
     qss: Vec<f64>,
     buf: Vec<Row>,
+    /// Both sides' rows of a sample before pruning.
+    pub(crate) scratch: [(Vec<Row>, Vec<RowOrigin>); 2],
     /// The bounding boxes' warm start, per side.
     pub(crate) box_warm: [BoxWarm; 2],
 }
@@ -199,6 +201,7 @@ impl LimitWorkspace {
             qs_end: Vec::new(),
             qss: Vec::new(),
             buf: Vec::new(),
+            scratch: Default::default(),
             box_warm: [BoxWarm::default(); 2],
         }
     }

@@ -184,25 +184,19 @@ impl SegmentRows {
             f.fill(&mut contact[side])?;
         }
         let t0 = Instant::now();
+        // each side is built and pruned in the workspace's buffers, then kept at its size: most
+        // limit rows are pruned, and writing them into the kept rows made most of this stage's
+        // time the kernel's (fresh pages for rows that were then dropped)
+        let mut scratch = std::mem::take(&mut ws.scratch);
         for (i, &j) in todo.iter().enumerate() {
             let smp = &path.samples[j];
-            // room for the limit rows (velocity and acceleration, two per torque) without a copy
-            let room = m + plan
-                .limits
-                .as_ref()
-                .map_or(0, |lp| lp.kinematic_tags.len() + 2 * lp.torque.len());
-            let mut sides: [SideRows; 2] = std::array::from_fn(|side| {
-                let mut rows = Vec::with_capacity(room);
+            for (side, (rows, origins)) in scratch.iter_mut().enumerate() {
+                rows.clear();
                 rows.extend_from_slice(&contact[side][i * m..(i + 1) * m]);
-                let mut origins = Vec::with_capacity(room);
+                origins.clear();
                 origins.resize(m, RowOrigin::Contact);
-                SideRows {
-                    rows,
-                    origins,
-                    explicit: m,
-                    lifted: None,
-                }
-            });
+            }
+            let mut lifted_sides: [Option<Box<LiftedSide>>; 2] = [None, None];
             if let Some(lp) = plan.limits.as_ref() {
                 let last = path.samples.len() - 1;
                 let left_qss = if j > 0 {
@@ -213,7 +207,7 @@ impl SegmentRows {
                 // q_s at the other end of each side's step
                 let q_s_next = &path.samples[(j + 1).min(last)].q_s;
                 let q_s_prev = &path.samples[j.saturating_sub(1)].q_s;
-                let [right, left] = &mut sides;
+                let [(right_rows, right_origins), (left_rows, left_origins)] = &mut scratch;
                 let lifted = sample_limit_rows(
                     plan,
                     lp,
@@ -222,15 +216,11 @@ impl SegmentRows {
                     [&smp.q_ss, left_qss],
                     [q_s_next, q_s_prev],
                     ws,
-                    [
-                        (&mut right.rows, &mut right.origins),
-                        (&mut left.rows, &mut left.origins),
-                    ],
+                    [(right_rows, right_origins), (left_rows, left_origins)],
                 )?;
-                for (q, (side, l)) in sides.iter_mut().zip(lifted).enumerate() {
-                    prune_unreachable(&mut side.rows, &mut side.origins, m, &mut ws.box_warm[q]);
-                    side.explicit = side.rows.len();
-                    side.lifted = l.map(|(rows, origins)| {
+                for (q, ((rows, origins), l)) in scratch.iter_mut().zip(lifted).enumerate() {
+                    prune_unreachable(rows, origins, m, &mut ws.box_warm[q]);
+                    lifted_sides[q] = l.map(|(rows, origins)| {
                         Box::new(LiftedSide {
                             witnesses: Witnesses::new(),
                             rows,
@@ -239,8 +229,17 @@ impl SegmentRows {
                     });
                 }
             }
+            let [lifted_r, lifted_l] = lifted_sides;
+            let keep = |(rows, origins): &(Vec<Row>, Vec<RowOrigin>), lifted| SideRows {
+                rows: rows.clone(),
+                origins: origins.clone(),
+                explicit: rows.len(),
+                lifted,
+            };
+            let sides: Sides = [keep(&scratch[0], lifted_r), keep(&scratch[1], lifted_l)];
             self.sides[j] = Some(Box::new(sides));
         }
+        ws.scratch = scratch;
         self.t_limits += t0.elapsed();
         Ok(())
     }
