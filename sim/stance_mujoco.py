@@ -157,7 +157,7 @@ def main(input_path, report_path, trace_path=None):
     for s, seg in enumerate(segments):
         for name, g, e in seg["stance"]:
             per[(s, name)] = {
-                "segment": s, "surface": name, "environment": e.split(":", 1)[-1],
+                "segment": seg["number"], "surface": name, "environment": e.split(":", 1)[-1],
                 "geom": geom_id[g], "env": geom_id[e], "site": site_id[g],
                 "anchor": None, "max_slip": 0.0, "max_usage": 0.0,
                 "min_normal": math.inf, "off_since": None, "longest_loss": 0.0,
@@ -292,13 +292,13 @@ def main(input_path, report_path, trace_path=None):
         held, reason = False, fall_reason
     elif losses:
         worst = max(contacts, key=lambda c: c["longest_loss_s"])
-        held, reason = False, f"{losses} planned contact(s) lost (longest: {worst['surface']} on {worst['environment']} in segment {worst['segment'] + 1}, {worst['longest_loss_s'] * 1e3:.0f} ms)"
+        held, reason = False, f"{losses} planned contact(s) lost (longest: {worst['surface']} on {worst['environment']} in segment {worst['segment']}, {worst['longest_loss_s'] * 1e3:.0f} ms)"
     elif leaned:
         pair, d = max(leaned, key=lambda x: x[1])
         held, reason = False, f"leaned on an unplanned contact: {pair} carried load for {d * 1e3:.0f} ms"
     elif max_slip > th["max_slip"]:
         worst = max(contacts, key=lambda c: c["max_slip_m"])
-        held, reason = False, f"{worst['surface']} slipped {worst['max_slip_m'] * 1e3:.1f} mm on {worst['environment']} in segment {worst['segment'] + 1}"
+        held, reason = False, f"{worst['surface']} slipped {worst['max_slip_m'] * 1e3:.1f} mm on {worst['environment']} in segment {worst['segment']}"
     else:
         held, reason = True, f"held: largest slip {max_slip * 1e3:.2f} mm, no contact lost, no fall"
     report = {
@@ -308,7 +308,7 @@ def main(input_path, report_path, trace_path=None):
             for pair, u in sorted(unplanned.items())
         ], "fell": fell, "max_base_error_m": max_base,
         "max_base_angle_rad": max_angle, "max_com_error_m": max_com,
-        "max_friction_usage": max_usage, "friction": inp["friction"],
+        "max_friction_usage": max_usage,
         "max_feedforward_residual": ff_residual, "contacts": contacts,
         "sim_time_s": sim_time, "wall_s": wall, "wall_per_sim_s": wall / max(sim_time, 1e-9),
         "time_scale": inp["time_scale"], "mujoco_version": mujoco.__version__,

@@ -218,6 +218,48 @@ fn a_pushed_foot_slips_and_the_report_says_so() {
 /// no contact lost, no fall); played 1.5 times faster they fail; the box climbing played ten
 /// times slower fails too (its third segment is not quasi-statically stable: the robot has to
 /// lean on an unplanned contact). About a minute.
+/// Each surface is simulated at the motion file's own friction: the small humanoid's motion
+/// on a floor of friction 0.3, planned within Coulomb's cone of 0.3 (the default cone), holds
+/// in a simulator at 0.3 and the report gives each contact's simulated and planned friction; on
+/// a floor ten times more slippery than planned, it slips.
+#[test]
+fn the_simulator_uses_each_surfaces_friction() {
+    if !available("the_simulator_uses_each_surfaces_friction", false) {
+        return;
+    }
+    let mut s = spec("small-sway");
+    s.environment[0].friction = 0.3;
+    s.planning.friction = None;
+    let (_, held) = simulate(s.clone(), &SimOptions::default()).unwrap();
+    eprintln!(
+        "small-sway at 0.3: {} (simulated |f_t|/f_n up to {:.3})",
+        held.reason, held.max_friction_usage
+    );
+    assert!(held.held, "{}", held.reason);
+    assert_eq!(held.friction, None);
+    assert!(!held.contacts.is_empty());
+    for c in &held.contacts {
+        assert_eq!((c.friction, c.planned_friction), (0.3, 0.3), "{c:?}");
+    }
+    // the simulator's cone is Coulomb's at 0.3
+    assert!(held.max_friction_usage <= 0.3 + 1e-6);
+    let (_, slippery) = simulate(
+        s,
+        &SimOptions {
+            mjcf: mjcf::MjcfOptions {
+                friction: Some(0.03),
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    eprintln!("small-sway at 0.3 simulated at 0.03: {}", slippery.reason);
+    assert!(!slippery.held);
+    assert_eq!(slippery.friction, Some(0.03));
+    assert!(slippery.contacts.iter().all(|c| c.friction == 0.03));
+}
+
 #[test]
 #[ignore = "about a minute of simulation; run with --ignored"]
 fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {

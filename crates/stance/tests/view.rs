@@ -107,7 +107,7 @@ fn motion_view_plays_the_forward_kinematics_of_the_retimed_trajectory() {
                 assert!((robot.positions[f][3 * (j - 1) + k] - x[k]).abs() <= 0.6e-4);
             }
         }
-        assert_eq!(robot.segment[f], tr.segment[i]);
+        assert_eq!(robot.segment[f] + 1, tr.segment[i]);
     }
     // Every bone joins a joint to its child.
     for b in &robot.bones {

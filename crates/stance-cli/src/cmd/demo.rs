@@ -436,7 +436,7 @@ fn motions(o: &mut String, out: &std::path::Path) -> Result<()> {
             r2r.duration.map_or("-".into(), |d| format!("{d:.2}")),
             r2r.failure.as_ref().map_or_else(
                 || "feasible".to_string(),
-                |f| format!("segment {} cannot end at rest", f.segment + 1)
+                |f| format!("segment {} cannot end at rest", f.segment)
             ),
             total(paper.duration)
         )?;

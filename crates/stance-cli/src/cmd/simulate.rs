@@ -2,7 +2,8 @@
 //! under joint-space PD control with inverse-dynamics feedforward (the paper's check "in a
 //! physics simulator with simulated PID torque control"); prints the report JSON (`held`,
 //! `reason`, `max_slip_m`, `contact_losses`, `fell`, `max_base_error_m`, `max_friction_usage`,
-//! per-contact measurements, wall time). MuJoCo comes from PyPI into the project virtualenv
+//! per-contact measurements with the simulated and planned friction, wall time); each surface
+//! is simulated at its own `friction` (`--friction MU` for all). MuJoCo comes from PyPI into the project virtualenv
 //! (`scripts/setup-venv.sh`); see `stance::sim` for the model, the control and the measurements.
 
 use std::path::PathBuf;
@@ -28,6 +29,10 @@ pub struct SimulateArgs {
     /// Retime under contact stability alone (no joint velocity, acceleration or torque limits).
     #[arg(long)]
     pub no_limits: bool,
+    /// Simulate every environment surface at this friction coefficient (default: each
+    /// surface's own `friction` from the motion file).
+    #[arg(long, value_name = "MU", allow_hyphen_values = true)]
+    pub friction: Option<f64>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -44,7 +49,16 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             }
         }
     };
+    if let Some(mu) = args.friction {
+        if !(mu.is_finite() && mu > 0.0 && mu <= 10.0) {
+            bail!("--friction {mu}: give a friction coefficient in (0, 10], e.g. 0.9");
+        }
+    }
     let options = SimOptions {
+        mjcf: stance::sim::mjcf::MjcfOptions {
+            friction: args.friction,
+            ..Default::default()
+        },
         time_scale: args.time_scale,
         segments,
         base_dir,

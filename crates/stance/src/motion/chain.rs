@@ -52,8 +52,10 @@ pub enum RetimingMode {
 /// A speed bound at a landing.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct LandingBound {
-    /// Index of the segment that starts with the new contact.
+    /// Number (from 1) of the segment that starts with the new contact.
     pub segment: usize,
+    /// Its name.
+    pub segment_name: String,
     /// The landing robot surface.
     pub surface: String,
     /// `|J_lin q_s|` of its frame at the boundary (m per unit path).
@@ -132,9 +134,11 @@ impl serde::Serialize for FailureStatus {
 pub struct RetimeFailure {
     /// What stopped it (serialized as its name).
     pub status: FailureStatus,
-    /// Segment index (0-based).
+    /// Segment number, from 1.
     pub segment: usize,
-    /// Grid point within the segment.
+    /// Segment name.
+    pub segment_name: String,
+    /// Grid point within the segment (from 0, its first point).
     pub grid_point: usize,
     /// Global path parameter there.
     pub s: f64,
@@ -442,7 +446,8 @@ fn solve_layout(
         let s = l.constraints.grid()[global.min(l.constraints.num_points() - 1)];
         RetimeFailure {
             status: FailureStatus::Solver(*status),
-            segment: seg,
+            segment: seg + 1,
+            segment_name: names.segments.get(seg).cloned().unwrap_or_default(),
             grid_point,
             s,
             reason: format!(
@@ -599,7 +604,8 @@ pub fn retime(
             }
             boundary_x_max[k] = boundary_x_max[k].min(x_max);
             landings.push(LandingBound {
-                segment: k,
+                segment: k + 1,
+                segment_name: plan.segments[k].name.clone(),
                 surface: plan.robot.surfaces[c.surface].name.clone(),
                 path_speed: v.norm(),
                 path_angular_speed: w.norm(),

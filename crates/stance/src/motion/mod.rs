@@ -211,7 +211,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         limits: plan.limits.as_ref().map(|l| l.info.clone()),
         gravity: plan.gravity,
         environment: environment_info(&plan),
-        friction_model: plan.spec.planning.friction_model,
+        friction_cone: plan.spec.planning.friction_cone,
         segments,
         failure,
         landings: retimed.as_ref().map_or(Vec::new(), |r| r.landings.clone()),
@@ -228,7 +228,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         checks,
         trajectory: (!samples.is_empty()).then(|| TrajectoryInfo {
             t: samples.iter().map(|s| s.t).collect(),
-            segment: samples.iter().map(|s| s.segment).collect(),
+            segment: samples.iter().map(|s| s.segment + 1).collect(),
             q: samples.iter().map(|s| s.q.clone()).collect(),
             v: samples.iter().map(|s| s.v.clone()).collect(),
             a: samples.iter().map(|s| s.a.clone()).collect(),
@@ -290,7 +290,8 @@ fn ik_paths(
         if let Some((i, status)) = &path.failure {
             failure = Some(RetimeFailure {
                 status: FailureStatus::IkFailed,
-                segment: k,
+                segment: k + 1,
+                segment_name: plan.segments[k].name.clone(),
                 grid_point: i / substeps,
                 s: path.references.length() * *i as f64 / (grid * substeps) as f64,
                 constraints: Vec::new(),

@@ -234,9 +234,9 @@ fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
         0.5,
         "give a fraction of the weight in [0, 0.5]",
     )?;
-    p.friction_model
+    p.friction_cone
         .validate()
-        .map_err(|e| bad(format!("planning.friction_model: {e}")))?;
+        .map_err(|e| bad(format!("planning.friction_cone: {e}")))?;
     let ik = &spec.ik;
     for (what, x) in [
         ("ik.w_com", ik.w_com),

@@ -169,7 +169,7 @@ pub struct ChecksInfo {
 pub struct TrajectoryInfo {
     /// Times (s).
     pub t: Vec<f64>,
-    /// Segment of each sample.
+    /// Segment of each sample (its number, from 1).
     pub segment: Vec<usize>,
     /// Configurations.
     pub q: Vec<Vec<f64>>,
@@ -247,8 +247,8 @@ pub struct MotionResult {
     pub gravity: [f64; 3],
     /// The environment surfaces.
     pub environment: Vec<EnvironmentInfo>,
-    /// The friction pyramid of every contact's GIWC.
-    pub friction_model: FrictionModel,
+    /// The friction pyramid of every contact's GIWC (`[planning] friction_cone`).
+    pub friction_cone: FrictionModel,
     /// The segments.
     pub segments: Vec<SegmentInfo>,
     /// Where and why the IK or the retiming failed.

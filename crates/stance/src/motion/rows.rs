@@ -341,13 +341,7 @@ impl SegmentRows {
 /// ```
 pub fn planned_stance(plan: &MotionPlan, path: &SegmentPath) -> Result<Stance, StanceError> {
     let p = &plan.spec.planning;
-    stance_of(
-        plan,
-        path,
-        p.area_scale.sqrt(),
-        p.friction,
-        p.friction_model,
-    )
+    stance_of(plan, path, p.area_scale.sqrt(), p.friction, p.friction_cone)
 }
 
 /// A segment's contacts as a stance: polygons scaled by `k`, friction `friction` (else each

@@ -13,7 +13,8 @@
 //! [initial]                          # one of
 //! configuration = [q...]             #   Pinocchio's q
 //! standing = {com_height, com_xy?, contacts = {LF = {surface, at = [x, y], yaw}, ...}}
-//! [planning]   friction?, area_scale (1), friction_model?, margin (0)
+//! [planning]   friction?, area_scale (1), margin (0),
+//!              friction_cone ({sides = 8, approximation = "inner"}: within Coulomb's cone)
 //! [ik]         w_com (1), w_link (0.1), w_posture (1e-5), gain (10), contact_gain (20),
 //!              joint_range (0.95), substeps (4), com_blend (0.25)
 //! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), rest_to_rest (false),
@@ -201,13 +202,31 @@ pub struct PlanningSpec {
     /// square root; default 1).
     #[serde(default = "one")]
     pub area_scale: f64,
-    /// Friction cone approximation (default: the paper's outer 4-sided pyramid).
-    #[serde(default)]
-    pub friction_model: FrictionModel,
+    /// The polyhedral friction cone of every contact (key `friction_cone`; `friction_model`,
+    /// the scene files' name, is accepted). Default: the 8-sided pyramid inscribed in
+    /// Coulomb's circular cone, so that a plan never needs more friction than the surface's
+    /// `friction`; the paper's outer 4-sided pyramid (`{ sides = 4, approximation = "outer" }`)
+    /// reaches `mu sqrt 2` at its corners.
+    #[serde(default = "coulomb_cone", alias = "friction_model")]
+    pub friction_cone: FrictionModel,
     /// Safety margin of the retiming rows, as a fraction of the weight `m |g|` (default 0):
     /// every row of eq. 14 must hold with `a u + b x + c <= -margin m |g|`.
     #[serde(default)]
     pub margin: f64,
+}
+
+/// The default friction cone of motion files: 8 sides inscribed in Coulomb's cone.
+///
+/// ```
+/// use stance_contact::Approximation;
+/// let c = stance::motion::spec::coulomb_cone();
+/// assert_eq!((c.sides, c.approximation), (8, Approximation::Inner));
+/// ```
+pub fn coulomb_cone() -> FrictionModel {
+    FrictionModel {
+        sides: 8,
+        approximation: stance_contact::Approximation::Inner,
+    }
 }
 
 impl Default for PlanningSpec {
@@ -215,7 +234,7 @@ impl Default for PlanningSpec {
         Self {
             friction: None,
             area_scale: 1.0,
-            friction_model: FrictionModel::default(),
+            friction_cone: coulomb_cone(),
             margin: 0.0,
         }
     }

@@ -12,7 +12,9 @@
 //!   a capsule to each child joint (to detect unplanned contacts, e.g. a shin on a step edge);
 //!   each environment surface is a box (or an extruded convex polygon) whose top face is the
 //!   surface. Robot geoms collide only with environment geoms (no self-collision).
-//! - **Contacts**: friction `mu` on both sides (MuJoCo takes the larger of the two), `condim` 3
+//! - **Contacts**: each environment surface's own `friction` from the motion file (or
+//!   [`MjcfOptions::friction`] for every surface when given), carried by the environment geom
+//!   with a higher `priority` than the robot's so that MuJoCo uses it alone, `condim` 3
 //!   (sliding friction, no torsional or rolling friction), elliptic friction cones (a circle of
 //!   radius `mu`, rotation invariant, made hard by [`MjcfOptions::impratio`]), soft contacts
 //!   with the time constant and damping ratio of [`MjcfOptions::solref`]. Against the
@@ -46,8 +48,9 @@ use crate::StanceError;
 pub struct MjcfOptions {
     /// Simulation time step (s).
     pub timestep: f64,
-    /// Friction coefficient of every contact (both sides).
-    pub friction: f64,
+    /// Friction coefficient of every contact; `None`: each environment surface's own (the
+    /// motion file's `friction`).
+    pub friction: Option<f64>,
     /// Contact `solref`: time constant (s) and damping ratio.
     pub solref: [f64; 2],
     /// MuJoCo's `impratio`: how much harder friction is than the normal force (elliptic cones).
@@ -67,7 +70,8 @@ pub struct MjcfOptions {
 }
 
 impl Default for MjcfOptions {
-    /// 1 ms step, friction 0.9 (the paper's simulation), `solref` (0.002 s, 1): the stiffest
+    /// 1 ms step, each surface's friction (the paper simulated 0.9, which its files give),
+    /// `solref` (0.002 s, 1): the stiffest
     /// contacts MuJoCo recommends at this step (time constant twice the step), `impratio` 100:
     /// friction as hard as Coulomb's (with MuJoCo's default 1, soft friction lets a loaded foot
     /// creep inside its cone: measured 18.6 mm on the box climbing's fourth segment, where
@@ -82,7 +86,7 @@ impl Default for MjcfOptions {
     fn default() -> Self {
         Self {
             timestep: 1e-3,
-            friction: 0.9,
+            friction: None,
             solref: [0.002, 1.0],
             impratio: 100.0,
             surface_thickness: 0.02,
@@ -159,8 +163,8 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
     );
     let _ = writeln!(
         x,
-        "  <default>\n    <geom condim=\"3\" friction=\"{} 0 0\" solref=\"{} {}\"/>\n  </default>",
-        o.friction, o.solref[0], o.solref[1]
+        "  <default>\n    <geom condim=\"3\" solref=\"{} {}\"/>\n  </default>",
+        o.solref[0], o.solref[1]
     );
     // environment meshes (polygons)
     let mut assets = String::new();
@@ -189,6 +193,11 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
     let _ = writeln!(x, "  <worldbody>");
     for e in &plan.environment {
         let name = xml_name(&environment_geom(&e.name));
+        // the surface's friction, used alone in its contacts (priority over the robot's geoms)
+        let friction = format!(
+            "priority=\"1\" friction=\"{} 0 0\"",
+            o.friction.unwrap_or(e.friction)
+        );
         let body = Pose {
             rotation: e.pose.rotation,
             translation: e.pose.translation,
@@ -196,13 +205,13 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
         let geom = match rectangle(&e.shape) {
             Some([hl, hw]) => format!(
                 "<geom name=\"{name}\" type=\"box\" size=\"{hl} {hw} {}\" pos=\"0 0 {}\" \
-                 contype=\"0\" conaffinity=\"1\" rgba=\"0.7 0.7 0.65 1\"/>",
+                 contype=\"0\" conaffinity=\"1\" {friction} rgba=\"0.7 0.7 0.65 1\"/>",
                 0.5 * o.environment_thickness,
                 -0.5 * o.environment_thickness
             ),
             None => format!(
                 "<geom name=\"{name}\" type=\"mesh\" mesh=\"{name}\" contype=\"0\" \
-                 conaffinity=\"1\" rgba=\"0.7 0.7 0.65 1\"/>"
+                 conaffinity=\"1\" {friction} rgba=\"0.7 0.7 0.65 1\"/>"
             ),
         };
         let _ = writeln!(

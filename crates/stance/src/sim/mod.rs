@@ -91,7 +91,7 @@ fn surface_geom_name<S: serde::Serializer>(name: &str, s: S) -> Result<S::Ok, S:
 /// One planned contact's measurements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ContactReport {
-    /// Segment index.
+    /// Segment number, from 1.
     pub segment: usize,
     /// Robot surface.
     pub surface: String,
@@ -101,6 +101,13 @@ pub struct ContactReport {
     pub max_slip_m: f64,
     /// Largest `|f_t| / f_n` of its contact forces.
     pub max_friction_usage: f64,
+    /// The simulator's friction coefficient of this contact (its environment surface's, or the
+    /// one given for every surface).
+    #[serde(default)]
+    pub friction: f64,
+    /// The friction coefficient its plan used (`[planning] friction`, else the surface's).
+    #[serde(default)]
+    pub planned_friction: f64,
     /// Smallest normal force while in its segment (N).
     pub min_normal_force: f64,
     /// Longest time without contact outside the transition windows (s).
@@ -130,8 +137,10 @@ pub struct SimReport {
     pub max_com_error_m: f64,
     /// Largest `|f_t| / f_n` of a planned contact.
     pub max_friction_usage: f64,
-    /// The simulator's friction coefficient.
-    pub friction: f64,
+    /// The friction coefficient given for every surface, or `null`: each environment surface's
+    /// own (per contact in `contacts`).
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Largest free-flyer residual of the feedforward (N or N m): how far the planned forces
     /// are from holding the reference's dynamics.
     pub max_feedforward_residual: f64,
@@ -163,7 +172,6 @@ struct HarnessInput {
     armature: f64,
     mass: f64,
     gravity: [f64; 3],
-    friction: f64,
     time_scale: f64,
     actuated: Vec<String>,
     surfaces: Vec<String>,
@@ -175,6 +183,8 @@ struct HarnessInput {
 
 #[derive(Debug, Clone, Serialize)]
 struct HarnessSegment {
+    /// The segment's number in the motion, from 1 (the report's numbering).
+    number: usize,
     t_start: f64,
     t_end: f64,
     stance: Vec<[String; 3]>,
@@ -305,9 +315,13 @@ pub fn simulate(
         },
     )?;
     if run.samples.is_empty() {
+        let why = run
+            .result
+            .failure
+            .as_ref()
+            .map_or_else(|| "no trajectory".to_string(), |f| f.reason.clone());
         return Err(StanceError::BadMotion(format!(
-            "the motion could not be retimed ({:?}: {:?}); nothing to simulate",
-            run.result.status, run.result.failure
+            "the motion could not be retimed ({why}); nothing to simulate"
         )));
     }
     let plan = &run.plan;
@@ -316,7 +330,9 @@ pub fn simulate(
     let [first, last] = options.segments.unwrap_or([0, run.paths.len() - 1]);
     if first > last || last >= run.paths.len() {
         return Err(StanceError::BadMotion(format!(
-            "segments {first}..{last}: the motion has {} segments",
+            "segments {}..{}: the motion has {} segments (give FIRST..LAST from 1)",
+            first + 1,
+            last + 1,
             run.paths.len()
         )));
     }
@@ -370,7 +386,8 @@ pub fn simulate(
         .zip(&run.paths)
         .enumerate()
         .filter(|(i, _)| *i >= first && *i <= last)
-        .map(|(_, ((a, b), p))| HarnessSegment {
+        .map(|(i, ((a, b), p))| HarnessSegment {
+            number: i + 1,
             t_start: a,
             t_end: b,
             stance: p
@@ -395,7 +412,6 @@ pub fn simulate(
         armature: options.mjcf.armature,
         mass: m.total_mass(),
         gravity: plan.gravity,
-        friction: options.mjcf.friction,
         time_scale: k,
         actuated: m.joints[2..].iter().map(|j| j.name.clone()).collect(),
         surfaces: plan
@@ -418,7 +434,27 @@ pub fn simulate(
         },
         disturbance: options.disturbance.clone(),
     };
-    let report = run_harness(&xml, input, options.keep.as_deref())?;
+    let mut report = run_harness(&xml, input, options.keep.as_deref())?;
+    report.friction = options.mjcf.friction;
+    for c in &mut report.contacts {
+        let planned = run.rows.get(c.segment.wrapping_sub(1)).and_then(|r| {
+            r.stance
+                .contacts()
+                .iter()
+                .find(|x| x.name() == c.surface)
+                .map(|x| x.friction())
+        });
+        let surface = plan.environment.iter().find(|e| e.name == c.environment);
+        let (Some(planned), Some(surface)) = (planned, surface) else {
+            return Err(StanceError::BadMotion(format!(
+                "the simulator reported a contact the plan does not have: {} on {} in \
+                 segment {}",
+                c.surface, c.environment, c.segment
+            )));
+        };
+        c.planned_friction = planned;
+        c.friction = options.mjcf.friction.unwrap_or(surface.friction);
+    }
     Ok((run, report))
 }
 

@@ -38,8 +38,8 @@ pub struct MotionRecord {
     pub gravity: [f64; 3],
     /// Environment surfaces.
     pub environment: Vec<EnvironmentInfo>,
-    /// Friction model of the contacts.
-    pub friction_model: FrictionModel,
+    /// Friction cone of the contacts.
+    pub friction_cone: FrictionModel,
     /// Segments.
     pub segments: Vec<SegmentInfo>,
     /// Phase plane.
@@ -57,7 +57,7 @@ impl From<&MotionResult> for MotionRecord {
             robot: r.robot.clone(),
             gravity: r.gravity,
             environment: r.environment.clone(),
-            friction_model: r.friction_model,
+            friction_cone: r.friction_cone,
             segments: r.segments.clone(),
             phase: r.phase.clone(),
             trajectory: r.trajectory.clone(),
@@ -144,7 +144,7 @@ pub fn motion_view(record: &MotionRecord, model: &Model) -> Result<ViewData, Sta
             .collect::<Result<_, _>>()?;
         let views = contacts
             .iter()
-            .map(|c| ContactView::of(c, &record.friction_model))
+            .map(|c| ContactView::of(c, &record.friction_cone))
             .collect();
         // The polygon at the segment's mean CoM height.
         let height = robot
@@ -157,7 +157,7 @@ pub fn motion_view(record: &MotionRecord, model: &Model) -> Result<ViewData, Sta
                 (!z.is_empty()).then(|| z.iter().sum::<f64>() / z.len() as f64)
             })
             .unwrap_or(0.8);
-        let polygon = Stance::new(contacts, record.friction_model)
+        let polygon = Stance::new(contacts, record.friction_cone)
             .map_err(StanceError::from)
             .and_then(|s| {
                 ws.static_polygon(&s, record.gravity, height, &EquilibriumOptions::default())
@@ -318,6 +318,10 @@ fn playback(
         t: keep.iter().map(|&i| tr.t[i]).collect(),
         positions,
         com,
-        segment: keep.iter().map(|&i| tr.segment[i]).collect(),
+        // the page indexes its stances from 0; the result numbers segments from 1
+        segment: keep
+            .iter()
+            .map(|&i| tr.segment[i].saturating_sub(1))
+            .collect(),
     })
 }
