@@ -189,6 +189,50 @@ fn joint_limits_hold_when_the_com_rises() {
     assert!(path.max_contact_drift < 1e-4);
 }
 
+/// A joint driven onto its limit and back on a coarse grid stays within the limit inside each
+/// step too: with `q_ss` constant on a step, a joint that turns back within it peaks between
+/// the samples, which the next-step bound at the step's end alone does not see.
+#[test]
+fn joint_limits_hold_inside_each_step() {
+    let m = model();
+    let q0 = standing(&m);
+    let c0 = center_of_mass(&m, &mut Data::new(&m), &q0).unwrap();
+    let lift = m.joints[m.joint_id("torso_lift").unwrap()].clone();
+    let (a, pi) = (0.06, std::f64::consts::PI);
+    let grid: Vec<f64> = (0..=50).map(|i| i as f64 / 50.0).collect();
+    let reference = |s: f64| PointReference {
+        p: c0 + Vector3::new(0.0, 0.0, a * (pi * s).sin()),
+        p_s: Vector3::new(0.0, 0.0, a * pi * (pi * s).cos()),
+        p_ss: Vector3::new(0.0, 0.0, -a * pi * pi * (pi * s).sin()),
+    };
+    let path = track_path(
+        &m,
+        &q0,
+        &vec![0.0; m.nv],
+        &feet(&m),
+        &grid,
+        &|s| (reference(s), vec![]),
+        &IkOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(path.status, IkStatus::Solved);
+    let mut peak = f64::NEG_INFINITY;
+    for (w, smp) in path.samples.windows(2).zip(&path.samples) {
+        let ds = w[1].s - w[0].s;
+        let (q, v, x) = (smp.q[lift.idx_q], smp.q_s[lift.idx_v], smp.q_ss[lift.idx_v]);
+        for k in 0..=100 {
+            let d = ds * f64::from(k) / 100.0;
+            peak = peak.max(q + v * d + 0.5 * x * d * d);
+        }
+    }
+    eprintln!(
+        "torso_lift peaks at {:.6} m, limit {:.6} m",
+        peak, lift.upper
+    );
+    assert!(peak > lift.upper - 1e-3, "the lift should reach its limit");
+    assert!(peak <= lift.upper + 1e-9, "{peak} > {}", lift.upper);
+}
+
 #[test]
 fn unreachable_target_is_a_negative_outcome_not_an_error() {
     let m = model();

@@ -27,7 +27,11 @@
 //! "hard" task: a landing foot whose arrival at rest is not traded for the CoM). The joint bounds ([`JointBounds`]) are either
 //!
 //! - **next step**: keep each bounded joint within its limits over the next path step `ds`,
-//!   `2 (lower - q - q_s ds) / ds^2 <= x <= 2 (upper - q - q_s ds) / ds^2`; or
+//!   `2 (lower - q - q_s ds) / ds^2 <= x <= 2 (upper - q - q_s ds) / ds^2` at its end; inside
+//!   the step, a joint that turns back peaks below `q + q_s ds / 2` (at `q + q_s^2 / (2 |x|)`,
+//!   `|x| > q_s / ds`), so `q + q_s ds / 2` is also kept within the limits at every sample:
+//!   `lower - q - 1.5 q_s ds <= x ds^2 <= upper - q - 1.5 q_s ds` for the next one (relaxed to
+//!   the end bound where a state breaks it, so that the QP stays feasible); or
 //! - **damper** (the paper's form): with the range shrunk about its middle to `range` of its
 //!   width, `K_ss (K_s (lower' - q) - q_s) <= x <= K_ss (K_s (upper' - q) - q_s)`, so that a joint
 //!   approaches a limit no faster than `q_s = K_s (upper' - q)` allows; it may overshoot the

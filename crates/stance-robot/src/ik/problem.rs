@@ -272,6 +272,12 @@ impl IkWorkspace {
         self.lo.fill(f64::NEG_INFINITY);
         self.hi.fill(f64::INFINITY);
         for j in &model.joints[1..] {
+            if matches!(j.kind, JointKind::Continuous { .. }) && options.max_path_rate.is_finite() {
+                // no position limits; the rate bound as for the others
+                let (k, vj) = (j.idx_v, q_s[j.idx_v]);
+                self.lo[k] = -(options.max_path_rate + vj) / ds;
+                self.hi[k] = (options.max_path_rate - vj) / ds;
+            }
             if !matches!(
                 j.kind,
                 JointKind::Revolute { .. } | JointKind::Prismatic { .. }
@@ -280,9 +286,22 @@ impl IkWorkspace {
             }
             let (k, qj, vj) = (j.idx_v, q[j.idx_q], q_s[j.idx_v]);
             let scale = 2.0 / (ds * ds);
-            let next_step = (
+            let mut next_step = (
                 scale * (j.lower - qj - vj * ds),
                 scale * (j.upper - qj - vj * ds),
+            );
+            // within the step: a joint that turns back before its end peaks below
+            // q + q_s ds / 2, so keeping q + q_s ds / 2 within the limits at every sample keeps
+            // the whole step within them; at the step's end that is
+            // q + 1.5 q_s ds + x ds^2 within the limits (the QP stays feasible from a state
+            // that breaks it: the bound then only asks for the other end's)
+            let viable = (
+                (j.lower - qj - 1.5 * vj * ds) / (ds * ds),
+                (j.upper - qj - 1.5 * vj * ds) / (ds * ds),
+            );
+            next_step = (
+                next_step.0.max(viable.0.min(next_step.1)),
+                next_step.1.min(viable.1.max(next_step.0)),
             );
             let (lo, hi) = match options.joint_bounds {
                 JointBounds::NextStep => next_step,

@@ -46,6 +46,7 @@ pub mod separation;
 pub mod spec;
 pub mod stand;
 pub mod trajectory;
+pub mod via_points;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -157,6 +158,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     // trajectory and checks
     let mut samples = Vec::new();
     let mut checks = None;
+    let moves = via_points::moves_reached(&plan, &paths)?;
     let profile = retimed.as_ref().and_then(|r| r.profile.clone());
     if let (Some(r), Some(p)) = (&retimed, &profile) {
         samples = trajectory::sample(&plan, &paths, r, p, plan.spec.retiming.dt)?;
@@ -182,6 +184,10 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
                 options,
                 plan.actuator_limits.as_ref(),
             )?);
+            if let Some(c) = checks.as_mut() {
+                [c.max_via_point_error, c.max_via_point_rotation_deg] =
+                    via_points::largest_errors(&moves);
+            }
         }
     }
 
@@ -192,7 +198,14 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         _ => MotionStatus::NotRetimable,
     };
     let times = profile.as_ref().map(|p| p.times().to_vec());
-    let segments = segment_infos(&plan, &paths, &rows, retimed.as_ref(), times.as_deref());
+    let segments = segment_infos(
+        &plan,
+        &paths,
+        &rows,
+        retimed.as_ref(),
+        times.as_deref(),
+        moves,
+    );
     let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
     let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
     let t_abc: f64 = rows.iter().map(|r| ms(r.t_abc)).sum::<f64>()
@@ -386,6 +399,9 @@ fn checks_info(
         max_contact_drift: c.iter().map(|x| x.contact_drift).fold(0.0, f64::max),
         max_joint_violation: c.iter().map(|x| x.joint_violation).fold(0.0, f64::max),
         max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
+        // set from the moves by the caller
+        max_via_point_error: 0.0,
+        max_via_point_rotation_deg: 0.0,
         max_between_violation: between,
         max_between_violation_fraction: between / weight,
         max_velocity_ratio: actuators.as_ref().map(|a| a.max_velocity_ratio),
@@ -408,11 +424,13 @@ fn segment_infos(
     rows: &[SegmentRows],
     retimed: Option<&Retimed>,
     times: Option<&[f64]>,
+    moves: Vec<Vec<via_points::MoveInfo>>,
 ) -> Vec<SegmentInfo> {
     paths
         .iter()
+        .zip(moves)
         .enumerate()
-        .map(|(k, path)| {
+        .map(|(k, (path, moves))| {
             let r = rows.get(k);
             let span = retimed
                 .zip(times)
@@ -435,6 +453,7 @@ fn segment_infos(
                 t_abc_ms: r.map_or(0.0, |r| ms(r.t_abc)),
                 t_topp_ms: solve.map(|s| ms(s.t_topp)),
                 max_com_error: path.max_com_error,
+                moves,
                 max_contact_drift: path.max_contact_drift,
                 binding: retimed.and_then(|rt| segment_binding(plan, rt, k)),
                 torque_cuts: r.map_or(0, |r| r.cuts),

@@ -109,8 +109,12 @@ pub struct SegmentInfo {
     /// `T_TOPP` (ms): the segment's own solve (rest to rest) or its re-solve with the chained
     /// boundary speeds.
     pub t_topp_ms: Option<f64>,
-    /// Largest CoM tracking error of the IK (m).
+    /// Largest CoM tracking error of the IK (m), against its smoothed reference (which lags
+    /// the file's via-points: `moves` measures against them).
     pub max_com_error: f64,
+    /// Each move's end: its CoM and link via-points and where the IK's path was.
+    #[serde(default)]
+    pub moves: Vec<super::via_points::MoveInfo>,
     /// Largest contact-frame drift during the IK (m).
     pub max_contact_drift: f64,
     /// Grid points of this segment bound by each kind of constraint under the profile
@@ -140,8 +144,13 @@ pub struct ChecksInfo {
     pub max_contact_drift: f64,
     /// Largest joint-limit violation at the samples (rad or m).
     pub max_joint_violation: f64,
-    /// Largest CoM tracking error of the IK (m).
+    /// Largest CoM tracking error of the IK (m), against its smoothed reference (which lags
+    /// the file's via-points: `max_via_point_error` measures against them).
     pub max_com_error: f64,
+    /// Largest distance of the IK's path from a via-point at its move's end, CoM or link (m).
+    pub max_via_point_error: f64,
+    /// Largest angle of a link from its via-point's orientation at its move's end (degrees).
+    pub max_via_point_rotation_deg: f64,
     /// Largest row value at the IK samples under the profile (N), i.e. between grid points.
     pub max_between_violation: f64,
     /// The same as a fraction of the weight.
