@@ -26,6 +26,8 @@ const EYE: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 pub struct Contact {
     pub spec: ContactSpec,
     pub contact: sc::Contact,
+    /// Whether the user named it (an unnamed contact is `"contact"` until a stance numbers it).
+    pub named: bool,
 }
 
 impl Contact {
@@ -39,7 +41,11 @@ impl Contact {
             &Default::default(),
         )
         .map_err(errors::contact)?;
-        Ok(Self { spec, contact })
+        Ok(Self {
+            spec,
+            contact,
+            named: true,
+        })
     }
 
     fn build(
@@ -58,13 +64,16 @@ impl Contact {
             )?,
             _ => EYE,
         };
-        Self::from_spec(ContactSpec {
+        let named = name.is_some();
+        let mut c = Self::from_spec(ContactSpec {
             name: name.unwrap_or_else(|| "contact".into()),
             position,
             rotation,
             shape,
             friction,
-        })
+        })?;
+        c.named = named;
+        Ok(c)
     }
 }
 
@@ -580,7 +589,9 @@ fn batch<'py>(
     Ok(PyArray1::from_vec(py, out).into_any())
 }
 
-/// A set of contacts, the robot's mass and gravity.
+/// A set of contacts, the robot's mass and gravity. Contacts made without a name are named by
+/// their place in the list (`contact0`, `contact1`, ...); two contacts given the same name are
+/// an error.
 #[pyclass(frozen, module = "stance._stance")]
 pub struct Stance {
     pub scene: Scene,
@@ -707,6 +718,7 @@ impl Stance {
         friction_approximation: &str,
     ) -> PyResult<Self> {
         let mut specs = Vec::new();
+        let mut unnamed = Vec::new();
         let iter = contacts.try_iter().map_err(|_| {
             errors::input("contacts must be a list of stance.Contact (Contact.rectangle, ...)")
         })?;
@@ -718,7 +730,28 @@ impl Stance {
                      Contact.point or Contact.polygon"
                 ))
             })?;
+            if !c.get().named {
+                unnamed.push(i);
+            }
             specs.push(c.get().spec.clone());
+        }
+        // contacts made without a name are numbered by their place in the list (`contact0`,
+        // `contact1`, ...), after any name the user gave; explicit duplicates stay an error
+        let mut taken: std::collections::HashSet<String> = specs
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !unnamed.contains(i))
+            .map(|(_, s)| s.name.clone())
+            .collect();
+        for &i in &unnamed {
+            let mut name = format!("contact{i}");
+            let mut n = 1;
+            while taken.contains(&name) {
+                name = format!("contact{i}_{n}");
+                n += 1;
+            }
+            taken.insert(name.clone());
+            specs[i].name = name;
         }
         let gravity = match gravity {
             Some(g) if !g.is_none() => arrays::vec3(g, "gravity", "gravity vector, m/s^2")?,

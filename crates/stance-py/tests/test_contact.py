@@ -213,4 +213,23 @@ def test_contacts_of_every_shape() -> None:
     st = stance.Stance([tri, pt], mass=10.0)
     assert st.is_static_equilibrium([0.1, 0.0, 0.5])
     contacts: List[stance.Contact] = st.contacts
-    assert [c.name for c in contacts] == ["tri", "contact"]
+    assert [c.name for c in contacts] == ["tri", "contact1"]  # numbered by its place
+
+
+def test_contacts_without_names_are_numbered_and_explicit_duplicates_are_an_error() -> None:
+    # the pypoman way: contacts made without names; a stance numbers them by their place
+    feet = [stance.Contact.rectangle([0.0, y, 0.0], np.eye(3), 0.11, 0.065, 0.7) for y in (0.1, -0.1)]
+    s = stance.Stance(feet, mass=60.0)
+    assert [c.name for c in s.contacts] == ["contact0", "contact1"]
+    assert s.giwc().facets.shape[0] == 16
+    # a given name keeps its own, and the numbering steps around it
+    mixed = [
+        stance.Contact.rectangle([0.0, 0.1, 0.0], np.eye(3), 0.11, 0.065, 0.7, name="contact1"),
+        stance.Contact.rectangle([0.0, -0.1, 0.0], np.eye(3), 0.11, 0.065, 0.7),
+    ]
+    assert [c.name for c in stance.Stance(mixed, mass=60.0).contacts] == ["contact1", "contact1_1"]
+    twice = [
+        stance.Contact.rectangle([0.0, y, 0.0], np.eye(3), 0.11, 0.065, 0.7, name="foot") for y in (0.1, -0.1)
+    ]
+    with pytest.raises(stance.InputError, match="duplicate contact name"):
+        stance.Stance(twice, mass=60.0)
