@@ -306,6 +306,18 @@ fn bad_motion_files_get_errors_that_say_what_to_fix() {
     let seg = "[[segments]]\nstance = { LF = \"floor\", RF = \"floor\" }\nmoves = [{ com = { by = [0.0, 0.05, 0.0] } }]\n";
     let cases: Vec<(String, &str)> = vec![
         (format!("{BASE}{seg}[planning]\nfriction = 1.2\n"), "exceeds the friction"),
+        (
+            format!("{BASE}{seg}[planning]\nfriction = 0.0\n"),
+            "planning.friction is 0; give a friction coefficient > 0",
+        ),
+        (
+            format!("{BASE}{seg}[planning]\nfriction = -0.5\n"),
+            "planning.friction is -0.5",
+        ),
+        (
+            format!("{}{seg}", BASE.replace("friction = 0.9", "friction = -0.9")),
+            "environment surface \"floor\": friction is -0.9; give Coulomb's coefficient",
+        ),
         (format!("{BASE}{seg}[planning]\narea_scale = 0\n"), "planning.area_scale"),
         (format!("{BASE}{seg}[retiming]\ndt = -1\n"), "retiming.dt"),
         (format!("{BASE}{seg}[retiming]\ngrid = 1\n"), "retiming.grid"),
@@ -462,4 +474,20 @@ fn a_name_given_twice_in_a_motion_file_is_an_error() {
         r#"{"stance": {"LF": "floor", "RF": "floor"}, "moves": []}"#,
     );
     assert!(ok.is_ok(), "{ok:?}");
+}
+
+#[test]
+fn a_bad_check_friction_names_the_option() {
+    for mu in [-1.0, 0.0, f64::NAN] {
+        let e = run(
+            spec("small-sway"),
+            &RunOptions {
+                check_friction: Some(mu),
+                ..Default::default()
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("--check-friction") && e.contains("> 0"), "{e}");
+    }
 }

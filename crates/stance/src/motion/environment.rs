@@ -127,7 +127,13 @@ impl EnvSurface {
             (None, None) => Pose::from_xyz_rpy(spec.position, [0.0; 3]),
         };
         let polygon = polygon_of(&spec.shape, &what, false)?;
-        // validates the position, the rotation and the friction as a contact would be
+        if !(spec.friction.is_finite() && spec.friction >= 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "{what}: friction is {}; give Coulomb's coefficient, >= 0 (e.g. 0.9)",
+                spec.friction
+            )));
+        }
+        // validates the position and the rotation as a contact would be
         Contact::new(
             &what,
             spec.position,

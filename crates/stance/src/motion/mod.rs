@@ -119,6 +119,14 @@ pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, Stanc
 /// that status, not an error.
 pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
     let t_start = Instant::now();
+    if let Some(mu) = options.check_friction {
+        if !(mu.is_finite() && mu > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "check friction (--check-friction) {mu}: give the friction coefficient of the \
+                 force check, > 0 (the simulator's: 0.9)"
+            )));
+        }
+    }
     let mut plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
     if options.no_limits {
         // the file's limits stay in plan.actuator_limits: checked, not enforced

@@ -234,6 +234,16 @@ fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
         0.5,
         "give a fraction of the weight in [0, 0.5]",
     )?;
+    if let Some(mu) = p.friction {
+        finite_in(
+            "planning.friction",
+            mu,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            "give a friction coefficient > 0, at most each surface's (the paper: 0.7); \
+             frictionless contacts cannot hold a motion",
+        )?;
+    }
     p.friction_cone
         .validate()
         .map_err(|e| bad(format!("planning.friction_cone: {e}")))?;
