@@ -298,6 +298,14 @@ fn convex_polygon(
             v.len()
         )));
     }
+    if v.len() > crate::tol::MAX_POLYGON_VERTICES {
+        return Err(bad(format!(
+            "{} vertices given, at most {} are supported (the cone's size and its conversion's \
+             time grow with them): simplify the polygon",
+            v.len(),
+            crate::tol::MAX_POLYGON_VERTICES
+        )));
+    }
     let n = v.len();
     let area: f64 = 0.5
         * (0..n)

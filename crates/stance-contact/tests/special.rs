@@ -272,6 +272,21 @@ fn bad_inputs_are_errors_with_a_fix() {
     );
     let dart = Shape::Polygon(vec![[0.0, 0.0], [1.0, 0.0], [0.2, 0.2], [0.0, 1.0]]);
     assert!(err(Contact::new("c", [0.0; 3], EYE, dart, 0.5, &t)).contains("not convex"));
+    // bounded work: a polygon of more vertices than supported is refused, naming the limit
+    let ngon = |n: usize| {
+        Shape::Polygon(
+            (0..n)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / n as f64;
+                    [0.1 * a.cos(), 0.05 * a.sin()]
+                })
+                .collect(),
+        )
+    };
+    let max = stance_contact::tol::MAX_POLYGON_VERTICES;
+    assert!(Contact::new("c", [0.0; 3], EYE, ngon(max), 0.5, &t).is_ok());
+    let e = err(Contact::new("c", [0.0; 3], EYE, ngon(1000), 0.5, &t));
+    assert!(e.contains("1000 vertices given, at most 64"), "{e}");
     let flat = Shape::Polygon(vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]);
     assert!(err(Contact::new("c", [0.0; 3], EYE, flat, 0.5, &t)).contains("zero"));
     let star = Shape::Polygon(vec![
