@@ -123,6 +123,12 @@ pub const SIM_FALL_TILT: f64 = 0.5;
 /// 0.3: a motion that ends at rest but is about to fall falls within it.
 pub const SIM_SETTLE: f64 = 0.3;
 
+/// Longest motion the simulator is asked to play (s, after the time scale). Reason: bounded
+/// work; MuJoCo runs JVRC-1 at about ten times real time here, so this is about ten seconds
+/// of wall time, and a motion stretched past it (`--time-scale 1e-9` ran without end) is
+/// refused with the time scale that fits.
+pub const SIM_MAX_DURATION: f64 = 120.0;
+
 /// A row binds at a grid point when its value is within this fraction of the size of its terms
 /// (`|a u| + |b x| + |c|`) of zero ([`crate::binding`]). Dimensionless. Default 1e-6: the
 /// reachability pass puts the profile on its binding rows to round-off (about 1e-12 relative),

@@ -218,6 +218,22 @@ fn a_pushed_foot_slips_and_the_report_says_so() {
 /// no contact lost, no fall); played 1.5 times faster they fail; the box climbing played ten
 /// times slower fails too (its third segment is not quasi-statically stable: the robot has to
 /// lean on an unplanned contact). About a minute.
+/// Bounded work: a motion stretched past the simulator's longest duration is refused before
+/// MuJoCo starts, with the time scale that fits (no MuJoCo needed).
+#[test]
+fn a_motion_stretched_too_long_is_refused_with_the_time_scale_that_fits() {
+    let e = simulate(
+        spec("small-sway"),
+        &SimOptions {
+            time_scale: Some(1e-9),
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("give a time scale of at least 0.016"), "{e}");
+}
+
 /// Each surface is simulated at the motion file's own friction: the small humanoid's motion
 /// on a floor of friction 0.3, planned within Coulomb's cone of 0.3 (the default cone), holds
 /// in a simulator at 0.3 and the report gives each contact's simulated and planned friction; on

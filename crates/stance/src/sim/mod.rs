@@ -327,6 +327,15 @@ pub fn simulate(
     let plan = &run.plan;
     let m = &plan.robot.model;
     let k = options.time_scale.unwrap_or(1.0);
+    let total = run.result.duration.unwrap_or(0.0);
+    if total > crate::tol::SIM_MAX_DURATION {
+        return Err(StanceError::BadMotion(format!(
+            "the motion played at time scale {k} lasts {total:.1} s; the simulator plays at most \
+             {} s: give a time scale of at least {:.3}",
+            crate::tol::SIM_MAX_DURATION,
+            k * total / crate::tol::SIM_MAX_DURATION
+        )));
+    }
     let [first, last] = options.segments.unwrap_or([0, run.paths.len() - 1]);
     if first > last || last >= run.paths.len() {
         return Err(StanceError::BadMotion(format!(
