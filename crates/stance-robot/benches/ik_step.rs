@@ -62,6 +62,7 @@ fn ik_step(c: &mut Criterion) {
             links: &[link],
             hard_links: &[],
             posture: Some(&q),
+            distances: &[],
         };
         let q_s: Vec<f64> = (0..m.nv)
             .map(|i| 0.01 * ((i * 7 % 5) as f64 - 2.0))

@@ -103,8 +103,8 @@ pub use data::Data;
 pub use dynamics::{rnea, torque_path_terms, torque_path_terms_two, TorquePathTerms};
 pub use error::RobotError;
 pub use ik::{
-    ik_qp, ik_step, solve_ik_qp, track_path, ContactHold, IkAnswerFrom, IkOptions, IkPath, IkQp,
-    IkSolver, IkStatus, IkStep, IkTasks, IkWorkspace, JointBounds, LinkTarget,
+    ik_qp, ik_step, solve_ik_qp, track_path, ContactHold, DistanceBound, IkAnswerFrom, IkOptions,
+    IkPath, IkQp, IkSolver, IkStatus, IkStep, IkTasks, IkWorkspace, JointBounds, LinkTarget,
     OrientationReference, PathSample, PointReference,
 };
 pub use kinematics::{

@@ -657,6 +657,7 @@ fn dense_solver_agrees_with_clarabel_at_random_states() {
             links: &[link],
             hard_links: &[],
             posture: Some(&standing(&m)),
+            distances: &[],
         };
         let mut ws = IkWorkspace::new(&m);
         ws.build(&m, &mut d, &q, &q_s, &tasks, 0.02, &opts).unwrap();
@@ -701,4 +702,207 @@ fn dense_solver_agrees_with_clarabel_at_random_states() {
         "only {with_active} states with active bounds"
     );
     assert!(from_dense >= solved * 9 / 10);
+}
+
+/// The clearance rows (module doc of `ik`) have teeth: a hand pulled 25 cm down towards a
+/// horizontal plane 8 cm below it goes through the plane without a clearance row, and stops at
+/// its clearance (1 cm) with one: the row is rebuilt at every step from the hand's own distance,
+/// as the motion pipeline does from its collision model.
+#[test]
+fn a_clearance_row_stops_a_hand_at_a_plane() {
+    let m = model();
+    let q0 = standing(&m);
+    let hand = m.frame_id("r_hand").unwrap();
+    let joint = m.frames[hand].parent_joint;
+    let mut d = Data::new(&m);
+    forward_kinematics(&m, &mut d, &q0).unwrap();
+    let x0 = frame_placement(&m, &d, hand).unwrap().translation;
+    let c0 = center_of_mass(&m, &mut d, &q0).unwrap();
+    let plane = x0.z - 0.08;
+    let holds: Vec<ContactHold> = feet(&m).iter().map(|&f| ContactHold::velocity(f)).collect();
+    let run = |keep: bool| {
+        let mut ws = IkWorkspace::new(&m);
+        let mut d = Data::new(&m);
+        let (mut q, mut q_s) = (q0.clone(), vec![0.0; m.nv]);
+        let n = 400;
+        let ds = 1.0 / n as f64;
+        let mut lowest = f64::INFINITY;
+        for i in 0..=n {
+            let s = i as f64 * ds;
+            forward_kinematics(&m, &mut d, &q).unwrap();
+            let p = frame_placement(&m, &d, hand).unwrap().translation;
+            lowest = lowest.min(p.z - plane);
+            let bound = DistanceBound {
+                joint,
+                point: p,
+                normal: -Vector3::z(),
+                distance: p.z - plane,
+                min_distance: 0.01,
+            };
+            let bounds = [bound];
+            let link = LinkTarget {
+                frame: hand,
+                reference: PointReference::segment(x0, x0 - Vector3::new(0.0, 0.0, 0.25), s),
+                orientation: None,
+            };
+            let links = [link];
+            let tasks = IkTasks {
+                contacts: &holds,
+                com: PointReference::hold(c0),
+                links: &links,
+                hard_links: &[],
+                posture: None,
+                distances: if keep { &bounds } else { &[] },
+            };
+            let step = ws
+                .step(&m, &mut d, &q, &q_s, &tasks, ds, &IkOptions::default())
+                .unwrap();
+            assert_eq!(step.status, IkStatus::Solved, "step {i}");
+            assert!(!step.clearance_dropped);
+            let delta: Vec<f64> = q_s
+                .iter()
+                .zip(&step.q_ss)
+                .map(|(v, a)| v * ds + 0.5 * a * ds * ds)
+                .collect();
+            q = integrate(&m, &q, &delta).unwrap();
+            for (v, a) in q_s.iter_mut().zip(&step.q_ss) {
+                *v += a * ds;
+            }
+        }
+        forward_kinematics(&m, &mut d, &q).unwrap();
+        let end = frame_placement(&m, &d, hand).unwrap().translation.z - plane;
+        (lowest, end)
+    };
+    let (free_lowest, free_end) = run(false);
+    let (kept_lowest, kept_end) = run(true);
+    eprintln!(
+        "hand above the plane: without the row lowest {free_lowest:.4} m (end {free_end:.4}), \
+         with it lowest {kept_lowest:.4} m (end {kept_end:.4})"
+    );
+    assert!(free_end < -0.05, "the task alone must cross the plane");
+    assert!(
+        kept_lowest > 0.0,
+        "the row must keep the hand above the plane"
+    );
+    assert!((kept_end - 0.01).abs() < 2e-3, "it rests at its clearance");
+}
+
+/// The dense solver's rows (its outer active set, `dense_qp`) against Clarabel at 300 random
+/// states of the small humanoid: both feet held, a hand task, the paper's joint damper, and one
+/// to three random clearance rows on the hand, forearm or shin. Both agree on the outcome (a step
+/// whose rows make the QP infeasible is solved without them and says so, where Clarabel finds
+/// the QP with them infeasible); where solved, the objectives agree to 1e-7 (relative) and the
+/// dense answer meets every row. At least a fifth of the solved states hold a row active, so
+/// the outer active set is exercised.
+#[test]
+fn dense_solver_with_clearance_rows_agrees_with_clarabel() {
+    let m = model();
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let hand = m.frame_id("r_hand").unwrap();
+    let bodies = [
+        m.frames[hand].parent_joint,
+        m.joint_id("r_elbow").unwrap(),
+        m.joint_id("l_knee").unwrap(),
+    ];
+    let holds: Vec<ContactHold> = feet(&m).iter().map(|&f| ContactHold::velocity(f)).collect();
+    let (mut with_rows_active, mut solved, mut dropped) = (0, 0, 0);
+    let cases = 300;
+    for case in 0..cases {
+        let dq: Vec<f64> = (0..m.nv).map(|_| 0.2 * rnd()).collect();
+        let mut q = integrate(&m, &standing(&m), &dq).unwrap();
+        for j in &m.joints[2..] {
+            if j.dims() == (1, 1) {
+                let (mid, half) = (0.5 * (j.upper + j.lower), 0.49 * (j.upper - j.lower));
+                q[j.idx_q] = q[j.idx_q].clamp(mid - half, mid + half);
+            }
+        }
+        let q_s: Vec<f64> = (0..m.nv).map(|_| 0.4 * rnd()).collect();
+        let mut d = Data::new(&m);
+        let c0 = center_of_mass(&m, &mut d, &q).unwrap();
+        forward_kinematics(&m, &mut d, &q).unwrap();
+        let rows = 1 + ((rnd() + 1.0) * 1.5) as usize % 3;
+        let bounds: Vec<DistanceBound> = (0..rows)
+            .map(|_| {
+                let joint = bodies[((rnd() + 1.0) * 1.5) as usize % 3];
+                let point = d.world_from_joint[joint].translation
+                    + Vector3::new(0.05 * rnd(), 0.05 * rnd(), 0.05 * rnd());
+                let normal = Vector3::new(rnd(), rnd(), -1.0).normalize();
+                DistanceBound {
+                    joint,
+                    point,
+                    normal,
+                    distance: 0.03 * rnd(),
+                    min_distance: 0.01,
+                }
+            })
+            .collect();
+        let link = LinkTarget {
+            frame: hand,
+            reference: PointReference::hold(Vector3::new(0.3, -0.2, 0.2 * rnd())),
+            orientation: None,
+        };
+        let opts = IkOptions {
+            joint_bounds: JointBounds::paper(),
+            w_posture: 1e-3,
+            ..Default::default()
+        };
+        let tasks = IkTasks {
+            contacts: &holds,
+            com: PointReference {
+                p: c0 + Vector3::new(0.03 * rnd(), 0.03 * rnd(), 0.03 * rnd()),
+                p_s: Vector3::zeros(),
+                p_ss: Vector3::zeros(),
+            },
+            links: &[link],
+            hard_links: &[],
+            posture: Some(&standing(&m)),
+            distances: &bounds,
+        };
+        let mut ws = IkWorkspace::new(&m);
+        ws.build(&m, &mut d, &q, &q_s, &tasks, 0.02, &opts).unwrap();
+        let qp = ws.qp();
+        let dense = ws.solve(&opts).unwrap();
+        let reference = solve_ik_qp(&qp, opts.qp_tol).unwrap();
+        if dense.clearance_dropped {
+            dropped += 1;
+            assert_ne!(reference.status, IkStatus::Solved, "case {case}");
+            continue;
+        }
+        assert_eq!(dense.status, reference.status, "case {case}");
+        if dense.status != IkStatus::Solved {
+            continue;
+        }
+        solved += 1;
+        let (x, x_ref) = (
+            DVector::from_column_slice(&dense.q_ss),
+            DVector::from_column_slice(&reference.q_ss),
+        );
+        let slack = &qp.h - &qp.g * &x;
+        assert!(slack.min() >= -1e-9 * qp.h.amax().max(1.0), "case {case}");
+        let n_rows = qp.g.nrows();
+        let row_slack = slack.rows(n_rows - rows, rows);
+        if row_slack.min() < 1e-9 * qp.h.amax().max(1.0) {
+            with_rows_active += 1;
+        }
+        let (f, f_ref) = (objective(&qp, &x), objective(&qp, &x_ref));
+        assert!(
+            (f - f_ref).abs() <= 1e-7 * f_ref.abs().max(1.0),
+            "case {case}: objectives {f} and {f_ref}"
+        );
+    }
+    eprintln!(
+        "{solved} of {cases} states solved, {with_rows_active} with a clearance row active, \
+         {dropped} solved without their rows"
+    );
+    assert!(solved >= cases / 3, "only {solved} solved states");
+    assert!(
+        with_rows_active >= solved / 5,
+        "only {with_rows_active} states with an active row"
+    );
 }

@@ -57,9 +57,14 @@
 //!   greedy profile is time-optimal as the grid is refined, not exactly on the grid (measured:
 //!   0.23 % longer than a one-shot LP's on `small-sway`). Path speeds are unbounded where the
 //!   whole body is at rest in path terms (the start, via-points where nothing else moves):
-//!   there the profile may reach the solver's box (`s'^2 = 1e8`), which costs no time. No
-//!   collision checking (a swing foot may graze a step edge: choose via-points that clear
-//!   it), planar convex environment surfaces only.
+//!   there the profile may reach the solver's box (`s'^2 = 1e8`), which costs no time. Planar
+//!   convex environment surfaces only.
+//! - Collisions ([`motion::collision`]): the robot is its capsules and contact boxes (not its
+//!   meshes), the environment its surfaces' solids; no self-collision. The IK keeps the
+//!   clearance of the links it can move freely, linearised per step (a body may overshoot its
+//!   clearance, not the surface, by a fraction of a millimetre); a landing link's path is a hard
+//!   task that it cannot bend, so a landing through a solid is reported by the check, not
+//!   avoided (write a swing that clears it, or leave the landing to the footholds planner).
 //! - Actuator limits ([`limits`], [`motion`], [`joints`]): symmetric limits only, the torque's
 //!   from the URDF's `effort` (a joint without one has none), no friction or motor model. In a
 //!   motion the torques are enforced at the grid points and, after the refinement, at the IK

@@ -140,3 +140,28 @@ pub const BINDING: f64 = 1e-6;
 /// mistake without hanging the command (each sample costs an inverse dynamics, about a
 /// microsecond for an arm).
 pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
+
+/// Largest thickness (m) of an environment surface's solid. Default 100 m: far beyond any
+/// scene; a larger value is a unit mistake.
+pub const MAX_SOLID_THICKNESS: f64 = 100.0;
+
+/// Deepest penetration (m) of a robot body into an environment solid that the collision check
+/// accepts. Default 1 mm: a landing link touches its surface within micrometres (measured on the
+/// built-in motions) and a link lifting off starts on it; deeper is a collision (MuJoCo, whose
+/// soft contacts push back from the first micrometre, reports it as an unplanned contact).
+pub const COLLISION_PENETRATION: f64 = 1e-3;
+
+/// Range (m) within which the collision check measures a robot body's clearance exactly (the
+/// bounding boxes of farther pairs are not refined). Default 0.2 m: a body farther than this
+/// from every surface is reported as clear without a number.
+pub const CLEARANCE_RANGE: f64 = 0.2;
+
+/// Distance (m) beyond the clearance at which the IK starts to watch a pair (robot body,
+/// environment solid): closer pairs get a distance row. Default 5 cm: the clearance damper
+/// decays an approach over about a tenth of a unit of path, and a link moving at the
+/// references' rates covers less than this in one IK step.
+pub const CLEARANCE_WATCH: f64 = 0.05;
+
+/// Largest `ik.clearance` (m). Default 0.5 m: beyond it no leg could step; a larger value is a
+/// unit mistake.
+pub const MAX_CLEARANCE: f64 = 0.5;

@@ -196,6 +196,39 @@ pub fn table(r: &MotionResult) -> String {
             c.max_between_violation_fraction,
             c.t_per_sample_us
         );
+        match c.collisions.first() {
+            None => {
+                let closest = c.clearances.first().map_or_else(
+                    || "every body farther than 0.2 m".to_string(),
+                    |k| {
+                        format!(
+                            "closest {} to {} at {:.1} mm",
+                            k.body,
+                            k.surface,
+                            k.distance * 1e3
+                        )
+                    },
+                );
+                let _ = writeln!(o, "  collisions: none ({closest})");
+            }
+            Some(_) => {
+                for k in &c.collisions {
+                    let _ = writeln!(
+                        o,
+                        "  collision: {} {:.1} mm inside {} at t = {:.3} s (segment {}, {}), \
+                         {} samples from t = {:.3} s",
+                        k.body,
+                        k.depth * 1e3,
+                        k.surface,
+                        k.t,
+                        k.segment,
+                        k.segment_name,
+                        k.samples,
+                        k.t_first
+                    );
+                }
+            }
+        }
     }
     if let Some(fl) = &r.failure {
         let _ = writeln!(o, "  failure: {}: {}", fl.status, fl.reason);

@@ -96,6 +96,7 @@ pub fn solve_ik_qp(qp: &IkQp, tol: f64) -> Result<IkStep, RobotError> {
         q_ss,
         contact_residual,
         bound_violation,
+        clearance_dropped: false,
         answer_from: IkAnswerFrom::Clarabel,
     })
 }

@@ -35,6 +35,13 @@
 //! `Y^T Y` from redundant contact rows, an infeasible problem) is reported, and the caller
 //! falls back to the interior-point solver, which also decides infeasibility.
 //!
+//! **General inequality rows** `G x <= h` (a few rows: the IK's clearances) are handled by an
+//! outer active set around this solver ([`DenseQpWorkspace::solve_with_rows`]): the held rows
+//! join the equations (`A` stacked with `G_held`), the most violated free row joins, and a held
+//! row whose multiplier `lambda_j` is negative leaves (with `P x + c + A^T lambda = 0`, a row
+//! `g x <= h` needs `lambda_j >= 0`). The answer is certified as above, plus every row within
+//! `primal_tol` and every held row's multiplier non-negative within `dual_tol`.
+//!
 //! The solver allocates only when the dimensions change; its cost is dominated by the Cholesky
 //! factorization of `P_FF` (`n^3 / 6` multiply-adds) and the `m` triangular solves of `Y`.
 
@@ -120,6 +127,11 @@ pub struct DenseQpWorkspace {
     x: Vec<f64>,
     /// Multipliers of the equations.
     lambda: Vec<f64>,
+    /// Which general inequality rows are held as equations ([`Self::solve_with_rows`]).
+    row_active: Vec<bool>,
+    /// The equations with the held rows below them, and their right-hand side.
+    a_rows: DMatrix<f64>,
+    b_rows: DVector<f64>,
 }
 
 impl DenseQpWorkspace {
@@ -151,6 +163,7 @@ impl DenseQpWorkspace {
     /// ```
     pub fn reset(&mut self) {
         self.held.iter_mut().for_each(|h| *h = Held::Free);
+        self.row_active.iter_mut().for_each(|r| *r = false);
     }
 
     fn resize(&mut self, n: usize, m: usize) {
@@ -295,6 +308,112 @@ impl DenseQpWorkspace {
             };
             return report;
         }
+        report
+    }
+
+    /// Solves the QP with general inequality rows `G x <= h` too (module doc); the answer is in
+    /// [`Self::solution`]. Without rows it is [`Self::solve`].
+    ///
+    /// ```
+    /// use nalgebra::{DMatrix, DVector};
+    /// use stance_robot::ik::{DenseQpOptions, DenseQpStatus, DenseQpWorkspace};
+    /// // minimize |x - (1, 2)|^2 subject to x0 + x1 <= 1
+    /// let p = DMatrix::identity(2, 2) * 2.0;
+    /// let c = DVector::from_vec(vec![-2.0, -4.0]);
+    /// let g = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+    /// let h = DVector::from_vec(vec![1.0]);
+    /// let (a, b) = (DMatrix::zeros(0, 2), DVector::zeros(0));
+    /// let mut ws = DenseQpWorkspace::new();
+    /// let rep = ws.solve_with_rows(&p, &c, &a, &b, &g, &h, &[f64::NEG_INFINITY; 2],
+    ///     &[f64::INFINITY; 2], &DenseQpOptions::default());
+    /// assert_eq!(rep.status, DenseQpStatus::Optimal);
+    /// let x = ws.solution();
+    /// assert!((x[0] - 0.0).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_with_rows(
+        &mut self,
+        p: &DMatrix<f64>,
+        c: &DVector<f64>,
+        a: &DMatrix<f64>,
+        b: &DVector<f64>,
+        g: &DMatrix<f64>,
+        h: &DVector<f64>,
+        lo: &[f64],
+        hi: &[f64],
+        opts: &DenseQpOptions,
+    ) -> DenseQpReport {
+        let (k, m, n) = (g.nrows(), a.nrows(), p.nrows());
+        if k == 0 {
+            return self.solve(p, c, a, b, lo, hi, opts);
+        }
+        if self.row_active.len() != k {
+            self.row_active = vec![false; k];
+        }
+        let mut report = DenseQpReport {
+            status: DenseQpStatus::NotConverged,
+            iterations: 0,
+            active: 0,
+            equality_residual: f64::INFINITY,
+            bound_violation: f64::INFINITY,
+            dual_violation: f64::INFINITY,
+        };
+        let mut iterations = 0;
+        for _ in 0..opts.max_iterations {
+            let held: Vec<usize> = (0..k).filter(|&j| self.row_active[j]).collect();
+            let rows = m + held.len();
+            let (mut a_rows, mut b_rows) = (
+                std::mem::take(&mut self.a_rows),
+                std::mem::take(&mut self.b_rows),
+            );
+            if a_rows.shape() != (rows, n) {
+                a_rows = DMatrix::zeros(rows, n);
+                b_rows = DVector::zeros(rows);
+            }
+            a_rows.rows_mut(0, m).copy_from(a);
+            b_rows.rows_mut(0, m).copy_from(b);
+            for (r, &j) in held.iter().enumerate() {
+                a_rows.row_mut(m + r).copy_from(&g.row(j));
+                b_rows[m + r] = h[j];
+            }
+            report = self.solve(p, c, &a_rows, &b_rows, lo, hi, opts);
+            self.a_rows = a_rows;
+            self.b_rows = b_rows;
+            iterations += report.iterations;
+            report.iterations = iterations;
+            if report.status != DenseQpStatus::Optimal {
+                return report;
+            }
+            // a held row pulling the wrong way leaves
+            let gscale = (p.amax() * self.x.iter().fold(0.0f64, |s, v| s.max(v.abs())))
+                .max(c.amax())
+                .max(1.0);
+            let worst_held = held
+                .iter()
+                .enumerate()
+                .map(|(r, &j)| (j, -self.lambda[m + r]))
+                .filter(|&(_, wrong)| wrong > opts.dual_tol * gscale)
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+            if let Some((j, _)) = worst_held {
+                self.row_active[j] = false;
+                continue;
+            }
+            // the most violated free row joins
+            let worst_free = (0..k)
+                .filter(|&j| !self.row_active[j])
+                .map(|j| {
+                    let gx: f64 = g.row(j).iter().zip(&self.x).map(|(u, v)| u * v).sum();
+                    (j, gx - h[j], opts.primal_tol * h[j].abs().max(1.0))
+                })
+                .filter(|&(_, excess, tol)| excess > tol)
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+            if let Some((j, _, _)) = worst_free {
+                self.row_active[j] = true;
+                continue;
+            }
+            return report;
+        }
+        report.status = DenseQpStatus::NotConverged;
         report
     }
 

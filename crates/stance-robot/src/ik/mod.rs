@@ -40,7 +40,25 @@
 //!
 //! and the optional rate bound `-r_max <= q_s + x ds <= r_max` ([`IkOptions::max_path_rate`])
 //! bounds the joint rates along the path. All of them are bounds on single coordinates of `x`,
-//! which the dense solver ([`dense_qp`]) exploits. Weights `w_com = 1`, `w_link = 0.1`, gains
+//! which the dense solver ([`dense_qp`]) exploits.
+//!
+//! **Clearances** ([`DistanceBound`]): a point `p` of a body (moving with joint `i`) at signed
+//! distance `d` from an obstacle along the unit normal `n` (from the body towards the obstacle)
+//! approaches `d_min` no faster than a critically damped system of gain `K`
+//! ([`IkOptions::clearance_gain`]) and does not cross `d = 0` over the next step: the distance
+//! changes at `d_s = -n^T J_p q_s` and `d_ss = -n^T (J_p x + a_p)` (`J_p` the point's Jacobian,
+//! world axes, `a_p` its classical acceleration for `x = 0`), and
+//! `d_ss >= -(K^2 (d - d_min) + 2 K d_s)`, `d + d_s ds + d_ss ds^2 / 2 >= 0`, i.e. the row
+//!
+//! ```text
+//! n^T J_p x <= min(K^2 (d - d_min) + 2 K d_s,  2 (d + d_s ds) / ds^2) - n^T a_p
+//! ```
+//!
+//! so that an approach slows down as it nears `d_min` and a body already closer is pushed out.
+//! The rows are general inequalities (the dense solver's outer active set); when they make the
+//! QP infeasible (a hard task drives the body through the obstacle) the step is solved without
+//! them and says so ([`IkStep::clearance_dropped`]): the collision check then reports what
+//! happens. Weights `w_com = 1`, `w_link = 0.1`, gains
 //! `K_p = K_d = gamma = 10` are the paper's defaults; `eps` is [`crate::tol::IK_REGULARIZATION`].
 //!
 //! Along a grid `s_0 < s_1 < ...` the path is integrated with constant `q_ss` on each step:
@@ -62,7 +80,7 @@ mod track;
 
 pub use clarabel_qp::solve_ik_qp;
 pub use dense_qp::{DenseQpOptions, DenseQpReport, DenseQpStatus, DenseQpWorkspace};
-pub use problem::{ik_qp, ik_step, ContactHold, IkTasks, IkWorkspace};
+pub use problem::{ik_qp, ik_step, ContactHold, DistanceBound, IkTasks, IkWorkspace};
 pub use track::{track_path, IkPath, PathSample};
 
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -142,6 +160,8 @@ pub struct IkOptions {
     pub max_path_rate: f64,
     /// The joint-limit bounds (default [`JointBounds::NextStep`]).
     pub joint_bounds: JointBounds,
+    /// Gain `K` of the clearance damper (per unit of path; default 10, the joint damper's).
+    pub clearance_gain: f64,
     /// The QP solver (default [`IkSolver::Dense`]).
     pub solver: IkSolver,
 }
@@ -166,6 +186,7 @@ impl Default for IkOptions {
             qp_tol: crate::tol::IK_QP_TOL,
             max_path_rate: f64::INFINITY,
             joint_bounds: JointBounds::NextStep,
+            clearance_gain: 10.0,
             solver: IkSolver::Dense,
         }
     }
@@ -287,7 +308,8 @@ pub struct IkQp {
     pub a_eq: DMatrix<f64>,
     /// Their right-hand side.
     pub b_eq: DVector<f64>,
-    /// Joint bounds (one row per finite bound of a coordinate: `x_k <= hi` or `-x_k <= -lo`).
+    /// Joint bounds (one row per finite bound of a coordinate: `x_k <= hi` or `-x_k <= -lo`),
+    /// then the clearance rows.
     pub g: DMatrix<f64>,
     /// Their right-hand side.
     pub h: DVector<f64>,
@@ -304,6 +326,8 @@ pub struct IkStep {
     pub contact_residual: f64,
     /// Largest violation of the joint bounds `max(G x - h, 0)`.
     pub bound_violation: f64,
+    /// The clearance rows made the step infeasible and it was solved without them.
+    pub clearance_dropped: bool,
     /// Which solver answered.
     pub answer_from: IkAnswerFrom,
 }
@@ -319,6 +343,7 @@ pub(crate) fn check_options(o: &IkOptions) -> Result<(), RobotError> {
         ("contact_k_p", o.contact_k_p),
         ("regularization", o.regularization),
         ("qp_tol", o.qp_tol),
+        ("clearance_gain", o.clearance_gain),
     ];
     for (name, x) in fields {
         if !(x.is_finite() && x >= 0.0) {

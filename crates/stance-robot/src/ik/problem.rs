@@ -42,6 +42,24 @@ impl ContactHold {
     }
 }
 
+/// A clearance the IK keeps (module doc of [`crate::ik`]): the point `point` (world) of the body
+/// of joint `joint` is at signed distance `distance` from an obstacle along the unit `normal`
+/// (world, from the body towards the obstacle); the step keeps `distance >= min_distance`
+/// through the clearance damper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DistanceBound {
+    /// The joint whose body carries the point (model index).
+    pub joint: usize,
+    /// The witness point on the body (m, world).
+    pub point: Vector3<f64>,
+    /// Unit normal from the body towards the obstacle (world).
+    pub normal: Vector3<f64>,
+    /// Signed distance (m; negative: penetration).
+    pub distance: f64,
+    /// The distance to keep (m).
+    pub min_distance: f64,
+}
+
 /// What an IK step tracks and holds.
 #[derive(Debug, Clone, Copy)]
 pub struct IkTasks<'a> {
@@ -57,6 +75,8 @@ pub struct IkTasks<'a> {
     /// A reference configuration for the posture task (`nq` entries; only the revolute and
     /// prismatic joints are tracked, with weight [`IkOptions::w_posture`]).
     pub posture: Option<&'a [f64]>,
+    /// Clearances to keep (inequality rows).
+    pub distances: &'a [DistanceBound],
 }
 
 /// Reusable buffers of the IK step: the QP's matrices, the frame Jacobian and the dense solver's
@@ -71,6 +91,9 @@ pub struct IkWorkspace {
     b_eq: DVector<f64>,
     lo: Vec<f64>,
     hi: Vec<f64>,
+    /// Clearance rows `G x <= h`.
+    g_rows: DMatrix<f64>,
+    h_rows: DVector<f64>,
     dense: DenseQpWorkspace,
 }
 
@@ -94,6 +117,8 @@ impl IkWorkspace {
             b_eq: DVector::zeros(0),
             lo: vec![f64::NEG_INFINITY; nv],
             hi: vec![f64::INFINITY; nv],
+            g_rows: DMatrix::zeros(0, nv),
+            h_rows: DVector::zeros(0),
             dense: DenseQpWorkspace::new(),
         }
     }
@@ -108,7 +133,7 @@ impl IkWorkspace {
     /// let feet = [ContactHold::velocity(m.frame_id("r_sole").unwrap()),
     ///             ContactHold::velocity(m.frame_id("l_sole").unwrap())];
     /// let tasks = IkTasks { contacts: &feet, com: PointReference::hold(nalgebra::Vector3::zeros()),
-    ///                       links: &[], hard_links: &[], posture: None };
+    ///                       links: &[], hard_links: &[], posture: None, distances: &[] };
     /// ws.build(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01, &IkOptions::default()).unwrap();
     /// assert_eq!(ws.qp().a_eq.nrows(), 12);
     /// ```
@@ -268,6 +293,51 @@ impl IkWorkspace {
                 }
             }
         }
+        // clearance rows: n^T J_p x <= min(K^2 (d - d_min) + 2 K d_s, 2 (d + d_s ds) / ds^2)
+        //                                - n^T a_p
+        if self.g_rows.nrows() != tasks.distances.len() {
+            self.g_rows = DMatrix::zeros(tasks.distances.len(), nv);
+            self.h_rows = DVector::zeros(tasks.distances.len());
+        }
+        let gain = options.clearance_gain;
+        for (r, b) in tasks.distances.iter().enumerate() {
+            if b.joint >= model.joints.len()
+                || ![b.distance, b.min_distance]
+                    .iter()
+                    .chain(b.point.iter())
+                    .chain(b.normal.iter())
+                    .all(|x| x.is_finite())
+            {
+                return Err(RobotError::InvalidOption {
+                    name: "distances",
+                    reason: format!(
+                        "clearance row {r}: joint {} of {}, or a value that is not finite",
+                        b.joint,
+                        model.joints.len()
+                    ),
+                });
+            }
+            let mut row = self.g_rows.row_mut(r);
+            row.fill(0.0);
+            let mut i = b.joint;
+            while i != 0 {
+                let j = &model.joints[i];
+                for k in j.idx_v..j.idx_v + j.dims().1 {
+                    let (sl, sa) = data.s_world[k];
+                    row[k] = b.normal.dot(&(sl + sa.cross(&b.point)));
+                }
+                i = j.parent;
+            }
+            let d_s = -(0..nv).map(|k| row[k] * q_s[k]).sum::<f64>();
+            let (v_o, w) = data.velocity[b.joint];
+            let (a_o, alpha) = data.drift[b.joint];
+            let p_dot = v_o + w.cross(&b.point);
+            let a_p = a_o + alpha.cross(&b.point) + w.cross(&p_dot);
+            let n_a = b.normal.dot(&a_p);
+            let damper = gain * gain * (b.distance - b.min_distance) + 2.0 * gain * d_s - n_a;
+            let next_step = 2.0 * (b.distance + d_s * ds) / (ds * ds) - n_a;
+            self.h_rows[r] = damper.min(next_step);
+        }
         // joint bounds (boxes on single coordinates)
         self.lo.fill(f64::NEG_INFINITY);
         self.hi.fill(f64::INFINITY);
@@ -377,7 +447,7 @@ impl IkWorkspace {
     /// let q = m.neutral();
     /// let c0 = stance_robot::center_of_mass(&m, &mut d, &q).unwrap();
     /// let tasks = IkTasks { contacts: &feet, links: &[], hard_links: &[], posture: None,
-    ///     com: PointReference::hold(c0 + nalgebra::Vector3::new(0.0, 0.0, -0.01)) };
+    ///     distances: &[], com: PointReference::hold(c0 + nalgebra::Vector3::new(0.0, 0.0, -0.01)) };
     /// let o = IkOptions::default();
     /// ws.build(&m, &mut d, &q, &vec![0.0; m.nv], &tasks, 0.01, &o).unwrap();
     /// let step = ws.solve(&o).unwrap();
@@ -385,6 +455,19 @@ impl IkWorkspace {
     /// assert!(step.contact_residual < 1e-9);
     /// ```
     pub fn solve(&mut self, options: &IkOptions) -> Result<IkStep, RobotError> {
+        let step = self.solve_rows(options)?;
+        if step.status == IkStatus::Solved || self.g_rows.nrows() == 0 {
+            return Ok(step);
+        }
+        // the clearances cannot all be kept: solve without them (module doc)
+        self.g_rows = DMatrix::zeros(0, self.nv);
+        self.h_rows = DVector::zeros(0);
+        let mut step = self.solve_rows(options)?;
+        step.clearance_dropped = true;
+        Ok(step)
+    }
+
+    fn solve_rows(&mut self, options: &IkOptions) -> Result<IkStep, RobotError> {
         let nv = self.nv;
         if self.lo.iter().zip(&self.hi).any(|(l, h)| l > h) {
             // A joint's bounds cross (it is past a limit faster than the bounds allow).
@@ -393,15 +476,18 @@ impl IkWorkspace {
                 q_ss: vec![0.0; nv],
                 contact_residual: 0.0,
                 bound_violation: 0.0,
+                clearance_dropped: false,
                 answer_from: IkAnswerFrom::Dense,
             });
         }
         if options.solver == IkSolver::Dense {
-            let rep = self.dense.solve(
+            let rep = self.dense.solve_with_rows(
                 &self.p,
                 &self.c,
                 &self.a_eq,
                 &self.b_eq,
+                &self.g_rows,
+                &self.h_rows,
                 &self.lo,
                 &self.hi,
                 &DenseQpOptions::default(),
@@ -412,6 +498,7 @@ impl IkWorkspace {
                     q_ss: self.dense.solution().to_vec(),
                     contact_residual: rep.equality_residual,
                     bound_violation: rep.bound_violation.max(0.0),
+                    clearance_dropped: false,
                     answer_from: IkAnswerFrom::Dense,
                 });
             }
@@ -428,7 +515,7 @@ impl IkWorkspace {
     /// let m = Model::from_urdf_str(stance_robot::SMALL_HUMANOID_URDF, &Default::default()).unwrap();
     /// let (mut ws, mut d) = (IkWorkspace::new(&m), Data::new(&m));
     /// let tasks = IkTasks { contacts: &[], links: &[], hard_links: &[], posture: None,
-    ///     com: PointReference::hold(nalgebra::Vector3::zeros()) };
+    ///     distances: &[], com: PointReference::hold(nalgebra::Vector3::zeros()) };
     /// let step = ws.step(&m, &mut d, &m.neutral(), &vec![0.0; m.nv], &tasks, 0.01,
     ///     &IkOptions::default()).unwrap();
     /// assert_eq!(step.status, IkStatus::Solved);
@@ -467,11 +554,16 @@ impl IkWorkspace {
                 rows.push((k, -1.0, -self.lo[k]));
             }
         }
-        let mut g = DMatrix::zeros(rows.len(), nv);
-        let mut h = DVector::zeros(rows.len());
+        let nb = rows.len();
+        let mut g = DMatrix::zeros(nb + self.g_rows.nrows(), nv);
+        let mut h = DVector::zeros(nb + self.g_rows.nrows());
         for (r, (k, sign, bound)) in rows.into_iter().enumerate() {
             g[(r, k)] = sign;
             h[r] = bound;
+        }
+        for r in 0..self.g_rows.nrows() {
+            g.row_mut(nb + r).copy_from(&self.g_rows.row(r));
+            h[nb + r] = self.h_rows[r];
         }
         IkQp {
             p: self.p.clone(),
@@ -546,6 +638,7 @@ fn plain_tasks<'a>(
         links,
         hard_links: &[],
         posture: None,
+        distances: &[],
     }
 }
 

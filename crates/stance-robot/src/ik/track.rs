@@ -115,6 +115,7 @@ pub fn track_path(
             links: &links,
             hard_links: &[],
             posture: None,
+            distances: &[],
         };
         let step = ws.step(model, &mut data, &q, &q_s, &tasks, ds, options)?;
         // certificates at this sample (data holds the kinematics of q)

@@ -31,6 +31,9 @@ pub struct EnvSurface {
     pub shape: ShapeSpec,
     /// Friction coefficient.
     pub friction: f64,
+    /// Thickness of its solid below the surface (m; the file's, else the default of
+    /// [`super::collision::default_thickness`], set by the plan).
+    pub thickness: f64,
 }
 
 /// How well a robot surface lies on an environment surface (all in metres or radians; each is
@@ -101,7 +104,7 @@ impl EnvSurface {
     /// use stance_contact::scene::ShapeSpec;
     /// let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3], rpy: None,
     ///     rotation: None, shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 },
-    ///     friction: 0.9 };
+    ///     friction: 0.9, thickness: None };
     /// assert_eq!(EnvSurface::new(&spec).unwrap().polygon.len(), 4);
     /// ```
     pub fn new(spec: &EnvironmentSurfaceSpec) -> Result<Self, StanceError> {
@@ -143,12 +146,23 @@ impl EnvSurface {
             &Default::default(),
         )
         .map_err(|e| StanceError::BadMotion(format!("{what}: {e}")))?;
+        let thickness = match spec.thickness {
+            None => super::collision::MIN_SOLID_THICKNESS,
+            Some(t) if t.is_finite() && t > 0.0 && t <= crate::tol::MAX_SOLID_THICKNESS => t,
+            Some(t) => {
+                return Err(StanceError::BadMotion(format!(
+                    "{what}: thickness is {t}; give the depth of its solid in metres, in (0, {}]",
+                    crate::tol::MAX_SOLID_THICKNESS
+                )))
+            }
+        };
         Ok(Self {
             name: spec.name.clone(),
             pose,
             polygon,
             shape: spec.shape.clone(),
             friction: spec.friction,
+            thickness,
         })
     }
 
@@ -158,7 +172,7 @@ impl EnvSurface {
     /// # use stance::motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
     /// # use stance_contact::scene::ShapeSpec;
     /// # let spec = EnvironmentSurfaceSpec { name: "step".into(), position: [0.3, 0.0, 0.24],
-    /// #     rpy: None, rotation: None, friction: 0.9,
+    /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
     /// #     shape: ShapeSpec::Rectangle { half_length: 0.15, half_width: 0.5 } };
     /// let step = EnvSurface::new(&spec).unwrap();
     /// let p = step.placement([0.0, -0.1], 0.0);
@@ -179,7 +193,7 @@ impl EnvSurface {
     /// # use stance::motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
     /// # use stance_contact::scene::ShapeSpec;
     /// # let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3],
-    /// #     rpy: None, rotation: None, friction: 0.9,
+    /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
     /// #     shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 } };
     /// let floor = EnvSurface::new(&spec).unwrap();
     /// let foot = stance_robot::Pose::from_xyz_rpy([0.1, 0.2, 3e-5], [1e-5, -2e-5, 0.3]);
@@ -201,7 +215,7 @@ impl EnvSurface {
     /// # use stance::motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
     /// # use stance_contact::scene::ShapeSpec;
     /// # let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3],
-    /// #     rpy: None, rotation: None, friction: 0.9,
+    /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
     /// #     shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 } };
     /// let floor = EnvSurface::new(&spec).unwrap();
     /// let sole = [[0.1, 0.05], [-0.1, 0.05], [-0.1, -0.05], [0.1, -0.05]];

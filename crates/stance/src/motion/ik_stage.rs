@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 use nalgebra::{Matrix6xX, Vector3};
 use stance_robot::{
     center_of_mass, forward_kinematics, frame_jacobian, frame_placement, integrate,
-    path_terms_from_data, ContactHold, Data, IkAnswerFrom, IkOptions, IkStatus, IkTasks,
-    IkWorkspace, JointBounds, PathTerms, Pose, ReferenceFrame,
+    path_terms_from_data, ContactHold, Data, DistanceBound, IkAnswerFrom, IkOptions, IkStatus,
+    IkTasks, IkWorkspace, JointBounds, PathTerms, Pose, ReferenceFrame,
 };
 
 use super::environment::{polygon_of, OnSurface};
@@ -84,6 +84,9 @@ pub struct SegmentPath {
     pub max_joint_violation: f64,
     /// Steps answered by the Clarabel fallback rather than the dense solver.
     pub fallbacks: usize,
+    /// Steps whose clearance rows made the QP infeasible, solved without them (a hard task, a
+    /// landing link's path, drives a body into a solid: the collision check reports it).
+    pub clearance_dropped: usize,
     /// Wall time of the IK (the paper's `T_IK`).
     pub elapsed: Duration,
 }
@@ -271,8 +274,11 @@ pub fn run_segment(
         max_contact_rotation: 0.0,
         max_joint_violation: 0.0,
         fallbacks: 0,
+        clearance_dropped: 0,
         elapsed: Duration::ZERO,
     };
+    let mut watch = ClearanceWatch::new(plan, &out);
+    let mut distances = Vec::new();
     let (mut q, mut q_s) = (q.to_vec(), q_s.to_vec());
     let ds = length / n as f64;
     let (mut soft, mut hard) = (Vec::new(), Vec::new());
@@ -297,12 +303,14 @@ pub fn run_segment(
         }
         let mut com = out.references.com_at(s);
         com.p_ss = out.references.com_at(mid).p_ss;
+        watch.rows(plan, &mut ws.data, &q, &mut distances)?;
         let tasks = IkTasks {
             contacts: &holds,
             com,
             links: &soft,
             hard_links: &hard,
             posture: Some(&plan.robot.posture),
+            distances: &distances,
         };
         let step = ws
             .ik
@@ -332,6 +340,9 @@ pub fn run_segment(
         if step.answer_from == IkAnswerFrom::Clarabel {
             out.fallbacks += 1;
         }
+        if step.clearance_dropped {
+            out.clearance_dropped += 1;
+        }
         let terms = path_terms_from_data(&ws.data, &q_s, &step.q_ss);
         let terms_left = match out.samples.last() {
             Some(prev) => path_terms_from_data(&ws.data, &q_s, &prev.q_ss),
@@ -359,6 +370,78 @@ pub fn run_segment(
     }
     out.elapsed = t0.elapsed();
     Ok(out)
+}
+
+/// The clearances of one segment's IK ([`super::collision`]): which robot bodies keep their
+/// distance from which solids, and how much.
+struct ClearanceWatch {
+    /// Watched bodies (indices in the collision model): every capsule, and the boxes of the
+    /// surfaces neither held nor landing in the segment (a landing link's path is a hard task).
+    bodies: Vec<usize>,
+    clearance: f64,
+}
+
+impl ClearanceWatch {
+    fn new(plan: &MotionPlan, path: &SegmentPath) -> Self {
+        use super::collision::BodyKind;
+        let landing: Vec<usize> = path
+            .references
+            .links
+            .iter()
+            .filter(|l| l.legs.iter().any(|leg| leg.landing))
+            .map(|l| l.surface)
+            .collect();
+        let held: Vec<usize> = path.contacts.iter().map(|c| c.surface).collect();
+        let bodies = plan
+            .collision
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| match b.kind {
+                BodyKind::Bone { .. } => true,
+                BodyKind::Surface { surface } => {
+                    !held.contains(&surface) && !landing.contains(&surface)
+                }
+            })
+            .map(|(i, _)| i)
+            .collect();
+        Self {
+            bodies,
+            clearance: plan.spec.ik.clearance,
+        }
+    }
+
+    /// The distance rows at `q` into `out` (kinematics of `q` left in `data`).
+    fn rows(
+        &mut self,
+        plan: &MotionPlan,
+        data: &mut Data,
+        q: &[f64],
+        out: &mut Vec<DistanceBound>,
+    ) -> Result<(), StanceError> {
+        out.clear();
+        if self.bodies.is_empty() {
+            return Ok(());
+        }
+        let c = &plan.collision;
+        let ns = c.solids.len();
+        forward_kinematics(&plan.robot.model, data, q).map_err(StanceError::Robot)?;
+        let range = self.clearance + crate::tol::CLEARANCE_WATCH;
+        for &b in &self.bodies {
+            for s in 0..ns {
+                if let Some(d) = c.distance(data, b, s, range) {
+                    out.push(DistanceBound {
+                        joint: c.bodies[b].joint,
+                        point: d.point,
+                        normal: d.normal,
+                        distance: d.distance,
+                        min_distance: self.clearance,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The pose (world) of robot surface `r` in the configuration whose kinematics `data` holds.

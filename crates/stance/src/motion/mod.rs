@@ -18,7 +18,8 @@
 //!    segment), with landing speed bounds (no impacts).
 //! 5. [`trajectory`]: `q(t), v(t), a(t)` at the output time step.
 //! 6. [`checks`]: supporting forces from the model's centroidal dynamics at every sample,
-//!    contact drift, joint limits, the violation between grid points.
+//!    contact drift, joint limits, the violation between grid points; [`collision`]: the
+//!    robot's bodies against the environment's solids at every sample.
 //!
 //! Every stage is timed; the result ([`result::MotionResult`]) carries the paper's per-segment
 //! table. The paper's experiments are built in ([`experiments`]).
@@ -32,6 +33,7 @@
 
 pub mod chain;
 pub mod checks;
+pub mod collision;
 pub mod environment;
 pub mod experiments;
 pub mod ik_stage;
@@ -387,6 +389,9 @@ fn checks_info(
         }
         None => None,
     };
+    let t_collisions = Instant::now();
+    let collisions = collision::check_collisions(plan, &plan.collision, paths, samples)?;
+    let t_collisions = t_collisions.elapsed();
     let t = t0.elapsed();
     let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     Ok(ChecksInfo {
@@ -420,6 +425,10 @@ fn checks_info(
             .flat_map(|s| s.a.iter().skip(6).map(|x| x.abs()))
             .fold(0.0, f64::max),
         limits: actuators,
+        max_penetration: collisions.max_penetration,
+        collisions: collisions.collisions,
+        clearances: collisions.clearances,
+        t_collisions_ms: ms(t_collisions),
         t_checks_ms: ms(t),
         t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,
     })
@@ -456,6 +465,7 @@ fn segment_infos(
                 grid_points: r.map_or(0, |r| r.grid.len()),
                 ik_steps: path.samples.len(),
                 ik_fallbacks: path.fallbacks,
+                ik_clearance_dropped: path.clearance_dropped,
                 t_ik_ms: ms(path.elapsed),
                 t_u_ms: r.map_or(0.0, |r| ms(r.t_u)),
                 t_abc_ms: r.map_or(0.0, |r| ms(r.t_abc)),

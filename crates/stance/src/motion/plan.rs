@@ -96,6 +96,9 @@ pub struct MotionPlan {
     /// checks report the ratios to them, and the simulator's actuators saturate at their
     /// torques.
     pub actuator_limits: Option<super::limits::LimitsPlan>,
+    /// The robot's bodies and the environment's solids (the collision check, the IK's
+    /// clearance and the simulator's geometry).
+    pub collision: super::collision::CollisionModel,
     /// The file, for the options.
     pub spec: MotionSpec,
 }
@@ -188,7 +191,9 @@ impl MotionPlan {
         )?;
         let q0 = initial(&spec, &names)?;
         let limits = super::limits::LimitsPlan::new(&robot.model, &spec.limits)?;
+        let collision = super::collision::CollisionModel::new(&robot, &environment)?;
         Ok(Self {
+            collision,
             actuator_limits: limits.clone(),
             limits,
             name: spec.name.clone().unwrap_or_else(|| "motion".into()),
@@ -214,11 +219,28 @@ fn environment(spec: &MotionSpec) -> Result<Vec<EnvSurface>, StanceError> {
         }
         environment.push(EnvSurface::new(e)?);
     }
+    let defaults = super::collision::default_thickness(&environment);
+    for ((e, t), spec) in environment.iter_mut().zip(defaults).zip(&spec.environment) {
+        if spec.thickness.is_none() {
+            e.thickness = t;
+        }
+    }
     Ok(environment)
 }
 
 /// The planning, IK and retiming options, each in its range.
 fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
+    finite_in(
+        "ik.clearance",
+        spec.ik.clearance,
+        0.0,
+        crate::tol::MAX_CLEARANCE,
+        &format!(
+            "give the distance in metres the links keep from the environment, in [0, {}] \
+             (default 0.01)",
+            crate::tol::MAX_CLEARANCE
+        ),
+    )?;
     let p = &spec.planning;
     finite_in(
         "planning.area_scale",

@@ -100,6 +100,10 @@ pub struct SegmentInfo {
     pub ik_steps: usize,
     /// Steps the dense IK solver gave to Clarabel.
     pub ik_fallbacks: usize,
+    /// IK steps whose clearance rows could not all be kept (a landing link's path through a
+    /// solid), solved without them: the collision check reports what happens.
+    #[serde(default)]
+    pub ik_clearance_dropped: usize,
     /// `T_IK` (ms).
     pub t_ik_ms: f64,
     /// `T_U` (ms).
@@ -167,6 +171,21 @@ pub struct ChecksInfo {
     pub max_joint_acceleration: f64,
     /// Where each largest ratio occurs.
     pub limits: Option<LimitChecksInfo>,
+    /// Deepest penetration of a robot body into an environment solid (m; 0 without one): a
+    /// collision beyond [`crate::tol::COLLISION_PENETRATION`] (module
+    /// [`super::collision`]).
+    #[serde(default)]
+    pub max_penetration: f64,
+    /// The collisions, per robot body and environment surface, deepest first (empty: none).
+    #[serde(default)]
+    pub collisions: Vec<super::collision::CollisionInfo>,
+    /// The smallest clearance of every robot body that comes within
+    /// [`crate::tol::CLEARANCE_RANGE`] of a surface, smallest first.
+    #[serde(default)]
+    pub clearances: Vec<super::collision::ClearanceInfo>,
+    /// Time of the collision check (ms; part of `t_checks_ms`).
+    #[serde(default)]
+    pub t_collisions_ms: f64,
     /// Time of the checks (ms), and per sample (us).
     pub t_checks_ms: f64,
     /// Time per sample (us).

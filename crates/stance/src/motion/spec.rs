@@ -150,6 +150,13 @@ pub struct EnvironmentSurfaceSpec {
     pub shape: ShapeSpec,
     /// Friction coefficient of the surface (the physical one; planning may use less).
     pub friction: f64,
+    /// Thickness of the solid below the surface, along its normal (m): the collision check, the
+    /// IK's clearance and the simulator see the surface as this box (or extruded polygon).
+    /// Default ([`super::collision::default_thickness`]): an upward-facing surface reaches down
+    /// to the lowest surface's level (a step or a box is solid to the floor), at least
+    /// [`super::collision::MIN_SOLID_THICKNESS`]; any other surface (a wall) that minimum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<f64>,
 }
 
 /// The initial posture.
@@ -268,6 +275,11 @@ pub struct IkSpec {
     /// Half-width of the smoothing of the CoM polyline's corners (path units; 0.25).
     #[serde(default = "com_blend")]
     pub com_blend: f64,
+    /// Clearance (m) that the links not in contact keep from every environment solid (0.01;
+    /// module [`super::collision`]); 0 keeps them out of the solids only. A body closer than
+    /// this (a foot lifting off its surface) is pushed out gently (the IK's clearance damper).
+    #[serde(default = "clearance")]
+    pub clearance: f64,
 }
 
 impl Default for IkSpec {
@@ -281,6 +293,7 @@ impl Default for IkSpec {
             joint_range: joint_range(),
             substeps: 4,
             com_blend: com_blend(),
+            clearance: clearance(),
         }
     }
 }
@@ -447,6 +460,10 @@ fn w_link() -> f64 {
 fn w_posture() -> f64 {
     1e-5
 }
+fn clearance() -> f64 {
+    0.01
+}
+
 fn com_blend() -> f64 {
     0.25
 }

@@ -6,12 +6,14 @@
 //!   also MuJoCo's `qpos` order): the root body has a free joint, every other body one hinge or
 //!   slide joint with the URDF's axis and range, and the inertial (mass, CoM, rotational inertia
 //!   about the CoM) of the model.
-//! - **Collision geometry** is primitive (MuJoCo cannot read JVRC-1's Collada meshes): each robot
-//!   contact surface is a thin box whose face `z = 0` in the surface frame is the contact
-//!   rectangle (its thickness on the robot side), with a site at the surface frame; each link has
-//!   a capsule to each child joint (to detect unplanned contacts, e.g. a shin on a step edge);
-//!   each environment surface is a box (or an extruded convex polygon) whose top face is the
-//!   surface. Robot geoms collide only with environment geoms (no self-collision).
+//! - **Collision geometry** is primitive (MuJoCo cannot read JVRC-1's Collada meshes) and is
+//!   the plan's own collision model ([`crate::motion::collision`], which the collision check
+//!   and the IK's clearance use): each robot contact surface is a thin box whose face `z = 0`
+//!   in the surface frame is the contact rectangle (its thickness on the robot side), with a
+//!   site at the surface frame; each link has a capsule to each child joint (to detect
+//!   unplanned contacts, e.g. a shin on a step edge); each environment surface is a box (or an
+//!   extruded convex polygon) whose top face is the surface, as thick as the file's
+//!   `thickness`. Robot geoms collide only with environment geoms (no self-collision).
 //! - **Contacts**: each environment surface's own `friction` from the motion file (or
 //!   [`MjcfOptions::friction`] for every surface when given), carried by the environment geom
 //!   with a higher `priority` than the robot's so that MuJoCo uses it alone, `condim` 3
@@ -38,6 +40,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use stance_contact::scene::ShapeSpec;
 use stance_robot::{JointKind, Pose};
 
+use super::super::motion::collision::{surface_box_half_sizes, CAPSULE_RADIUS, SURFACE_THICKNESS};
 use super::super::motion::environment::polygon_of;
 use super::super::motion::plan::MotionPlan;
 use super::super::motion::robot::bones;
@@ -57,8 +60,6 @@ pub struct MjcfOptions {
     pub impratio: f64,
     /// Thickness of the sole and hand boxes (m).
     pub surface_thickness: f64,
-    /// Thickness of the environment boxes (m).
-    pub environment_thickness: f64,
     /// Radius of the link capsules (m).
     pub capsule_radius: f64,
     /// Armature of every actuated joint (kg m^2, or kg for slides).
@@ -89,9 +90,8 @@ impl Default for MjcfOptions {
             friction: None,
             solref: [0.002, 1.0],
             impratio: 100.0,
-            surface_thickness: 0.02,
-            environment_thickness: 0.05,
-            capsule_radius: 0.03,
+            surface_thickness: SURFACE_THICKNESS,
+            capsule_radius: CAPSULE_RADIUS,
             armature: 0.05,
             kp: 10000.0,
             kv: 200.0,
@@ -176,7 +176,7 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
                 let _ = write!(
                     verts,
                     "{} {} 0 {} {} {} ",
-                    p[0], p[1], p[0], p[1], -o.environment_thickness
+                    p[0], p[1], p[0], p[1], -e.thickness
                 );
             }
             let _ = writeln!(
@@ -206,8 +206,8 @@ pub fn mjcf(plan: &MotionPlan, o: &MjcfOptions) -> Result<String, StanceError> {
             Some([hl, hw]) => format!(
                 "<geom name=\"{name}\" type=\"box\" size=\"{hl} {hw} {}\" pos=\"0 0 {}\" \
                  contype=\"0\" conaffinity=\"1\" {friction} rgba=\"0.7 0.7 0.65 1\"/>",
-                0.5 * o.environment_thickness,
-                -0.5 * o.environment_thickness
+                0.5 * e.thickness,
+                -0.5 * e.thickness
             ),
             None => format!(
                 "<geom name=\"{name}\" type=\"mesh\" mesh=\"{name}\" contype=\"0\" \
@@ -332,11 +332,7 @@ fn write_body(
         if f.parent_joint != i {
             continue;
         }
-        let poly = polygon_of(&s.shape, &s.name, true)?;
-        let (hl, hw) = (
-            poly.iter().map(|p| p[0].abs()).fold(1e-3, f64::max),
-            poly.iter().map(|p| p[1].abs()).fold(1e-3, f64::max),
-        );
+        let [hl, hw] = surface_box_half_sizes(&s.shape, &s.name)?;
         let gname = xml_name(&surface_geom(&s.name));
         let body_from_box = f.joint_from_frame.compose(&Pose {
             rotation: nalgebra::Matrix3::identity(),
