@@ -165,3 +165,14 @@ pub const CLEARANCE_WATCH: f64 = 0.05;
 /// Largest `ik.clearance` (m). Default 0.5 m: beyond it no leg could step; a larger value is a
 /// unit mistake.
 pub const MAX_CLEARANCE: f64 = 0.5;
+
+/// Regularization `eps` of the force check's fast path (dimensionless, against the squared
+/// norm of unit-height pyramid edges). Default 1e-6: makes the Hessian of the edge weights
+/// definite (an 8-sided pyramid's edges span three directions) while moving the forces from
+/// the minimum-norm ones by about that fraction, far below what the friction usage reports.
+pub const FAST_FORCES_REGULARIZATION: f64 = 1e-6;
+
+/// Largest number of KKT solves of the force check's fast path before it hands the sample to
+/// the slow path. Default 50: a warm-started sample takes one to three; an infeasible sample
+/// cycles, and the slow path certifies it.
+pub const FAST_FORCES_MAX_ITERATIONS: usize = 50;

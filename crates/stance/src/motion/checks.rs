@@ -12,7 +12,9 @@
 //! [`stance_contact::supporting_forces`] (face-form pyramids, Clarabel) decides it, independently
 //! of the double description and of eq. 14. Of its forces, per contact, the resultant `F` in the
 //! contact frame gives the friction usage `|F_t| / (mu F_n)` (Euclidean: up to `sqrt 2` inside
-//! the outer pyramid) and the normal force `F_n`.
+//! the outer pyramid) and the normal force `F_n`. The QP is first solved in the pyramids' span
+//! form by the dense active-set solver, warm-started from the previous sample
+//! ([`super::fast_forces`]); a sample it cannot certify goes to the Clarabel solve above.
 //!
 //! **Between grid points.** At every IK sample (grid points included), with the profile's
 //! constant `u_i` on the grid interval `[s_i, s_i+1]` that contains it and `x = x_i + 2 u_i (s -
@@ -28,6 +30,7 @@ use stance_contact::{supporting_forces, ForcesOutcome};
 use stance_robot::{centroidal_map_dot_v, forward_kinematics, frame_placement, Data};
 
 use super::chain::Retimed;
+use super::fast_forces::FastForces;
 use super::ik_stage::SegmentPath;
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
@@ -39,6 +42,8 @@ use crate::StanceError;
 pub struct SampleCheck {
     /// Forces exist (the QP's outcome is feasible).
     pub forces: bool,
+    /// The slow path (Clarabel) decided it: the fast path could not certify forces.
+    pub slow: bool,
     /// Largest `|F_t| / (mu F_n)` over the contacts.
     pub friction_usage: f64,
     /// Smallest normal force over the contacts (N).
@@ -124,23 +129,38 @@ pub fn check_samples(
     samples
         .par_iter()
         .map_init(
-            || Data::new(m),
-            |data, smp| {
+            || (Data::new(m), FastForces::new()),
+            |(data, fast), smp| {
                 let w = w_gi_of(m, data, &smp.q, &smp.v, &smp.a, plan.gravity)?;
                 let stance = stances[smp.segment];
-                let f = supporting_forces(stance, &w, &tol)?;
+                // the fast path, else the slow one (module doc)
+                let (forces, resultants, slow) =
+                    match fast.resultants(stance, &w, tol.qp_max_residual) {
+                        Some(r) => (true, r, false),
+                        None => {
+                            let f = supporting_forces(stance, &w, &tol)?;
+                            let r = f
+                                .contacts
+                                .iter()
+                                .map(|cf| {
+                                    let mut sum = [0.0; 3];
+                                    for fl in &cf.forces_local {
+                                        for k in 0..3 {
+                                            sum[k] += fl[k];
+                                        }
+                                    }
+                                    sum
+                                })
+                                .collect();
+                            (f.outcome == ForcesOutcome::Feasible, r, true)
+                        }
+                    };
                 // below this a contact force is zero (round-off of the QP)
                 let zero =
                     crate::tol::ZERO_FORCE * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
                 let mut usage = 0.0f64;
                 let mut normal = f64::INFINITY;
-                for (c, cf) in stance.contacts().iter().zip(&f.contacts) {
-                    let mut sum = [0.0; 3];
-                    for fl in &cf.forces_local {
-                        for k in 0..3 {
-                            sum[k] += fl[k];
-                        }
-                    }
+                for (c, sum) in stance.contacts().iter().zip(&resultants) {
                     normal = normal.min(sum[2]);
                     let mu = c.friction();
                     let ft = sum[0].hypot(sum[1]);
@@ -167,7 +187,8 @@ pub fn check_samples(
                     }
                 }
                 Ok(SampleCheck {
-                    forces: f.outcome == ForcesOutcome::Feasible,
+                    forces,
+                    slow,
                     friction_usage: usage,
                     min_normal_force: normal,
                     contact_drift: drift,

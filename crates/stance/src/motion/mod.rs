@@ -36,6 +36,7 @@ pub mod checks;
 pub mod collision;
 pub mod environment;
 pub mod experiments;
+pub mod fast_forces;
 pub mod ik_stage;
 pub mod limit_checks;
 pub mod limits;
@@ -397,6 +398,7 @@ fn checks_info(
     Ok(ChecksInfo {
         samples: c.len(),
         samples_without_forces: c.iter().filter(|x| !x.forces).count(),
+        slow_force_samples: c.iter().filter(|x| x.slow).count(),
         first_without_forces: c
             .iter()
             .zip(samples)

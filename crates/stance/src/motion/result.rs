@@ -138,7 +138,11 @@ pub struct ChecksInfo {
     pub samples: usize,
     /// Samples where the force QP finds no supporting forces.
     pub samples_without_forces: usize,
-    /// Times of the first such samples (at most 20).
+    /// Samples the force check's fast path could not certify, decided by the slow path
+    /// (Clarabel): the infeasible ones, and any the fast path failed on.
+    #[serde(default)]
+    pub slow_force_samples: usize,
+    /// Times of the first samples without supporting forces (at most 20).
     pub first_without_forces: Vec<f64>,
     /// Largest `|F_t| / (mu F_n)` of a contact's resultant.
     pub max_friction_usage: f64,
