@@ -254,7 +254,7 @@ pub fn run_segment(
     let m = &plan.robot.model;
     forward_kinematics(m, &mut ws.data, q).map_err(StanceError::Robot)?;
     let contacts = placed_contacts(plan, k, previous, &ws.data)?;
-    let references = segment_references(plan, k, com, s_offset, previous, &ws.data)?;
+    let references = segment_references(plan, k, com, s_offset, previous, &ws.data, q_s)?;
     let options = ik_options(plan, k);
     let holds: Vec<ContactHold> = contacts
         .iter()
@@ -492,6 +492,31 @@ fn placed_contacts(
     Ok(contacts)
 }
 
+/// The path rate `J q_s` (linear, angular; world axes) of robot surface `r` in the
+/// configuration whose kinematics `data` holds.
+fn path_rate(
+    plan: &MotionPlan,
+    data: &Data,
+    q_s: &[f64],
+    r: usize,
+) -> Result<[Vector3<f64>; 2], StanceError> {
+    let m = &plan.robot.model;
+    let mut jac = Matrix6xX::zeros(m.nv);
+    frame_jacobian(
+        m,
+        data,
+        plan.robot.surfaces[r].frame,
+        ReferenceFrame::LocalWorldAligned,
+        &mut jac,
+    )
+    .map_err(StanceError::Robot)?;
+    let v = &jac * nalgebra::DVector::from_column_slice(q_s);
+    Ok([
+        Vector3::new(v[0], v[1], v[2]),
+        Vector3::new(v[3], v[4], v[5]),
+    ])
+}
+
 /// The references of segment `k`: its knots (one per move), the CoM reference, and the legs of
 /// every free link (links that left contact are held where they are until moved).
 fn segment_references(
@@ -501,6 +526,7 @@ fn segment_references(
     s_offset: f64,
     previous: &[PlacedContact],
     data: &Data,
+    q_s: &[f64],
 ) -> Result<SegmentReferences, StanceError> {
     let seg = &plan.segments[k];
     let mut knots = vec![0.0];
@@ -516,6 +542,7 @@ fn segment_references(
             surface: r,
             frame: plan.robot.surfaces[r].frame,
             start,
+            start_rate: path_rate(plan, data, q_s, r)?,
             legs: Vec::new(),
         });
     }
@@ -532,6 +559,7 @@ fn segment_references(
                         surface: lm.surface,
                         frame: plan.robot.surfaces[lm.surface].frame,
                         start,
+                        start_rate: path_rate(plan, data, q_s, lm.surface)?,
                         legs: Vec::new(),
                     });
                     links.len() - 1
