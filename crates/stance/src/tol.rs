@@ -176,3 +176,15 @@ pub const FAST_FORCES_REGULARIZATION: f64 = 1e-6;
 /// the slow path. Default 50: a warm-started sample takes one to three; an infeasible sample
 /// cycles, and the slow path certifies it.
 pub const FAST_FORCES_MAX_ITERATIONS: usize = 50;
+
+/// Signed distance (m) at or below which a robot body touches an environment solid. Default
+/// 1 um: a foot placed on its surface sits there to the standing search's and the IK's
+/// residuals (1e-10 m), not exactly at 0.
+pub const TOUCH_DISTANCE: f64 = 1e-6;
+
+/// Shortest unplanned touch (s) the collision check reports: a robot body within
+/// [`TOUCH_DISTANCE`] of a solid it is not held on, for this long. Default 0.05 s: a lift-off or a
+/// landing touches for at most 16 ms in the built-in and gallery motions that hold in MuJoCo
+/// (measured at 1 ms), while a swing foot that the plan leaves on the floor for 0.86 s (the
+/// gallery's Talos step up) is what the simulator reports as leaning on an unplanned contact.
+pub const UNPLANNED_TOUCH_TIME: f64 = 0.05;

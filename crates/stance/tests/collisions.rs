@@ -160,6 +160,7 @@ fn collisions(run: &MotionRun) -> CollisionCheck {
         clearances: c.clearances.clone(),
         collisions: c.collisions.clone(),
         max_penetration: c.max_penetration,
+        touches: c.unplanned_touches.clone(),
     }
 }
 
@@ -315,4 +316,63 @@ fn distances_agree_with_sampled_faces() {
         compared += 1;
     }
     assert!(compared >= 5, "only {compared} samples compared");
+}
+
+/// A foot on the floor that the plan does not hold there is an unplanned touch for as long as it
+/// stays: the check is given a standing motion's samples with the right foot taken out of the
+/// stance (the IK itself lifts a free foot off its surface to its clearance, and holds a
+/// landing foot's path, which can dwell on the floor). The routed step down's lift-off and
+/// landing touch only briefly and are not reported.
+#[test]
+fn a_foot_on_the_floor_but_not_in_the_stance_is_an_unplanned_touch() {
+    let text = r#"
+name = "crouch"
+robot = "small-humanoid"
+[[environment]]
+name = "floor"
+position = [0.0, 0.0, 0.0]
+shape = { rectangle = { half_length = 1.0, half_width = 1.0 } }
+friction = 0.9
+[initial.standing]
+com_height = 0.9
+contacts = { LF = { surface = "floor", at = [0.0, 0.1] }, RF = { surface = "floor", at = [0.0, -0.1] } }
+[[segments]]
+name = "crouch"
+stance = { LF = "floor", RF = "floor" }
+moves = [{ com = { by = [0.0, 0.0, -0.03] } }]
+"#;
+    let run = run(toml::from_str(text).unwrap());
+    assert!(run
+        .result
+        .checks
+        .as_ref()
+        .unwrap()
+        .unplanned_touches
+        .is_empty());
+    let plan = &run.plan;
+    let rf = plan
+        .robot
+        .surfaces
+        .iter()
+        .position(|x| x.name == "RF")
+        .unwrap();
+    let mut paths = run.paths.clone();
+    paths[0].contacts.retain(|c| c.surface != rf);
+    let c =
+        stance::motion::collision::check_collisions(plan, &plan.collision, &paths, &run.samples)
+            .unwrap();
+    let touch = &c.touches[0];
+    eprintln!("{touch:?}");
+    assert_eq!(
+        (touch.body.as_str(), touch.surface.as_str(), touch.segment),
+        ("surface:RF", "floor", 1)
+    );
+    let duration = run.result.duration.unwrap();
+    assert!(
+        (touch.duration - duration).abs() < 1e-9,
+        "{} of {duration}",
+        touch.duration
+    );
+    let routed = run_full(step_down([0.0; 3], ROUTED, ""), &RunOptions::default()).unwrap();
+    assert!(routed.result.checks.unwrap().unplanned_touches.is_empty());
 }

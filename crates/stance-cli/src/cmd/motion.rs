@@ -229,6 +229,13 @@ pub fn table(r: &MotionResult) -> String {
                 }
             }
         }
+        for k in &c.unplanned_touches {
+            let _ = writeln!(
+                o,
+                "  unplanned touch: {} on {} for {:.3} s from t = {:.3} s (segment {}, {})",
+                k.body, k.surface, k.duration, k.t, k.segment, k.segment_name
+            );
+        }
     }
     if let Some(fl) = &r.failure {
         let _ = writeln!(o, "  failure: {}: {}", fl.status, fl.reason);

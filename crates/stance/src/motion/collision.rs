@@ -33,6 +33,11 @@
 //! surface held in the sample's segment against the surface it is on. A signed distance below
 //! `-`[`crate::tol::COLLISION_PENETRATION`] is a collision, reported with the body, the surface,
 //! the time and the segment; the smallest distance of each body is reported as its clearance.
+//! A body that touches a solid (signed distance at most [`crate::tol::TOUCH_DISTANCE`]) it is
+//! not held on for at least
+//! [`crate::tol::UNPLANNED_TOUCH_TIME`] is an unplanned touch: within the penetration tolerance,
+//! but what the simulator sees as an unplanned contact that may carry load (a foot that the plan
+//! leaves on the floor after its stance ends).
 
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -386,6 +391,24 @@ pub struct CollisionInfo {
     pub segment_name: String,
 }
 
+/// An unplanned touch: a robot body in contact with (within [`crate::tol::TOUCH_DISTANCE`] of)
+/// an environment solid it is not held on, for at least [`crate::tol::UNPLANNED_TOUCH_TIME`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TouchInfo {
+    /// The body.
+    pub body: String,
+    /// The environment surface.
+    pub surface: String,
+    /// How long (s): from its first touching sample to the first sample after.
+    pub duration: f64,
+    /// When it starts (s).
+    pub t: f64,
+    /// The segment where it starts (number, from 1).
+    pub segment: usize,
+    /// The segment's name.
+    pub segment_name: String,
+}
+
 /// What the collision check found.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct CollisionCheck {
@@ -396,6 +419,8 @@ pub struct CollisionCheck {
     pub collisions: Vec<CollisionInfo>,
     /// Deepest penetration of a checked pair (m; 0 without contact).
     pub max_penetration: f64,
+    /// The longest unplanned touch of each (body, surface) that lasts, longest first.
+    pub touches: Vec<TouchInfo>,
 }
 
 /// The collision check at every sample (module doc), in parallel.
@@ -440,8 +465,31 @@ pub fn check_collisions(
     let mut best: Vec<Option<(usize, usize, f64)>> = vec![None; nb]; // (sample, solid, d)
     let mut hits: Vec<Option<CollisionInfo>> = vec![None; nb * ns];
     let mut max_penetration = 0.0f64;
+    // per pair: the sample where the current touch started, and the longest touch so far
+    let mut open: Vec<Option<usize>> = vec![None; nb * ns];
+    let mut longest: Vec<Option<(usize, f64)>> = vec![None; nb * ns];
+    let mut touching = vec![false; nb * ns];
     for (i, pairs) in per_sample.iter().enumerate() {
         let smp = &samples[i];
+        touching.iter_mut().for_each(|x| *x = false);
+        for &(b, s, d) in pairs {
+            if d <= crate::tol::TOUCH_DISTANCE {
+                touching[b * ns + s] = true;
+            }
+        }
+        for k in 0..nb * ns {
+            match (open[k], touching[k]) {
+                (None, true) => open[k] = Some(i),
+                (Some(start), false) => {
+                    let duration = smp.t - samples[start].t;
+                    if longest[k].is_none_or(|(_, l)| duration > l) {
+                        longest[k] = Some((start, duration));
+                    }
+                    open[k] = None;
+                }
+                _ => {}
+            }
+        }
         for &(b, s, d) in pairs {
             if best[b].is_none_or(|(_, _, x)| d < x) {
                 best[b] = Some((i, s, d));
@@ -469,6 +517,36 @@ pub fn check_collisions(
             }
         }
     }
+    if let Some(last) = samples.last() {
+        for k in 0..nb * ns {
+            if let Some(start) = open[k] {
+                let duration = last.t - samples[start].t;
+                if longest[k].is_none_or(|(_, l)| duration > l) {
+                    longest[k] = Some((start, duration));
+                }
+            }
+        }
+    }
+    let mut touches: Vec<TouchInfo> = longest
+        .iter()
+        .enumerate()
+        .filter_map(|(k, x)| {
+            let (start, duration) = (*x)?;
+            if duration < crate::tol::UNPLANNED_TOUCH_TIME {
+                return None;
+            }
+            let (segment, segment_name) = seg(samples[start].segment);
+            Some(TouchInfo {
+                body: model.bodies[k / ns].name.clone(),
+                surface: plan.environment[k % ns].name.clone(),
+                duration,
+                t: samples[start].t,
+                segment,
+                segment_name,
+            })
+        })
+        .collect();
+    touches.sort_by(|a, b| b.duration.total_cmp(&a.duration));
     let mut clearances: Vec<ClearanceInfo> = best
         .iter()
         .enumerate()
@@ -493,5 +571,6 @@ pub fn check_collisions(
         clearances,
         collisions,
         max_penetration,
+        touches,
     })
 }

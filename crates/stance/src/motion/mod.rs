@@ -430,6 +430,7 @@ fn checks_info(
         max_penetration: collisions.max_penetration,
         collisions: collisions.collisions,
         clearances: collisions.clearances,
+        unplanned_touches: collisions.touches,
         t_collisions_ms: ms(t_collisions),
         t_checks_ms: ms(t),
         t_per_sample_us: ms(t) * 1e3 / c.len().max(1) as f64,

@@ -187,6 +187,9 @@ pub struct ChecksInfo {
     /// [`crate::tol::CLEARANCE_RANGE`] of a surface, smallest first.
     #[serde(default)]
     pub clearances: Vec<super::collision::ClearanceInfo>,
+    /// Unplanned touches that last ([`crate::tol::UNPLANNED_TOUCH_TIME`]), longest first.
+    #[serde(default)]
+    pub unplanned_touches: Vec<super::collision::TouchInfo>,
     /// Time of the collision check (ms; part of `t_checks_ms`).
     #[serde(default)]
     pub t_collisions_ms: f64,
