@@ -188,3 +188,9 @@ pub const TOUCH_DISTANCE: f64 = 1e-6;
 /// (measured at 1 ms), while a swing foot that the plan leaves on the floor for 0.86 s (the
 /// gallery's Talos step up) is what the simulator reports as leaning on an unplanned contact.
 pub const UNPLANNED_TOUCH_TIME: f64 = 0.05;
+
+/// Margin of the torque check's pruning (a ratio): a sample whose upper bound is below the
+/// largest exact ratio by more than this is not solved exactly. Default 1e-6: the bound's forces
+/// balance the base within the force check's residual (relative 1e-6), which the exact program
+/// also allows; a sample within the margin is solved.
+pub const TORQUE_BOUND_MARGIN: f64 = 1e-6;

@@ -471,3 +471,97 @@ fn talos_from_example_robot_data_keeps_its_limits() {
         }
     }
 }
+
+/// The torque check solves its linear program only where a sample's upper bound (the force
+/// check's fast forces) may exceed the largest exact ratio (module `limit_checks`): the largest
+/// ratio equals the exhaustive one (the program at every sample), at 1 ms, on the small humanoid
+/// with its URDF's efforts as retimed and 1.3 times faster (where the limits break) and, with
+/// JVRC-1, on the gallery's hand on a wall (three contacts); and most samples with supporting
+/// forces are not solved (those without are, to say so).
+#[test]
+fn the_torque_check_prunes_to_the_exhaustive_largest_ratio() {
+    use stance::motion::limit_checks::{check_limits, exact_torque_ratio};
+    let mut cases: Vec<(String, MotionSpec, Option<PathBuf>, f64)> = vec![
+        ("small-sway".into(), sway(), None, 1.0),
+        ("small-sway x1.3".into(), sway(), None, 1.3),
+    ];
+    let root = root();
+    if stance::stance_robot::jvrc1::locate_urdf(Some(&root)).is_ok() {
+        let path = root.join("gallery").join("hand-on-wall.toml");
+        let spec: MotionSpec = stance::input::read_file(&path).unwrap();
+        cases.push((
+            "hand-on-wall".into(),
+            spec,
+            path.parent().map(Path::to_path_buf),
+            1.0,
+        ));
+    }
+    for (name, mut spec, base_dir, k) in cases {
+        spec.retiming.dt = 0.001;
+        let run = stance::motion::run_full(
+            spec,
+            &RunOptions {
+                base_dir,
+                skip_checks: true,
+                time_scale: Some(k),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let plan = &run.plan;
+        let lp = plan.actuator_limits.as_ref().unwrap();
+        let stances: Vec<&stance_contact::Stance> = run.rows.iter().map(|r| &r.stance).collect();
+        let contacts: Vec<Vec<(usize, stance::stance_robot::Pose)>> = run
+            .paths
+            .iter()
+            .map(|p| {
+                p.contacts
+                    .iter()
+                    .map(|c| (plan.robot.surfaces[c.surface].frame, c.pose))
+                    .collect()
+            })
+            .collect();
+        let pruned = check_limits(plan, lp, &stances, &contacts, &run.samples).unwrap();
+        let mut exhaustive = 0.0f64;
+        let mut bound_below = 0;
+        for (smp, x) in run.samples.iter().zip(&pruned) {
+            let exact =
+                exact_torque_ratio(plan, lp, stances[smp.segment], &contacts[smp.segment], smp)
+                    .unwrap();
+            if let Some((r, _)) = exact {
+                exhaustive = exhaustive.max(r);
+                // a bound is a bound
+                if x.torque_ratio < r - 1e-6 {
+                    bound_below += 1;
+                }
+            } else {
+                assert!(x.torque_ratio.is_nan(), "{name} t = {}", smp.t);
+            }
+        }
+        let largest = pruned
+            .iter()
+            .filter(|x| !x.torque_ratio.is_nan())
+            .map(|x| x.torque_ratio)
+            .fold(0.0f64, f64::max);
+        // samples without supporting forces are solved exactly (the program says so)
+        let with_forces = pruned.iter().filter(|x| !x.torque_ratio.is_nan()).count();
+        let solved = pruned
+            .iter()
+            .filter(|x| x.torque_exact && !x.torque_ratio.is_nan())
+            .count();
+        eprintln!(
+            "{name}: largest torque ratio {largest:.9} (exhaustive {exhaustive:.9}), {solved} of \
+             the {with_forces} samples with forces solved exactly ({} samples)",
+            pruned.len()
+        );
+        assert_eq!(
+            bound_below, 0,
+            "{name}: an upper bound below the exact ratio"
+        );
+        assert!(
+            (largest - exhaustive).abs() <= 1e-12,
+            "{name}: {largest} against {exhaustive}"
+        );
+        assert!(solved * 2 < with_forces, "{name}: {solved} solved");
+    }
+}

@@ -52,28 +52,27 @@ impl FastForces {
         Self::default()
     }
 
-    /// Each contact's resultant force (contact frame, N) of supporting forces that hold
-    /// `w_gi` (the gravito-inertial wrench at the world origin), when the fast path certifies
-    /// them; `None` otherwise (infeasible, or not certified: use the slow path).
+    /// Each contact's wrench (contact frame: force, then moment about the frame's origin; N and
+    /// N m) of supporting forces that hold `w_gi`, when the fast path certifies them; `None`
+    /// otherwise ([`Self::resultants`]).
     ///
     /// ```
     /// use stance_contact::{examples, w_gi_static};
     /// use stance::motion::fast_forces::FastForces;
     /// let scene = examples::single_support_flat();
     /// let stance = scene.stance().unwrap();
-    /// let mut fast = FastForces::new();
-    /// let f = fast.resultants(&stance, &w_gi_static(30.0, scene.gravity, [0.0, 0.0, 0.8]),
-    ///     1e-6).unwrap();
-    /// assert!((f[0][2] - 30.0 * 9.81).abs() < 1e-4);
-    /// assert!(fast.resultants(&stance, &w_gi_static(30.0, scene.gravity, [0.2, 0.0, 0.8]),
-    ///     1e-6).is_none());
+    /// let w = FastForces::new()
+    ///     .wrenches(&stance, &w_gi_static(30.0, scene.gravity, [0.0, 0.0, 0.8]), 1e-6)
+    ///     .unwrap();
+    /// // the CoM above the contact's origin: no moment about it
+    /// assert!(w[0][3].abs() < 1e-6 && w[0][4].abs() < 1e-6);
     /// ```
-    pub fn resultants(
+    pub fn wrenches(
         &mut self,
         stance: &Stance,
         w_gi: &[f64; 6],
         max_residual: f64,
-    ) -> Option<Vec<[f64; 3]>> {
+    ) -> Option<Vec<[f64; 6]>> {
         if w_gi.iter().any(|x| !x.is_finite()) {
             return None;
         }
@@ -184,16 +183,54 @@ impl FastForces {
             self.qp.reset();
             return None;
         }
-        let mut out = vec![[0.0; 3]; contacts.len()];
+        let mut out = vec![[0.0; 6]; contacts.len()];
         let mut col = 0;
+        let mut vertex = vec![0usize; contacts.len()];
         for (i, _) in &points {
+            let v = contacts[*i].vertices_local()[vertex[*i]];
+            vertex[*i] += 1;
+            let mut f = [0.0; 3];
             for (u, e) in edges[*i].iter().enumerate() {
                 for k in 0..3 {
-                    out[*i][k] += lambda[col + u] * e[k] * scale;
+                    f[k] += lambda[col + u] * e[k] * scale;
                 }
             }
+            // force, and its moment about the contact frame's origin (vertex at (x, y, 0))
+            let w = &mut out[*i];
+            for k in 0..3 {
+                w[k] += f[k];
+            }
+            w[3] += v[1] * f[2];
+            w[4] -= v[0] * f[2];
+            w[5] += v[0] * f[1] - v[1] * f[0];
             col += edges[*i].len();
         }
         Some(out)
+    }
+
+    /// Each contact's resultant force (contact frame, N) of supporting forces that hold
+    /// `w_gi` (the gravito-inertial wrench at the world origin), when the fast path certifies
+    /// them; `None` otherwise (infeasible, or not certified: use the slow path).
+    ///
+    /// ```
+    /// use stance_contact::{examples, w_gi_static};
+    /// use stance::motion::fast_forces::FastForces;
+    /// let scene = examples::single_support_flat();
+    /// let stance = scene.stance().unwrap();
+    /// let mut fast = FastForces::new();
+    /// let f = fast.resultants(&stance, &w_gi_static(30.0, scene.gravity, [0.0, 0.0, 0.8]),
+    ///     1e-6).unwrap();
+    /// assert!((f[0][2] - 30.0 * 9.81).abs() < 1e-4);
+    /// assert!(fast.resultants(&stance, &w_gi_static(30.0, scene.gravity, [0.2, 0.0, 0.8]),
+    ///     1e-6).is_none());
+    /// ```
+    pub fn resultants(
+        &mut self,
+        stance: &Stance,
+        w_gi: &[f64; 6],
+        max_residual: f64,
+    ) -> Option<Vec<[f64; 3]>> {
+        self.wrenches(stance, w_gi, max_residual)
+            .map(|w| w.iter().map(|x| [x[0], x[1], x[2]]).collect())
     }
 }

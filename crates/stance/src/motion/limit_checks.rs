@@ -23,6 +23,14 @@
 //! same cones, projected by the crate's own simplex): `t` is the smallest largest torque ratio
 //! the contacts allow at that sample (`<= 1` when the torque limits hold). A sample where no
 //! forces balance the base rows reports no ratio (the force check counts it).
+//!
+//! **Only the largest ratio is reported**, so the linear program runs where it can matter: at
+//! every sample the force check's fast path ([`super::fast_forces`]) gives forces that balance
+//! the base (the same cones; the base rows are the centroidal Newton-Euler equations), whose
+//! ratio bounds `t` from above; the samples are then solved exactly in decreasing order of their
+//! bounds until a bound falls below the largest exact ratio found (less
+//! [`crate::tol::TORQUE_BOUND_MARGIN`]). A sample whose forces the fast path cannot certify is
+//! solved exactly. The other samples keep their bound ([`LimitSample::torque_exact`]).
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -33,6 +41,7 @@ use rayon::prelude::*;
 use stance_contact::Stance;
 use stance_robot::{frame_jacobian, rnea, Data, Model, Pose, ReferenceFrame};
 
+use super::fast_forces::FastForces;
 use super::limits::{contact_jacobian, LimitsPlan};
 use super::plan::MotionPlan;
 use super::trajectory::TrajectorySample;
@@ -54,6 +63,9 @@ pub struct LimitSample {
     pub torque_ratio: f64,
     /// Its joint.
     pub torque_joint: usize,
+    /// `torque_ratio` is the linear program's value; `false`: an upper bound of it, below the
+    /// largest ratio of the motion (module doc).
+    pub torque_exact: bool,
     /// Largest `|a_j|` over the actuated joints (rad/s^2 or m/s^2).
     pub max_abs_acceleration: f64,
 }
@@ -231,11 +243,12 @@ pub fn check_limits(
     samples: &[TrajectorySample],
 ) -> Result<Vec<LimitSample>, StanceError> {
     let m = &plan.robot.model;
-    samples
+    let tol = stance_contact::tol::ContactTolerances::default();
+    let mut out: Vec<LimitSample> = samples
         .par_iter()
         .map_init(
-            || Data::new(m),
-            |data, smp| {
+            || (Data::new(m), FastForces::new(), Matrix6xX::zeros(m.nv)),
+            |(data, fast, jac), smp| {
                 let mut out = LimitSample {
                     velocity_ratio: 0.0,
                     velocity_joint: 0,
@@ -243,6 +256,7 @@ pub fn check_limits(
                     acceleration_joint: 0,
                     torque_ratio: 0.0,
                     torque_joint: 0,
+                    torque_exact: true,
                     max_abs_acceleration: 0.0,
                 };
                 for (c, &iv) in lp.velocity_index.iter().enumerate() {
@@ -257,21 +271,133 @@ pub fn check_limits(
                     out.max_abs_acceleration = out.max_abs_acceleration.max(smp.a[iv].abs());
                 }
                 if lp.any_torque() {
-                    match torque_ratio(
-                        m,
-                        data,
-                        smp,
-                        plan.gravity,
-                        stances[smp.segment],
-                        &contacts[smp.segment],
-                        lp,
-                    )? {
-                        Some((r, j)) => (out.torque_ratio, out.torque_joint) = (r, j),
-                        None => out.torque_ratio = f64::NAN,
+                    let stance = stances[smp.segment];
+                    let w = super::checks::w_gi_of(m, data, &smp.q, &smp.v, &smp.a, plan.gravity)?;
+                    let bound = match fast.wrenches(stance, &w, tol.qp_max_residual) {
+                        Some(wrenches) => torque_bound(
+                            m,
+                            data,
+                            smp,
+                            plan.gravity,
+                            &contacts[smp.segment],
+                            &wrenches,
+                            lp,
+                            jac,
+                        )?,
+                        None => None,
+                    };
+                    match bound {
+                        Some((r, j)) => {
+                            (out.torque_ratio, out.torque_joint) = (r, j);
+                            out.torque_exact = false;
+                        }
+                        None => match torque_ratio(
+                            m,
+                            data,
+                            smp,
+                            plan.gravity,
+                            stance,
+                            &contacts[smp.segment],
+                            lp,
+                        )? {
+                            Some((r, j)) => (out.torque_ratio, out.torque_joint) = (r, j),
+                            None => out.torque_ratio = f64::NAN,
+                        },
                     }
                 }
                 Ok(out)
             },
         )
-        .collect()
+        .collect::<Result<_, StanceError>>()?;
+    if lp.any_torque() {
+        // the exact ratio where a bound may exceed the largest one found (module doc)
+        let mut best = out
+            .iter()
+            .filter(|x| x.torque_exact && !x.torque_ratio.is_nan())
+            .map(|x| x.torque_ratio)
+            .fold(0.0f64, f64::max);
+        let mut order: Vec<usize> = (0..out.len()).filter(|&i| !out[i].torque_exact).collect();
+        order.sort_by(|&a, &b| out[b].torque_ratio.total_cmp(&out[a].torque_ratio));
+        let mut data = Data::new(m);
+        for i in order {
+            if out[i].torque_ratio < best - crate::tol::TORQUE_BOUND_MARGIN {
+                break;
+            }
+            let smp = &samples[i];
+            match torque_ratio(
+                m,
+                &mut data,
+                smp,
+                plan.gravity,
+                stances[smp.segment],
+                &contacts[smp.segment],
+                lp,
+            )? {
+                Some((r, j)) => {
+                    (out[i].torque_ratio, out[i].torque_joint) = (r, j);
+                    best = best.max(r);
+                }
+                None => out[i].torque_ratio = f64::NAN,
+            }
+            out[i].torque_exact = true;
+        }
+    }
+    Ok(out)
+}
+
+/// The linear program of the module doc at one sample: the smallest largest torque ratio over
+/// the contact forces of `stance` (contacts `(frame, planned placement)`) and its joint (an index
+/// of `lp`), or `None` when no forces balance the base. [`check_limits`] solves it where it can
+/// matter; this solves it anywhere (the tests' exhaustive check).
+pub fn exact_torque_ratio(
+    plan: &MotionPlan,
+    lp: &LimitsPlan,
+    stance: &Stance,
+    contacts: &[(usize, Pose)],
+    sample: &TrajectorySample,
+) -> Result<Option<(f64, usize)>, StanceError> {
+    let m = &plan.robot.model;
+    torque_ratio(
+        m,
+        &mut Data::new(m),
+        sample,
+        plan.gravity,
+        stance,
+        contacts,
+        lp,
+    )
+}
+
+/// The largest torque ratio, and its joint, of the contact wrenches `wrenches` (each in its
+/// planned contact frame, force then moment about the frame's origin) at a sample: an upper
+/// bound of [`torque_ratio`]'s value when the wrenches balance the base.
+#[allow(clippy::too_many_arguments)]
+fn torque_bound(
+    model: &Model,
+    data: &mut Data,
+    sample: &TrajectorySample,
+    gravity: [f64; 3],
+    contacts: &[(usize, Pose)],
+    wrenches: &[[f64; 6]],
+    lp: &LimitsPlan,
+    jac: &mut Matrix6xX<f64>,
+) -> Result<Option<(f64, usize)>, StanceError> {
+    rnea(model, data, &sample.q, &sample.v, &sample.a, gravity).map_err(StanceError::Robot)?;
+    let mut tau = data.tau.clone();
+    for ((f, pose), w) in contacts.iter().zip(wrenches) {
+        contact_jacobian(model, data, *f, pose, jac)?;
+        for (k, t) in tau.iter_mut().enumerate() {
+            *t -= (0..6).map(|i| jac[(i, k)] * w[i]).sum::<f64>();
+        }
+    }
+    let mut worst = (0.0f64, 0usize);
+    for (c, &limit) in lp.torque.iter().enumerate() {
+        if limit.is_finite() {
+            let r = tau[lp.velocity_index[c]].abs() / limit;
+            if r > worst.0 {
+                worst = (r, c);
+            }
+        }
+    }
+    Ok(Some(worst))
 }
