@@ -96,6 +96,24 @@ fn csc_from_dense(rows: usize, cols: usize, a: &[f64]) -> CscMatrix<f64> {
     CscMatrix::new(rows, cols, colptr, rowval, nzval)
 }
 
+/// A wrench `(f, tau)` given at the world origin, moved to the point `c`: `(f, tau - c x f)`.
+///
+/// ```
+/// let w = stance_contact::wrench_at(&[0.0, 0.0, -10.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+/// assert_eq!(w, [0.0, 0.0, -10.0, 0.0, -10.0, 0.0]);
+/// ```
+pub fn wrench_at(w: &[f64; 6], c: [f64; 3]) -> [f64; 6] {
+    let c_x_f = crate::cross(c, [w[0], w[1], w[2]]);
+    [
+        w[0],
+        w[1],
+        w[2],
+        w[3] - c_x_f[0],
+        w[4] - c_x_f[1],
+        w[5] - c_x_f[2],
+    ]
+}
+
 /// Finds contact forces realizing `w_gi` (gravito-inertial wrench at the world origin, paper
 /// convention) with minimal sum of squared norms, or a certificate that none exist.
 ///
@@ -188,16 +206,7 @@ impl ForceProblem {
                 centroid[k] += q[k] / nv as f64;
             }
         }
-        let f_gi = [w_gi[0], w_gi[1], w_gi[2]];
-        let c_x_f = crate::cross(centroid, f_gi);
-        let w_c = [
-            w_gi[0],
-            w_gi[1],
-            w_gi[2],
-            w_gi[3] - c_x_f[0],
-            w_gi[4] - c_x_f[1],
-            w_gi[5] - c_x_f[2],
-        ];
+        let w_c = wrench_at(w_gi, centroid);
         let scale = w_c.iter().map(|x| x * x).sum::<f64>().sqrt();
         let scale = if scale > 0.0 { scale } else { 1.0 };
         let mut a = vec![0.0; m * n];

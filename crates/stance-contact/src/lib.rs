@@ -92,7 +92,7 @@ pub mod tol;
 pub use contact::{Contact, Shape};
 pub use equilibrium::{com_halfspaces, ComHalfspaces, EquilibriumOptions};
 pub use error::ContactError;
-pub use forces::{supporting_forces, ContactForces, ForcesOutcome, SupportingForces};
+pub use forces::{supporting_forces, wrench_at, ContactForces, ForcesOutcome, SupportingForces};
 pub use friction::{Approximation, FrictionModel};
 pub use giwc::Giwc;
 pub use giwc_dd::GiwcOptions;

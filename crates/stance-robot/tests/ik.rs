@@ -24,6 +24,30 @@ fn standing(m: &Model) -> Vec<f64> {
     q
 }
 
+/// Uniform numbers in [-1, 1) from a xorshift generator (reproducible random states).
+fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+/// A random configuration near the standing one (base and joints moved by up to 0.2), its joints
+/// within 98 % of their ranges: a state the IK can be asked to step from.
+fn reachable(m: &Model, rnd: &mut impl FnMut() -> f64) -> Vec<f64> {
+    let dq: Vec<f64> = (0..m.nv).map(|_| 0.2 * rnd()).collect();
+    let mut q = integrate(m, &standing(m), &dq).unwrap();
+    for j in &m.joints[2..] {
+        if j.dims() == (1, 1) {
+            let (mid, half) = (0.5 * (j.upper + j.lower), 0.49 * (j.upper - j.lower));
+            q[j.idx_q] = q[j.idx_q].clamp(mid - half, mid + half);
+        }
+    }
+    q
+}
+
 fn feet(m: &Model) -> [usize; 2] {
     [m.frame_id("r_sole").unwrap(), m.frame_id("l_sole").unwrap()]
 }
@@ -612,27 +636,13 @@ mod property {
 #[test]
 fn dense_solver_agrees_with_clarabel_at_random_states() {
     let m = model();
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = uniform(0x2545_f491_4f6c_dd1d);
     let hand = m.frame_id("r_hand").unwrap();
     let holds: Vec<ContactHold> = feet(&m).iter().map(|&f| ContactHold::velocity(f)).collect();
     let (mut with_active, mut from_dense, mut solved) = (0, 0, 0);
     let cases = 300;
     for case in 0..cases {
-        let dq: Vec<f64> = (0..m.nv).map(|_| 0.2 * rnd()).collect();
-        let mut q = integrate(&m, &standing(&m), &dq).unwrap();
-        // a reachable state: joints within 98 % of their ranges
-        for j in &m.joints[2..] {
-            if j.dims() == (1, 1) {
-                let (mid, half) = (0.5 * (j.upper + j.lower), 0.49 * (j.upper - j.lower));
-                q[j.idx_q] = q[j.idx_q].clamp(mid - half, mid + half);
-            }
-        }
+        let q = reachable(&m, &mut rnd);
         let q_s: Vec<f64> = (0..m.nv).map(|_| 0.8 * rnd()).collect();
         let mut d = Data::new(&m);
         let c0 = center_of_mass(&m, &mut d, &q).unwrap();
@@ -797,13 +807,7 @@ fn a_clearance_row_stops_a_hand_at_a_plane() {
 #[test]
 fn dense_solver_with_clearance_rows_agrees_with_clarabel() {
     let m = model();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
     let hand = m.frame_id("r_hand").unwrap();
     let bodies = [
         m.frames[hand].parent_joint,
@@ -814,14 +818,7 @@ fn dense_solver_with_clearance_rows_agrees_with_clarabel() {
     let (mut with_rows_active, mut solved, mut dropped) = (0, 0, 0);
     let cases = 300;
     for case in 0..cases {
-        let dq: Vec<f64> = (0..m.nv).map(|_| 0.2 * rnd()).collect();
-        let mut q = integrate(&m, &standing(&m), &dq).unwrap();
-        for j in &m.joints[2..] {
-            if j.dims() == (1, 1) {
-                let (mid, half) = (0.5 * (j.upper + j.lower), 0.49 * (j.upper - j.lower));
-                q[j.idx_q] = q[j.idx_q].clamp(mid - half, mid + half);
-            }
-        }
+        let q = reachable(&m, &mut rnd);
         let q_s: Vec<f64> = (0..m.nv).map(|_| 0.4 * rnd()).collect();
         let mut d = Data::new(&m);
         let c0 = center_of_mass(&m, &mut d, &q).unwrap();

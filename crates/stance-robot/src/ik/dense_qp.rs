@@ -108,6 +108,20 @@ pub struct DenseQpReport {
     pub dual_violation: f64,
 }
 
+impl DenseQpReport {
+    /// Before any solve: not converged, every measure infinite.
+    fn unsolved() -> Self {
+        Self {
+            status: DenseQpStatus::NotConverged,
+            iterations: 0,
+            active: 0,
+            equality_residual: f64::INFINITY,
+            bound_violation: f64::INFINITY,
+            dual_violation: f64::INFINITY,
+        }
+    }
+}
+
 /// The solver's reusable state: buffers and the working set of the last call (the warm start).
 #[derive(Debug, Clone, Default)]
 pub struct DenseQpWorkspace {
@@ -222,14 +236,7 @@ impl DenseQpWorkspace {
             }
         }
         let bscale = b.amax().max(1.0);
-        let mut report = DenseQpReport {
-            status: DenseQpStatus::NotConverged,
-            iterations: 0,
-            active: 0,
-            equality_residual: f64::INFINITY,
-            bound_violation: f64::INFINITY,
-            dual_violation: f64::INFINITY,
-        };
+        let mut report = DenseQpReport::unsolved();
         for it in 1..=opts.max_iterations {
             report.iterations = it;
             self.place_held(lo, hi);
@@ -350,14 +357,7 @@ impl DenseQpWorkspace {
         if self.row_active.len() != k {
             self.row_active = vec![false; k];
         }
-        let mut report = DenseQpReport {
-            status: DenseQpStatus::NotConverged,
-            iterations: 0,
-            active: 0,
-            equality_residual: f64::INFINITY,
-            bound_violation: f64::INFINITY,
-            dual_violation: f64::INFINITY,
-        };
+        let mut report = DenseQpReport::unsolved();
         let mut iterations = 0;
         for _ in 0..opts.max_iterations {
             let held: Vec<usize> = (0..k).filter(|&j| self.row_active[j]).collect();

@@ -96,20 +96,7 @@ impl FastForces {
                 centroid[k] += q[k] / nv as f64;
             }
         }
-        let f = [w_gi[0], w_gi[1], w_gi[2]];
-        let cxf = [
-            centroid[1] * f[2] - centroid[2] * f[1],
-            centroid[2] * f[0] - centroid[0] * f[2],
-            centroid[0] * f[1] - centroid[1] * f[0],
-        ];
-        let w_c = [
-            f[0],
-            f[1],
-            f[2],
-            w_gi[3] - cxf[0],
-            w_gi[4] - cxf[1],
-            w_gi[5] - cxf[2],
-        ];
+        let w_c = stance_contact::wrench_at(w_gi, centroid);
         let scale = w_c.iter().map(|x| x * x).sum::<f64>().sqrt();
         let scale = if scale > 0.0 { scale } else { 1.0 };
         if self.p.nrows() != n {
