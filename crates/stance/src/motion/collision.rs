@@ -334,16 +334,64 @@ impl CollisionModel {
         solid: usize,
         range: f64,
     ) -> Option<PairDistance> {
+        let (pose, aabb) = self.placed(data, body, range);
+        self.pair(&pose, &aabb, body, solid, range)
+    }
+
+    /// [`Self::distance`] of body `body` to every solid within `range`, in order, into `f`
+    /// (the body is placed once).
+    ///
+    /// ```
+    /// use stance::motion::{experiments, plan::MotionPlan};
+    /// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+    /// let c = &plan.collision;
+    /// let mut d = stance_robot::Data::new(&plan.robot.model);
+    /// stance_robot::forward_kinematics(&plan.robot.model, &mut d, &plan.q0).unwrap();
+    /// let lf = c.bodies.iter().position(|b| b.name == "surface:LF").unwrap();
+    /// let mut near = Vec::new();
+    /// c.distances(&d, lf, 0.1, |s, x| near.push((s, x.distance)));
+    /// assert_eq!(near.len(), 1);
+    /// assert_eq!(near[0].1, c.distance(&d, lf, 0, 0.1).unwrap().distance);
+    /// ```
+    pub fn distances(
+        &self,
+        data: &Data,
+        body: usize,
+        range: f64,
+        mut f: impl FnMut(usize, PairDistance),
+    ) {
+        let (pose, aabb) = self.placed(data, body, range);
+        for solid in 0..self.solids.len() {
+            if let Some(d) = self.pair(&pose, &aabb, body, solid, range) {
+                f(solid, d);
+            }
+        }
+    }
+
+    /// Body `body`'s pose and its bounding box grown by `range`.
+    fn placed(&self, data: &Data, body: usize, range: f64) -> (PPose, Aabb) {
         let b = &self.bodies[body];
-        let s = &self.solids[solid];
         let pose = ppose(&data.world_from_joint[b.joint]) * b.joint_from_shape;
-        let aabb = b.shape.compute_aabb(&pose);
-        if !aabb.loosened(range).intersects(&s.aabb) {
+        let aabb = b.shape.compute_aabb(&pose).loosened(range);
+        (pose, aabb)
+    }
+
+    fn pair(
+        &self,
+        pose: &PPose,
+        aabb: &Aabb,
+        body: usize,
+        solid: usize,
+        range: f64,
+    ) -> Option<PairDistance> {
+        let s = &self.solids[solid];
+        if !aabb.intersects(&s.aabb) {
             return None;
         }
-        let c = parry3d_f64::query::contact(&pose, &*b.shape, &s.pose, &*s.shape, range)
-            .ok()
-            .flatten()?;
+        let c =
+            parry3d_f64::query::contact(pose, &*self.bodies[body].shape, &s.pose, &*s.shape, range)
+                .ok()
+                .flatten()?;
         Some(PairDistance {
             distance: c.dist,
             point: nvec(c.point1),
@@ -443,19 +491,17 @@ pub fn check_collisions(
                 let held = &paths[smp.segment].contacts;
                 let mut out = Vec::new();
                 for b in 0..nb {
-                    for s in 0..ns {
-                        if let BodyKind::Surface { surface } = model.bodies[b].kind {
-                            if held
-                                .iter()
-                                .any(|c| c.surface == surface && c.environment == s)
-                            {
-                                continue;
-                            }
-                        }
-                        if let Some(d) = model.distance(data, b, s, crate::tol::CLEARANCE_RANGE) {
+                    let held_on = |s: usize| match model.bodies[b].kind {
+                        BodyKind::Surface { surface } => held
+                            .iter()
+                            .any(|c| c.surface == surface && c.environment == s),
+                        BodyKind::Bone { .. } => false,
+                    };
+                    model.distances(data, b, crate::tol::CLEARANCE_RANGE, |s, d| {
+                        if !held_on(s) {
                             out.push((b, s, d.distance));
                         }
-                    }
+                    });
                 }
                 Ok(out)
             },

@@ -424,21 +424,18 @@ impl ClearanceWatch {
             return Ok(());
         }
         let c = &plan.collision;
-        let ns = c.solids.len();
         forward_kinematics(&plan.robot.model, data, q).map_err(StanceError::Robot)?;
         let range = self.clearance + crate::tol::CLEARANCE_WATCH;
         for &b in &self.bodies {
-            for s in 0..ns {
-                if let Some(d) = c.distance(data, b, s, range) {
-                    out.push(DistanceBound {
-                        joint: c.bodies[b].joint,
-                        point: d.point,
-                        normal: d.normal,
-                        distance: d.distance,
-                        min_distance: self.clearance,
-                    });
-                }
-            }
+            c.distances(data, b, range, |_, d| {
+                out.push(DistanceBound {
+                    joint: c.bodies[b].joint,
+                    point: d.point,
+                    normal: d.normal,
+                    distance: d.distance,
+                    min_distance: self.clearance,
+                })
+            });
         }
         Ok(())
     }
