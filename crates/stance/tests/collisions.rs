@@ -117,12 +117,7 @@ fn a_free_move_towards_the_edge_is_routed_around_it() {
     let plan = &run.plan;
     let m = &plan.robot.model;
     let mut data = Data::new(m);
-    let rf = plan
-        .collision
-        .bodies
-        .iter()
-        .position(|b| b.name == "surface:RF")
-        .unwrap();
+    let rf = plan.collision.body("surface:RF").unwrap();
     let platform = plan
         .environment
         .iter()
@@ -242,12 +237,7 @@ fn distances_agree_with_sampled_faces() {
     let plan = &run.plan;
     let m = &plan.robot.model;
     let mut data = Data::new(m);
-    let rf = plan
-        .collision
-        .bodies
-        .iter()
-        .position(|b| b.name == "surface:RF")
-        .unwrap();
+    let rf = plan.collision.body("surface:RF").unwrap();
     let surface = plan.robot.surfaces.iter().find(|s| s.name == "RF").unwrap();
     let [hl, hw] = surface_box_half_sizes(&surface.shape, "RF").unwrap();
     let k = plan

@@ -63,6 +63,8 @@ fn compare(name: &str, scale: f64) -> (usize, usize) {
                             c.name()
                         );
                     }
+                    // the usage ratio magnifies the resultants' agreement by the weight over
+                    // the normal force: compared where a contact carries a tenth of it or more
                     if sum[2] > 0.1 * weight {
                         let (a, b) = (usage(c.friction(), &sum), usage(c.friction(), rf));
                         assert!(

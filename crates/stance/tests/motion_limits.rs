@@ -480,7 +480,7 @@ fn talos_from_example_robot_data_keeps_its_limits() {
 /// forces are not solved (those without are, to say so).
 #[test]
 fn the_torque_check_prunes_to_the_exhaustive_largest_ratio() {
-    use stance::motion::limit_checks::{check_limits, exact_torque_ratio};
+    use stance::motion::limit_checks::{check_limits, exact_torque_ratio, planned_contacts};
     let mut cases: Vec<(String, MotionSpec, Option<PathBuf>, f64)> = vec![
         ("small-sway".into(), sway(), None, 1.0),
         ("small-sway x1.3".into(), sway(), None, 1.3),
@@ -511,16 +511,7 @@ fn the_torque_check_prunes_to_the_exhaustive_largest_ratio() {
         let plan = &run.plan;
         let lp = plan.actuator_limits.as_ref().unwrap();
         let stances: Vec<&stance_contact::Stance> = run.rows.iter().map(|r| &r.stance).collect();
-        let contacts: Vec<Vec<(usize, stance::stance_robot::Pose)>> = run
-            .paths
-            .iter()
-            .map(|p| {
-                p.contacts
-                    .iter()
-                    .map(|c| (plan.robot.surfaces[c.surface].frame, c.pose))
-                    .collect()
-            })
-            .collect();
+        let contacts = planned_contacts(plan, &run.paths);
         let pruned = check_limits(plan, lp, &stances, &contacts, &run.samples).unwrap();
         let mut exhaustive = 0.0f64;
         let mut bound_below = 0;

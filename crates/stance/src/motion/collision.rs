@@ -313,6 +313,19 @@ impl CollisionModel {
         Ok(Self { bodies, solids })
     }
 
+    /// The index of the body named `name` (`surface:LF`, `link:R_KNEE:R_ANKLE_R`).
+    ///
+    /// ```
+    /// use stance::motion::{experiments, plan::MotionPlan};
+    /// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+    /// let lf = plan.collision.body("surface:LF").unwrap();
+    /// assert_eq!(plan.collision.bodies[lf].name, "surface:LF");
+    /// assert!(plan.collision.body("surface:nose").is_none());
+    /// ```
+    pub fn body(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
     /// The signed distance of body `body` to solid `solid` at the kinematics in `data` (after
     /// [`forward_kinematics`]), when their bounding boxes come within `range` (m); `None` for a
     /// farther pair.
@@ -323,7 +336,7 @@ impl CollisionModel {
     /// let c = &plan.collision;
     /// let mut d = stance_robot::Data::new(&plan.robot.model);
     /// stance_robot::forward_kinematics(&plan.robot.model, &mut d, &plan.q0).unwrap();
-    /// let lf = c.bodies.iter().position(|b| b.name == "surface:LF").unwrap();
+    /// let lf = c.body("surface:LF").unwrap();
     /// let on_floor = c.distance(&d, lf, 0, 0.1).unwrap();
     /// assert!(on_floor.distance.abs() < 1e-6 && on_floor.normal.z < -0.99);
     /// ```
@@ -347,7 +360,7 @@ impl CollisionModel {
     /// let c = &plan.collision;
     /// let mut d = stance_robot::Data::new(&plan.robot.model);
     /// stance_robot::forward_kinematics(&plan.robot.model, &mut d, &plan.q0).unwrap();
-    /// let lf = c.bodies.iter().position(|b| b.name == "surface:LF").unwrap();
+    /// let lf = c.body("surface:LF").unwrap();
     /// let mut near = Vec::new();
     /// c.distances(&d, lf, 0.1, |s, x| near.push((s, x.distance)));
     /// assert_eq!(near.len(), 1);

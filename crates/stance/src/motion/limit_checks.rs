@@ -42,6 +42,7 @@ use stance_contact::Stance;
 use stance_robot::{frame_jacobian, rnea, Data, Model, Pose, ReferenceFrame};
 
 use super::fast_forces::FastForces;
+use super::ik_stage::SegmentPath;
 use super::limits::{contact_jacobian, LimitsPlan};
 use super::plan::MotionPlan;
 use super::trajectory::TrajectorySample;
@@ -343,6 +344,20 @@ pub fn check_limits(
         }
     }
     Ok(out)
+}
+
+/// Each segment's contacts as `(frame, planned placement)`: what the torque check applies its
+/// contact wrenches to.
+pub fn planned_contacts(plan: &MotionPlan, paths: &[SegmentPath]) -> Vec<Vec<(usize, Pose)>> {
+    paths
+        .iter()
+        .map(|p| {
+            p.contacts
+                .iter()
+                .map(|c| (plan.robot.surfaces[c.surface].frame, c.pose))
+                .collect()
+        })
+        .collect()
 }
 
 /// The linear program of the module doc at one sample: the smallest largest torque ratio over

@@ -376,15 +376,7 @@ fn checks_info(
     let actuators = match limits {
         Some(lp) => {
             let planned: Vec<&stance_contact::Stance> = rows.iter().map(|r| &r.stance).collect();
-            let contacts: Vec<Vec<(usize, stance_robot::Pose)>> = paths
-                .iter()
-                .map(|p| {
-                    p.contacts
-                        .iter()
-                        .map(|c| (plan.robot.surfaces[c.surface].frame, c.pose))
-                        .collect()
-                })
-                .collect();
+            let contacts = limit_checks::planned_contacts(plan, paths);
             let l = limit_checks::check_limits(plan, lp, &planned, &contacts, samples)?;
             Some(result::LimitChecksInfo::from_samples(&l, samples, lp))
         }

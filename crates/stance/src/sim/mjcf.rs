@@ -13,7 +13,9 @@
 //!   site at the surface frame; each link has a capsule to each child joint (to detect
 //!   unplanned contacts, e.g. a shin on a step edge); each environment surface is a box (or an
 //!   extruded convex polygon) whose top face is the surface, as thick as the file's
-//!   `thickness`. Robot geoms collide only with environment geoms (no self-collision).
+//!   `thickness`. The sizes are the collision model's own (not options, so that what the
+//!   plan's check measures is what MuJoCo simulates). Robot geoms collide only with
+//!   environment geoms (no self-collision).
 //! - **Contacts**: each environment surface's own `friction` from the motion file (or
 //!   [`MjcfOptions::friction`] for every surface when given), carried by the environment geom
 //!   with a higher `priority` than the robot's so that MuJoCo uses it alone, `condim` 3
@@ -58,10 +60,6 @@ pub struct MjcfOptions {
     pub solref: [f64; 2],
     /// MuJoCo's `impratio`: how much harder friction is than the normal force (elliptic cones).
     pub impratio: f64,
-    /// Thickness of the sole and hand boxes (m).
-    pub surface_thickness: f64,
-    /// Radius of the link capsules (m).
-    pub capsule_radius: f64,
     /// Armature of every actuated joint (kg m^2, or kg for slides).
     pub armature: f64,
     /// Proportional gain (N m / rad).
@@ -76,8 +74,8 @@ impl Default for MjcfOptions {
     /// contacts MuJoCo recommends at this step (time constant twice the step), `impratio` 100:
     /// friction as hard as Coulomb's (with MuJoCo's default 1, soft friction lets a loaded foot
     /// creep inside its cone: measured 18.6 mm on the box climbing's fourth segment, where
-    /// forces inside a circular cone of radius 0.9 exist at every sample), 2 cm soles, capsules
-    /// of 3 cm radius, armature 0.05 kg m^2, gains `kp = 10 000` N m/rad and `kv = 200`
+    /// forces inside a circular cone of radius 0.9 exist at every sample), armature
+    /// 0.05 kg m^2, gains `kp = 10 000` N m/rad and `kv = 200`
     /// N m s/rad (a stiff position-controlled humanoid; the paper's PID gains are not
     /// published).
     ///
@@ -90,8 +88,6 @@ impl Default for MjcfOptions {
             friction: None,
             solref: [0.002, 1.0],
             impratio: 100.0,
-            surface_thickness: SURFACE_THICKNESS,
-            capsule_radius: CAPSULE_RADIUS,
             armature: 0.05,
             kp: 10000.0,
             kv: 200.0,
@@ -336,13 +332,13 @@ fn write_body(
         let gname = xml_name(&surface_geom(&s.name));
         let body_from_box = f.joint_from_frame.compose(&Pose {
             rotation: nalgebra::Matrix3::identity(),
-            translation: Vector3::new(0.0, 0.0, 0.5 * o.surface_thickness),
+            translation: Vector3::new(0.0, 0.0, 0.5 * SURFACE_THICKNESS),
         });
         let _ = writeln!(
             x,
             "{pad}  <geom name=\"{gname}\" type=\"box\" size=\"{hl} {hw} {}\" pos=\"{}\" quat=\"{}\" \
              contype=\"1\" conaffinity=\"0\" rgba=\"0.2 0.5 0.9 1\"/>",
-            0.5 * o.surface_thickness,
+            0.5 * SURFACE_THICKNESS,
             v3(&body_from_box.translation),
             quat(&body_from_box),
         );
@@ -357,7 +353,7 @@ fn write_body(
     let children: Vec<usize> = (i + 1..m.joints.len())
         .filter(|&k| m.joints[k].parent == i)
         .collect();
-    for b in bones(m, o.capsule_radius) {
+    for b in bones(m, CAPSULE_RADIUS) {
         if b.parent != i || !b.collides {
             continue;
         }
@@ -369,7 +365,7 @@ fn write_body(
              contype=\"1\" conaffinity=\"0\" rgba=\"0.8 0.5 0.2 1\"/>",
             xml_name(&m.joints[k].name),
             v3(&to),
-            o.capsule_radius
+            CAPSULE_RADIUS
         );
     }
     for &k in &children {
