@@ -237,26 +237,40 @@ impl DenseQpWorkspace {
         }
         let bscale = b.amax().max(1.0);
         let mut report = DenseQpReport::unsolved();
+        // the coordinates the last iteration held at once, the most violated first
+        let mut joined: Vec<(usize, f64)> = Vec::new();
         for it in 1..=opts.max_iterations {
             report.iterations = it;
             self.place_held(lo, hi);
             if !self.kkt(p, c, a, b) {
+                if joined.len() > 1 {
+                    // Holding them all at once left too few free coordinates for the
+                    // equations: hold only the most violated one.
+                    for &(i, _) in &joined[1..] {
+                        self.held[i] = Held::Free;
+                    }
+                    joined.truncate(1);
+                    continue;
+                }
                 report.status = DenseQpStatus::Singular;
                 return report;
             }
             // Free coordinates that left their box join the working set.
-            let mut added = false;
+            joined.clear();
             for &i in &self.free {
                 let tol = opts.primal_tol;
-                if lo[i].is_finite() && self.x[i] < lo[i] - tol * lo[i].abs().max(1.0) {
+                let below = lo[i] - self.x[i];
+                let above = self.x[i] - hi[i];
+                if lo[i].is_finite() && below > tol * lo[i].abs().max(1.0) {
                     self.held[i] = Held::Lower;
-                    added = true;
-                } else if hi[i].is_finite() && self.x[i] > hi[i] + tol * hi[i].abs().max(1.0) {
+                    joined.push((i, below / lo[i].abs().max(1.0)));
+                } else if hi[i].is_finite() && above > tol * hi[i].abs().max(1.0) {
                     self.held[i] = Held::Upper;
-                    added = true;
+                    joined.push((i, above / hi[i].abs().max(1.0)));
                 }
             }
-            if added {
+            if !joined.is_empty() {
+                joined.sort_by(|x, y| y.1.total_cmp(&x.1));
                 continue;
             }
             // Multipliers of the held coordinates: release the worst wrong-signed one.

@@ -380,10 +380,18 @@ impl IkWorkspace {
                     let (lower, upper) = (mid - range * half, mid + range * half);
                     // the damper may overshoot its shrunk range by about q_s / K_ss: the
                     // next-step bound keeps the joint within its true limits meanwhile
-                    (
+                    let damped = (
                         (k_ss * (k_s * (lower - qj) - vj)).max(next_step.0),
                         (k_ss * (k_s * (upper - qj) - vj)).min(next_step.1),
-                    )
+                    );
+                    // where the damper's bounds cross (a joint beyond its shrunk range on one
+                    // side, driven hard: a soft task out of reach), the true limits alone hold
+                    // it, instead of making the step infeasible
+                    if damped.0 <= damped.1 {
+                        damped
+                    } else {
+                        next_step
+                    }
                 }
             };
             // an infinite limit gives an infinite (or NaN, for inf - inf) bound: no bound
