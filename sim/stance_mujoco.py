@@ -23,7 +23,8 @@ schedule and the thresholds. The math of the control and of the measurements is 
 - measured: slip of every loaded planned contact (site displacement in its surface's plane since
   it was loaded), |F_t| / F_n of the resultant of MuJoCo's contact forces on it, contact losses
   (a planned contact separated from its surface), unplanned contacts (when, how hard, how long
-  loaded), base and CoM errors, falls. Verdict: held iff no fall, no lost planned contact, no
+  loaded; a landing or lift-off that touches while the reference has that pair within the
+  separation threshold is an early or late touch, reported apart), base and CoM errors, falls. Verdict: held iff no fall, no lost planned contact, no
   unplanned contact carrying load (more than the load threshold) longer than the loss time, and
   every slip below the bound.
 """
@@ -163,6 +164,14 @@ def main(input_path, report_path, trace_path=None):
                 "min_normal": math.inf, "off_since": None, "longest_loss": 0.0,
             }
     unplanned = {}
+    # landings and lift-offs the simulator makes early or late: a pair planned in the segment
+    # before or after, touching while the reference has it within the separation threshold
+    early_late = {}
+    # the reference's own geometry, for the distance of such a pair in the plan
+    data_ref = mujoco.MjData(model)
+    planned_pairs = [
+        {(geom_id[g], geom_id[e]) for _name, g, e in seg["stance"]} for seg in segments
+    ]
     max_base, max_angle, max_com, fell = 0.0, 0.0, 0.0, False
     fall_reason = ""
     force6 = np.zeros(6)
@@ -202,14 +211,40 @@ def main(input_path, report_path, trace_path=None):
         s_now = segment_at(tm)
         planned = {(per[key]["geom"], per[key]["env"]): key for key in per if key[0] == s_now}
         unplanned_load = {}
+        early_load = {}
         wrench = {key: np.zeros(3) for key in planned.values()}
         touching = set()
+        ref_placed = False
         for c in range(data.ncon):
             con = data.contact[c]
             g1, g2 = con.geom1, con.geom2
             rg, eg = (g1, g2) if g1 in robot_geoms else (g2, g1)
             key = planned.get((rg, eg))
             if key is None:
+                neighbours = [k for k in (s_now - 1, s_now + 1) if 0 <= k < len(segments)]
+                if any((rg, eg) in planned_pairs[k] for k in neighbours):
+                    if not ref_placed:
+                        data_ref.qpos[:] = q_star
+                        mujoco.mj_kinematics(model, data_ref)
+                        ref_placed = True
+                    gap = mujoco.mj_geomDistance(model, data_ref, rg, eg, 1.0, None)
+                    if gap <= th["separation"]:
+                        # a landing (or lift-off) within the separation threshold in the plan:
+                        # in contact, by the same tolerance as a planned contact's loss
+                        mujoco.mj_contactForce(model, data, c, force6)
+                        seg = segments[s_now]
+                        landing = (rg, eg) in planned_pairs[s_now + 1] if s_now + 1 < len(
+                            segments) else False
+                        lifting = s_now > 0 and (rg, eg) in planned_pairs[s_now - 1]
+                        if landing and lifting:
+                            landing = tm - seg["t_start"] > seg["t_end"] - tm
+                        pair = (f"{model.geom(rg).name} / {model.geom(eg).name}",
+                                seg["number"], "landed early" if landing else "lifted late")
+                        e = early_late.setdefault(pair, [t, t, 0.0, 0.0, 0.0])
+                        e[1] = t
+                        e[2] = max(e[2], force6[0])
+                        early_load[pair] = early_load.get(pair, 0.0) + force6[0]
+                        continue
                 if not near_switch(tm):
                     mujoco.mj_contactForce(model, data, c, force6)
                     pair = f"{model.geom(rg).name} / {model.geom(eg).name}"
@@ -251,13 +286,15 @@ def main(input_path, report_path, trace_path=None):
                 if p["off_since"] is None:
                     p["off_since"] = t
                 p["longest_loss"] = max(p["longest_loss"], t - p["off_since"])
-        # unplanned support: an unplanned contact carrying load, and for how long
-        for pair, u in unplanned.items():
-            if unplanned_load.get(pair, 0.0) > th["load"] * weight:
-                u[3] += dt
-                u[4] = max(u[4], u[3])
-            else:
-                u[3] = 0.0
+        # unplanned support: an unplanned contact carrying load, and for how long (the same
+        # for early landings and late lift-offs)
+        for table, load in ((unplanned, unplanned_load), (early_late, early_load)):
+            for pair, u in table.items():
+                if load.get(pair, 0.0) > th["load"] * weight:
+                    u[3] += dt
+                    u[4] = max(u[4], u[3])
+                else:
+                    u[3] = 0.0
         loads = {key: float(np.dot(wrench[key], data.geom_xmat[per[key]["env"]].reshape(3, 3)[:, 2])) for key in planned.values()}
         if trace:
             trace.write(f"{t:.4f},{data.qpos[2]:.5f},{q_star[2]:.5f},{quat_angle(data.qpos[3:7], q_star[3:7]):.4f}," + ",".join(
@@ -306,6 +343,11 @@ def main(input_path, report_path, trace_path=None):
         "unplanned_contacts": [
             f"{pair}: from {u[0]:.3f} s to {u[1]:.3f} s, up to {u[2]:.1f} N, loaded for up to {u[4] * 1e3:.0f} ms"
             for pair, u in sorted(unplanned.items())
+        ],
+        "early_or_late_touches": [
+            f"{pair} {kind} in segment {seg}: from {e[0]:.3f} s to {e[1]:.3f} s, up to "
+            f"{e[2]:.1f} N, loaded for up to {e[4] * 1e3:.0f} ms"
+            for (pair, seg, kind), e in sorted(early_late.items())
         ], "fell": fell, "max_base_error_m": max_base,
         "max_base_angle_rad": max_angle, "max_com_error_m": max_com,
         "max_friction_usage": max_usage,

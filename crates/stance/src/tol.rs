@@ -194,3 +194,12 @@ pub const UNPLANNED_TOUCH_TIME: f64 = 0.05;
 /// balance the base within the force check's residual (relative 1e-6), which the exact program
 /// also allows; a sample within the margin is solved.
 pub const TORQUE_BOUND_MARGIN: f64 = 1e-6;
+
+/// A via-point (CoM or link position) is reached when the IK's path ends its move within this
+/// distance of it (m). Default 1 mm: the IK tracks its references to a few hundredths of this,
+/// so a larger distance is a target out of reach or traded for another task.
+pub const VIA_POINT_DISTANCE: f64 = 1e-3;
+
+/// A link via-point's orientation is reached within this angle (degrees). Default 0.5, for the
+/// same reason as [`VIA_POINT_DISTANCE`].
+pub const VIA_POINT_ANGLE_DEG: f64 = 0.5;

@@ -180,20 +180,27 @@ fn small_sway_is_retimed_and_every_sample_has_supporting_forces() {
     assert!(vmax(&tr.v[0]) < 1e-12 && vmax(tr.v.last().unwrap()) < 1e-9);
 }
 
+/// Small-sway with the CoM still moving (1 cm further over the left foot) while the right foot
+/// lifts: it crosses the first stance switch moving, where chaining gains. (In small-sway
+/// itself the CoM arrives at rest on its via-point before the foot lifts, and the whole body is
+/// at rest in path terms at every switch: chaining gains 1.5 % there.)
+fn sway_through() -> MotionSpec {
+    let mut s = spec("small-sway");
+    s.segments[1].moves[0].com = Some(stance::motion::spec::ComTarget::By([0.0, 0.01, 0.0]));
+    s
+}
+
 #[test]
 fn chained_is_never_longer_than_rest_to_rest_and_equal_with_zero_boundary_speeds() {
-    let chained = run_full(spec("small-sway"), &RunOptions::default()).unwrap();
-    let r2r = run_full(rest_to_rest(spec("small-sway")), &RunOptions::default()).unwrap();
+    let chained = run_full(sway_through(), &RunOptions::default()).unwrap();
+    let r2r = run_full(rest_to_rest(sway_through()), &RunOptions::default()).unwrap();
     let (dc, dr) = (
         chained.result.duration.unwrap(),
         r2r.result.duration.unwrap(),
     );
-    eprintln!("small-sway: chained {dc:.4} s, rest to rest {dr:.4} s");
+    eprintln!("small-sway, CoM through the switch: chained {dc:.4} s, rest to rest {dr:.4} s");
     assert!(dc <= dr * (1.0 + 1e-12));
-    assert!(
-        dc < 0.95 * dr,
-        "chaining should gain here (measured about 10 %)"
-    );
+    assert!(dc < 0.95 * dr, "chaining should gain here (measured 9 %)");
     // rest to rest solved segment by segment equals the whole grid solved as one problem with
     // x = 0 forced at the boundaries (the rest-to-rest layout)
     let k = &r2r.retimed.as_ref().unwrap().constraints;

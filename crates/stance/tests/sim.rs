@@ -214,10 +214,6 @@ fn a_pushed_foot_slips_and_the_report_says_so() {
     assert!(lf > 5e-3, "the slip is the pushed foot's: {lf}");
 }
 
-/// The paper's experiments on JVRC-1: the retimed stair and box climbing hold (slip below 5 mm,
-/// no contact lost, no fall); played 1.5 times faster they fail; the box climbing played ten
-/// times slower fails too (its third segment is not quasi-statically stable: the robot has to
-/// lean on an unplanned contact). About a minute.
 /// Bounded work: a motion stretched past the simulator's longest duration is refused before
 /// MuJoCo starts, with the time scale that fits (no MuJoCo needed).
 #[test]
@@ -231,7 +227,17 @@ fn a_motion_stretched_too_long_is_refused_with_the_time_scale_that_fits() {
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("give a time scale of at least 0.016"), "{e}");
+    // the scale that fits, rounded up: the motion then lasts at most the simulator's 120 s
+    let d = stance::motion::run(spec("small-sway"), &Default::default())
+        .unwrap()
+        .duration
+        .unwrap();
+    let fits = (d / 120.0 * 1e3).ceil() / 1e3;
+    assert!(d / fits <= 120.0);
+    assert!(
+        e.contains(&format!("give a time scale of at least {fits:.3}")),
+        "{e}"
+    );
 }
 
 /// Each surface is simulated at the motion file's own friction: the small humanoid's motion
@@ -276,6 +282,10 @@ fn the_simulator_uses_each_surfaces_friction() {
     assert!(slippery.contacts.iter().all(|c| c.friction == 0.03));
 }
 
+/// The paper's experiments on JVRC-1: the retimed stair and box climbing hold (slip below 5 mm,
+/// no contact lost, no fall); played 1.5 times faster they fail; the box climbing played ten
+/// times slower fails too (its third segment is not quasi-statically stable: the robot falls in
+/// it). About a minute.
 #[test]
 #[ignore = "about a minute of simulation; run with --ignored"]
 fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {
@@ -299,6 +309,20 @@ fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {
         .unwrap();
         eprintln!("{name} x{k}: {}", r.reason);
         assert_eq!(r.held, hold, "{name} x{k}: {}", r.reason);
+        if (name, k) == ("box-climbing", 1.0) {
+            // the right foot lands on the box about 30 ms early, when the plan has it within
+            // 1 mm: reported apart, not as leaning on an unplanned contact
+            eprintln!("{:?}", r.early_or_late_touches);
+            assert!(r
+                .early_or_late_touches
+                .iter()
+                .any(|t| t.starts_with("surface:RF / environment:box")));
+            assert!(
+                r.unplanned_contacts.is_empty(),
+                "{:?}",
+                r.unplanned_contacts
+            );
+        }
     }
 }
 
@@ -307,9 +331,9 @@ fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {
 /// (20 rad/s^2, 1.5 times the URDF's efforts), hold as retimed and fail 1.5 times faster;
 /// retimed without limits (thousands of rad/s^2, torques beyond the actuators) they fail as
 /// retimed. Then the gallery's walk (two steps), 15 cm step up, 15-degree slope, two surfaces of
-/// friction 0.9 and 0.3 on an incline, and 35 cm squat: each holds as retimed and fails 1.5
-/// times faster. (The gallery's step down and Talos's step up do not hold: bench/simulation.md.)
-/// About a minute.
+/// friction 0.9 and 0.3 on an incline, 35 cm squat, 10 cm step down and side step: each holds
+/// as retimed and fails 1.5 times faster. (Talos's motions need its URDF linked into gallery/:
+/// bench/simulation.md.) About a minute.
 #[test]
 #[ignore = "about a minute of simulation; run with --ignored"]
 fn the_gallery_holds_with_its_limits_and_fails_without() {
@@ -330,11 +354,15 @@ fn the_gallery_holds_with_its_limits_and_fails_without() {
         ("slope", true, 1.0, true),
         ("two-frictions", true, 1.0, true),
         ("deep-squat", true, 1.0, true),
+        ("step-down", true, 1.0, true),
+        ("side-step", true, 1.0, true),
         ("walk", true, 1.5, false),
         ("step-up", true, 1.5, false),
         ("slope", true, 1.5, false),
         ("two-frictions", true, 1.5, false),
         ("deep-squat", true, 1.5, false),
+        ("step-down", true, 1.5, false),
+        ("side-step", true, 1.5, false),
     ] {
         let spec: MotionSpec =
             stance::input::read_file(&root.join(format!("{name}.toml"))).unwrap();

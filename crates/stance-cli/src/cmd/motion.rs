@@ -229,6 +229,24 @@ pub fn table(r: &MotionResult) -> String {
                 }
             }
         }
+        for v in &c.via_points_missed {
+            let _ = writeln!(
+                o,
+                "  via-point missed: {} {:.1} mm{} from its target at the end of move {} of \
+                 segment {} ({}): out of reach, held off a solid by the clearance (ik.clearance), or traded for \
+                 another task (ik.w_com, ik.w_link)",
+                v.target,
+                v.distance * 1e3,
+                if v.angle_deg > 0.0 {
+                    format!(", {:.2} deg", v.angle_deg)
+                } else {
+                    String::new()
+                },
+                v.move_number,
+                v.segment,
+                v.segment_name
+            );
+        }
         for k in &c.unplanned_touches {
             let _ = writeln!(
                 o,

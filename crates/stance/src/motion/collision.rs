@@ -37,7 +37,9 @@
 //! not held on for at least
 //! [`crate::tol::UNPLANNED_TOUCH_TIME`] is an unplanned touch: within the penetration tolerance,
 //! but what the simulator sees as an unplanned contact that may carry load (a foot that the plan
-//! leaves on the floor after its stance ends).
+//! leaves on the floor after its stance ends). A touch that lasts until the body is held on
+//! that solid is its landing, reached a little early (a landing arrives at rest, so its last
+//! micrometre takes a while), and is not reported.
 
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -494,6 +496,14 @@ pub fn check_collisions(
     let m = &plan.robot.model;
     let nb = model.bodies.len();
     let ns = model.solids.len();
+    // body `b` is a contact surface held on solid `s` in segment `k`
+    let held_on = |k: usize, b: usize, s: usize| match model.bodies[b].kind {
+        BodyKind::Surface { surface } => paths[k]
+            .contacts
+            .iter()
+            .any(|c| c.surface == surface && c.environment == s),
+        BodyKind::Bone { .. } => false,
+    };
     // per sample: every measured pair (body, solid, distance)
     let per_sample: Vec<Vec<(usize, usize, f64)>> = samples
         .par_iter()
@@ -501,17 +511,10 @@ pub fn check_collisions(
             || Data::new(m),
             |data, smp| -> Result<Vec<(usize, usize, f64)>, StanceError> {
                 forward_kinematics(m, data, &smp.q).map_err(StanceError::Robot)?;
-                let held = &paths[smp.segment].contacts;
                 let mut out = Vec::new();
                 for b in 0..nb {
-                    let held_on = |s: usize| match model.bodies[b].kind {
-                        BodyKind::Surface { surface } => held
-                            .iter()
-                            .any(|c| c.surface == surface && c.environment == s),
-                        BodyKind::Bone { .. } => false,
-                    };
                     model.distances(data, b, crate::tol::CLEARANCE_RANGE, |s, d| {
-                        if !held_on(s) {
+                        if !held_on(smp.segment, b, s) {
                             out.push((b, s, d.distance));
                         }
                     });
@@ -539,6 +542,8 @@ pub fn check_collisions(
         for k in 0..nb * ns {
             match (open[k], touching[k]) {
                 (None, true) => open[k] = Some(i),
+                // a touch that ends in the contact being held is its landing, early
+                (Some(_), false) if held_on(smp.segment, k / ns, k % ns) => open[k] = None,
                 (Some(start), false) => {
                     let duration = smp.t - samples[start].t;
                     if longest[k].is_none_or(|(_, l)| duration > l) {

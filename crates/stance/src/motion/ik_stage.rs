@@ -22,7 +22,7 @@ use stance_robot::{
 
 use super::environment::{polygon_of, OnSurface};
 use super::plan::{LinkGoal, MotionPlan};
-use super::references::{ComReference, LinkLeg, LinkPlan, SegmentReferences};
+use super::references::{ComReference, CornerKernel, LinkLeg, LinkPlan, SegmentReferences};
 use super::spec::ComTarget;
 use crate::StanceError;
 
@@ -212,8 +212,11 @@ pub fn com_reference(plan: &MotionPlan) -> Result<ComReference, StanceError> {
     let c0 = center_of_mass(m, &mut Data::new(m), &plan.q0).map_err(StanceError::Robot)?;
     let mut knots = vec![0.0];
     let mut points = vec![c0];
-    for seg in &plan.segments {
-        for mv in &seg.moves {
+    // at a stance switch, the CoM turns in the stance with more contacts (module doc of
+    // `references`)
+    let mut turns = vec![None];
+    for (k, seg) in plan.segments.iter().enumerate() {
+        for (j, mv) in seg.moves.iter().enumerate() {
             let last = points[points.len() - 1];
             points.push(match &mv.com {
                 None => last,
@@ -221,13 +224,17 @@ pub fn com_reference(plan: &MotionPlan) -> Result<ComReference, StanceError> {
                 Some(ComTarget::To(v)) => Vector3::from(*v),
             });
             knots.push(knots[knots.len() - 1] + mv.duration);
+            let switch = j + 1 == seg.moves.len();
+            turns.push(plan.segments.get(k + 1).filter(|_| switch).map(|next| {
+                if next.stance.len() >= seg.stance.len() {
+                    CornerKernel::After
+                } else {
+                    CornerKernel::Before
+                }
+            }));
         }
     }
-    Ok(ComReference {
-        knots,
-        points,
-        blend: plan.spec.ik.com_blend,
-    })
+    ComReference::new(knots, points, plan.com_blend, &turns)
 }
 
 /// The IK of segment `k` (starting at the global path parameter `s_offset`) from `(q, q_s)`, on

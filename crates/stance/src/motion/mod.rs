@@ -198,6 +198,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             if let Some(c) = checks.as_mut() {
                 [c.max_via_point_error, c.max_via_point_rotation_deg] =
                     via_points::largest_errors(&moves);
+                c.via_points_missed = via_points::missed(&plan, &moves);
             }
         }
     }
@@ -408,6 +409,7 @@ fn checks_info(
         max_com_error: paths.iter().map(|p| p.max_com_error).fold(0.0, f64::max),
         // set from the moves by the caller
         max_via_point_error: 0.0,
+        via_points_missed: Vec::new(),
         max_via_point_rotation_deg: 0.0,
         max_between_violation: between,
         max_between_violation_fraction: between / weight,

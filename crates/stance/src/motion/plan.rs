@@ -99,6 +99,9 @@ pub struct MotionPlan {
     /// The robot's bodies and the environment's solids (the collision check, the IK's
     /// clearance and the simulator's geometry).
     pub collision: super::collision::CollisionModel,
+    /// Half-width of the rounding of the CoM path's corners (path units): `ik.com_blend`, or
+    /// its default.
+    pub com_blend: f64,
     /// The file, for the options.
     pub spec: MotionSpec,
 }
@@ -182,17 +185,27 @@ impl MotionPlan {
             .iter()
             .flat_map(|s| s.moves.iter().map(|m| m.duration))
             .fold(f64::INFINITY, f64::min);
-        finite_in(
-            "ik.com_blend",
-            spec.ik.com_blend,
-            f64::MIN_POSITIVE,
-            0.5 * shortest,
-            "give a half-width > 0 and at most half of the shortest move",
-        )?;
+        let com_blend = match spec.ik.com_blend {
+            Some(h) => {
+                finite_in(
+                    "ik.com_blend",
+                    h,
+                    f64::MIN_POSITIVE,
+                    0.25 * shortest,
+                    &format!(
+                        "give a half-width > 0 and at most a quarter of the shortest move \
+                         ({shortest} path units)"
+                    ),
+                )?;
+                h
+            }
+            None => super::spec::DEFAULT_COM_BLEND.min(0.25 * shortest),
+        };
         let q0 = initial(&spec, &names)?;
         let limits = super::limits::LimitsPlan::new(&robot.model, &spec.limits)?;
         let collision = super::collision::CollisionModel::new(&robot, &environment)?;
         Ok(Self {
+            com_blend,
             collision,
             actuator_limits: limits.clone(),
             limits,

@@ -113,7 +113,7 @@ pub struct SegmentInfo {
     /// `T_TOPP` (ms): the segment's own solve (rest to rest) or its re-solve with the chained
     /// boundary speeds.
     pub t_topp_ms: Option<f64>,
-    /// Largest CoM tracking error of the IK (m), against its smoothed reference (which lags
+    /// Largest CoM tracking error of the IK (m), against its reference (which passes through
     /// the file's via-points: `moves` measures against them).
     pub max_com_error: f64,
     /// Each move's end: its CoM and link via-points and where the IK's path was.
@@ -152,11 +152,15 @@ pub struct ChecksInfo {
     pub max_contact_drift: f64,
     /// Largest joint-limit violation at the samples (rad or m).
     pub max_joint_violation: f64,
-    /// Largest CoM tracking error of the IK (m), against its smoothed reference (which lags
-    /// the file's via-points: `max_via_point_error` measures against them).
+    /// Largest CoM tracking error of the IK (m), against its reference (which passes through
+    /// the file's via-points, module [`super::references`]).
     pub max_com_error: f64,
     /// Largest distance of the IK's path from a via-point at its move's end, CoM or link (m).
     pub max_via_point_error: f64,
+    /// The via-points missed by more than [`crate::tol::VIA_POINT_DISTANCE`] or
+    /// [`crate::tol::VIA_POINT_ANGLE_DEG`], in order (empty: every via-point reached).
+    #[serde(default)]
+    pub via_points_missed: Vec<super::via_points::ViaPointMiss>,
     /// Largest angle of a link from its via-point's orientation at its move's end (degrees).
     pub max_via_point_rotation_deg: f64,
     /// Largest row value at the IK samples under the profile (N), i.e. between grid points.

@@ -16,7 +16,7 @@
 //! [planning]   friction?, area_scale (1), margin (0),
 //!              friction_cone ({sides = 8, approximation = "inner"}: within Coulomb's cone)
 //! [ik]         w_com (1), w_link (0.1), w_posture (1e-5), gain (10), contact_gain (20),
-//!              joint_range (0.95), substeps (4), com_blend (0.25)
+//!              joint_range (0.95), substeps (4), com_blend (0.25, at most a quarter of the shortest move)
 //! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), rest_to_rest (false),
 //!              between_samples (10)
 //! [limits]     velocity (1.0: the URDF's; false), acceleration (none; 30.0 or
@@ -272,9 +272,10 @@ pub struct IkSpec {
     /// IK steps per retiming grid interval (4).
     #[serde(default = "four")]
     pub substeps: usize,
-    /// Half-width of the smoothing of the CoM polyline's corners (path units; 0.25).
-    #[serde(default = "com_blend")]
-    pub com_blend: f64,
+    /// Half-width of the rounding of the CoM path's corners (path units; by default 0.25, or a
+    /// quarter of the shortest move if that is less; at most a quarter of the shortest move).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com_blend: Option<f64>,
     /// Clearance (m) that the links not in contact keep from every environment solid (0.01;
     /// module [`super::collision`]); 0 keeps them out of the solids only. A body closer than
     /// this (a foot lifting off its surface) is pushed out gently (the IK's clearance damper).
@@ -292,7 +293,7 @@ impl Default for IkSpec {
             contact_gain: 20.0,
             joint_range: joint_range(),
             substeps: 4,
-            com_blend: com_blend(),
+            com_blend: None,
             clearance: clearance(),
         }
     }
@@ -457,6 +458,9 @@ fn hundred() -> usize {
 fn w_link() -> f64 {
     0.1
 }
+/// `ik.com_blend` when the file gives none and every move is at least 1 path unit long.
+pub const DEFAULT_COM_BLEND: f64 = 0.25;
+
 fn w_posture() -> f64 {
     1e-5
 }
@@ -464,9 +468,6 @@ fn clearance() -> f64 {
     0.01
 }
 
-fn com_blend() -> f64 {
-    0.25
-}
 fn joint_range() -> f64 {
     0.95
 }

@@ -156,3 +156,54 @@ pub fn largest_errors(moves: &[Vec<MoveInfo>]) -> [f64; 2] {
     }
     out
 }
+
+/// A via-point the IK's path missed by more than [`crate::tol::VIA_POINT_DISTANCE`] or
+/// [`crate::tol::VIA_POINT_ANGLE_DEG`]: out of the robot's reach, held off an environment solid
+/// by the IK's clearance (a straight move that cuts a step's edge), or traded by the IK for
+/// another task (the CoM against a link: `ik.w_com`, `ik.w_link`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ViaPointMiss {
+    /// Segment, numbered from 1.
+    pub segment: usize,
+    /// Its name.
+    pub segment_name: String,
+    /// Move within the segment, numbered from 1.
+    pub move_number: usize,
+    /// `"com"` or the robot surface.
+    pub target: String,
+    /// Distance from the via-point (m).
+    pub distance: f64,
+    /// Angle from its orientation (degrees; 0 for the CoM).
+    pub angle_deg: f64,
+}
+
+/// The via-points of `moves` (per segment, as [`moves_reached`] gives them) missed beyond the
+/// tolerances, in order.
+pub fn missed(plan: &MotionPlan, moves: &[Vec<MoveInfo>]) -> Vec<ViaPointMiss> {
+    let mut out = Vec::new();
+    for (k, seg) in moves.iter().enumerate() {
+        for (j, mv) in seg.iter().enumerate() {
+            let mut push = |target: &str, distance: f64, angle_deg: f64| {
+                if distance > crate::tol::VIA_POINT_DISTANCE
+                    || angle_deg > crate::tol::VIA_POINT_ANGLE_DEG
+                {
+                    out.push(ViaPointMiss {
+                        segment: k + 1,
+                        segment_name: plan.segments[k].name.clone(),
+                        move_number: j + 1,
+                        target: target.to_string(),
+                        distance,
+                        angle_deg,
+                    });
+                }
+            };
+            if let Some(e) = mv.com_error {
+                push("com", e, 0.0);
+            }
+            for l in &mv.links {
+                push(&l.surface, l.position_error, l.rotation_error_deg);
+            }
+        }
+    }
+    out
+}

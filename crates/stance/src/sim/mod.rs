@@ -32,7 +32,11 @@
 //! [`crate::tol::SIM_TRANSITION`] of a stance change; an unloaded contact that still touches is
 //! not lost, since with several contacts the simulator may share the load otherwise than the
 //! plan's minimum-norm forces); unplanned contacts (a robot geom touching an environment geom
-//! outside the stance, same window: when, how hard, and how long it carried load); base position and orientation error and CoM error against the reference; a fall
+//! outside the stance, same window: when, how hard, and how long it carried load; a landing
+//! that touches early, or a lift-off late, while the reference has the pair within
+//! [`crate::tol::SIM_SEPARATION`] is in contact by the tolerance of a loss, and reported apart
+//! as an early or late touch); base position and orientation error and CoM error against the
+//! reference; a fall
 //! (base more than [`crate::tol::SIM_FALL_HEIGHT`] below its reference, or the trunk tilted
 //! more than [`crate::tol::SIM_FALL_TILT`] from it). Verdict: held iff no fall, no contact
 //! loss, no unplanned contact carrying load (above [`crate::tol::SIM_LOAD`]) for longer than
@@ -127,6 +131,12 @@ pub struct SimReport {
     pub contact_losses: usize,
     /// Unplanned contacts: robot and environment geoms, when, the largest normal force.
     pub unplanned_contacts: Vec<String>,
+    /// Landings made early and lift-offs made late: a robot surface touching the environment
+    /// surface it is planned on in the segment after (or before) while the reference has it
+    /// within [`crate::tol::SIM_SEPARATION`] of it (in contact, by the tolerance of a planned
+    /// contact's loss; not an unplanned contact): geoms, when, the largest normal force.
+    #[serde(default)]
+    pub early_or_late_touches: Vec<String>,
     /// The robot fell.
     pub fell: bool,
     /// Largest base position error (m).
@@ -333,7 +343,8 @@ pub fn simulate(
             "the motion played at time scale {k} lasts {total:.1} s; the simulator plays at most \
              {} s: give a time scale of at least {:.3}",
             crate::tol::SIM_MAX_DURATION,
-            k * total / crate::tol::SIM_MAX_DURATION
+            // rounded up, so that the scale given back fits
+            (k * total / crate::tol::SIM_MAX_DURATION * 1e3).ceil() / 1e3
         )));
     }
     let [first, last] = options.segments.unwrap_or([0, run.paths.len() - 1]);
