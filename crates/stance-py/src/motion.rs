@@ -10,10 +10,11 @@ use crate::{errors, json};
 /// Runs a motion file (TOML or JSON) or a built-in motion (`"stair-climbing"`,
 /// `"box-climbing"`, `"small-sway"`) and returns the result of `stance motion` as a
 /// `stance.Result` (GIL released while it runs); `limits=False` retimes under contact
-/// stability alone (`--no-limits`: the file's limits are still checked).
+/// stability alone (`--no-limits`: the file's limits are still checked); `check_dt` is the step
+/// of the independent checks (`--check-dt`, 0.001 s).
 #[pyfunction]
 #[pyo3(signature = (source, *, rest_to_rest = None, dt = None, grid = None, checks = true,
-    time_scale = None, check_friction = None, limits = true))]
+    time_scale = None, check_friction = None, limits = true, check_dt = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn motion<'py>(
     py: Python<'py>,
@@ -25,6 +26,7 @@ pub fn motion<'py>(
     time_scale: Option<f64>,
     check_friction: Option<f64>,
     limits: bool,
+    check_dt: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (mut spec, base_dir) =
         stance::input::motion(&source.to_string_lossy()).map_err(errors::facade)?;
@@ -33,6 +35,9 @@ pub fn motion<'py>(
     }
     if let Some(dt) = dt {
         spec.retiming.dt = dt;
+    }
+    if let Some(dt) = check_dt {
+        spec.retiming.check_dt = dt;
     }
     if let Some(g) = grid {
         spec.retiming.grid = g;

@@ -47,6 +47,9 @@ def test_motion_options() -> None:
     assert a.duration <= b.duration
     fast = stance.motion("small-sway", time_scale=1.5)
     assert fast.checks.samples_without_forces > 0
+    # the checks every 1 ms by default, or at their own step
+    coarse = stance.motion("small-sway", check_dt=0.01)
+    assert coarse.checks.samples < stance.motion("small-sway").checks.samples / 5
 
 
 def test_paper_experiment_on_jvrc1() -> None:

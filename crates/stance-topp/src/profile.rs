@@ -215,6 +215,39 @@ impl Profile {
         Sample { t, s, sd, sdd: ui }
     }
 
+    /// The time at which the motion reaches the path parameter `s` (clamped to the grid), the
+    /// inverse of [`Self::at`]: inside interval `i`, `s = s_i + s'_i tau + u_i tau^2 / 2`, so
+    /// `tau = 2 (s - s_i) / (s'_i + sqrt(s'_i^2 + 2 u_i (s - s_i)))` (no cancellation). Infinite
+    /// where the interval is never traversed.
+    ///
+    /// ```
+    /// # use stance_topp::Profile;
+    /// // u = 1 from rest over [0, 0.5]: s(t) = t^2 / 2, reached at t = sqrt(2 s).
+    /// let p = Profile::from_states(vec![0.0, 0.5], vec![0.0, 1.0], vec![1.0]).unwrap();
+    /// assert!((p.time_at(0.125) - 0.5).abs() < 1e-15);
+    /// assert!((p.at(p.time_at(0.3)).s - 0.3).abs() < 1e-15);
+    /// assert_eq!((p.time_at(-1.0), p.time_at(0.5)), (0.0, 1.0));
+    /// ```
+    pub fn time_at(&self, s: f64) -> f64 {
+        let n = self.s.len();
+        let s = s.clamp(self.s[0], self.s[n - 1]);
+        let i = match self.s.partition_point(|&si| si <= s) {
+            0 => 0,
+            k => (k - 1).min(n - 2),
+        };
+        let d = s - self.s[i];
+        if d <= 0.0 {
+            return self.t[i];
+        }
+        if s >= self.s[i + 1] {
+            return self.t[i + 1];
+        }
+        let sd = self.x[i].max(0.0).sqrt();
+        let root = (sd * sd + 2.0 * self.u[i] * d).max(0.0).sqrt();
+        let tau = 2.0 * d / (sd + root);
+        self.t[i] + tau.min(self.t[i + 1] - self.t[i])
+    }
+
     /// Samples the motion every `dt` from 0 to the duration (the end point included).
     ///
     /// # Errors

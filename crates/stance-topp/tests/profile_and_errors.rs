@@ -1,5 +1,5 @@
-//! The exact s(t) of a profile (round trips at the grid points, monotonicity, speeds) and the
-//! errors for bad input.
+//! The exact s(t) of a profile (round trips at the grid points, monotonicity, speeds), its
+//! inverse t(s), and the errors for bad input.
 
 use proptest::prelude::*;
 use stance_topp::{
@@ -41,6 +41,17 @@ proptest! {
         }
         let last = samples.last().unwrap();
         prop_assert!((last.s - s[n - 1]).abs() <= 1e-9 * (1.0 + s[n - 1]));
+        // time_at inverts at: at the grid points and inside the intervals
+        for (si, ti) in s.iter().zip(p.times()) {
+            let t = p.time_at(*si);
+            prop_assert!((t - ti).abs() <= 1e-9 * (1.0 + p.duration()), "{} vs {}", t, ti);
+        }
+        for smp in &samples {
+            let t = p.time_at(smp.s);
+            // s(t) is flat where the speed is zero: the times agree through s
+            prop_assert!((p.at(t).s - smp.s).abs() <= 1e-9 * (1.0 + smp.s.abs()));
+            prop_assert!(t <= smp.t + 1e-9 * (1.0 + p.duration()));
+        }
     }
 }
 

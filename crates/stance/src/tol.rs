@@ -203,3 +203,13 @@ pub const VIA_POINT_DISTANCE: f64 = 1e-3;
 /// A link via-point's orientation is reached within this angle (degrees). Default 0.5, for the
 /// same reason as [`VIA_POINT_DISTANCE`].
 pub const VIA_POINT_ANGLE_DEG: f64 = 0.5;
+
+/// Two consecutive samples of an output trajectory agree when, for every one-coordinate joint,
+/// the position changes by the trapezoid of the two velocities within this (rad or m). Default
+/// 1e-4: what a user integrating the velocities, or a controller interpolating the positions,
+/// can ignore (the bound).
+pub const TRAJECTORY_TRAPEZOID: f64 = 1e-4;
+
+/// Most halvings of an output interval that still disagrees once its switching instants are in
+/// ([`TRAJECTORY_TRAPEZOID`]). Default 12: a 10 ms step halved down to 2.4 us.
+pub const TRAJECTORY_REFINE_DEPTH: usize = 12;

@@ -28,9 +28,13 @@ pub struct MotionArgs {
     /// one problem.
     #[arg(long)]
     pub rest_to_rest: bool,
-    /// Output time step of the trajectory and the checks (s).
+    /// Output time step of the trajectory (s; 0.01): samples every DT, with the instants where
+    /// the path acceleration switches added where two samples would disagree
     #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub dt: Option<f64>,
+    /// Time step of the independent checks (s; 0.001)
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
+    pub check_dt: Option<f64>,
     /// Retiming grid intervals per segment.
     #[arg(long, value_name = "N")]
     pub grid: Option<usize>,
@@ -77,6 +81,9 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
     }
     if let Some(dt) = args.dt {
         spec.retiming.dt = dt;
+    }
+    if let Some(dt) = args.check_dt {
+        spec.retiming.check_dt = dt;
     }
     if let Some(g) = args.grid {
         spec.retiming.grid = g;

@@ -330,6 +330,7 @@ def motion(
     time_scale: Optional[float] = None,
     check_friction: Optional[float] = None,
     limits: bool = True,
+    check_dt: Optional[float] = None,
 ) -> Result: ...
 def retime_joints(
     urdf: _PathLike,

@@ -172,26 +172,34 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     let moves = via_points::moves_reached(&plan, &paths)?;
     let profile = retimed.as_ref().and_then(|r| r.profile.clone());
     if let (Some(r), Some(p)) = (&retimed, &profile) {
-        samples = trajectory::sample(&plan, &paths, r, p, plan.spec.retiming.dt)?;
-        if let Some(k) = options.time_scale {
-            if !(k.is_finite() && k > 0.0) {
-                return Err(StanceError::BadMotion(format!(
-                    "time scale {k}; give a finite factor > 0"
-                )));
-            }
-            for smp in &mut samples {
-                smp.t /= k;
-                smp.v.iter_mut().for_each(|x| *x *= k);
-                smp.a.iter_mut().for_each(|x| *x *= k * k);
-            }
+        let k = options.time_scale.unwrap_or(1.0);
+        if !(k.is_finite() && k > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "time scale {k}; give a finite factor > 0"
+            )));
         }
+        // played k times faster
+        let scale = |samples: &mut Vec<TrajectorySample>| {
+            if k != 1.0 {
+                for smp in samples {
+                    smp.t /= k;
+                    smp.v.iter_mut().for_each(|x| *x *= k);
+                    smp.a.iter_mut().for_each(|x| *x *= k * k);
+                }
+            }
+        };
+        samples = trajectory::output(&plan, &paths, r, p, plan.spec.retiming.dt)?;
+        scale(&mut samples);
         if !options.skip_checks {
+            // the checks at their own step, every check_dt (module doc of `trajectory`)
+            let mut at = trajectory::uniform(&plan, &paths, r, p, plan.spec.retiming.check_dt)?;
+            scale(&mut at);
             checks = Some(checks_info(
                 &plan,
                 &paths,
                 &rows,
                 r,
-                &samples,
+                &at,
                 options,
                 plan.actuator_limits.as_ref(),
             )?);

@@ -148,6 +148,16 @@ pub fn check_retiming(r: &RetimingSpec) -> Result<(), StanceError> {
             "give a finite output time step of at least {} s",
             crate::tol::MIN_MOTION_DT
         ),
+    )?;
+    finite_in(
+        "retiming.check_dt",
+        r.check_dt,
+        crate::tol::MIN_MOTION_DT,
+        f64::MAX,
+        &format!(
+            "give a finite time step of the checks of at least {} s",
+            crate::tol::MIN_MOTION_DT
+        ),
     )
 }
 

@@ -16,9 +16,10 @@
 //! [planning]   friction?, area_scale (1), margin (0),
 //!              friction_cone ({sides = 8, approximation = "inner"}: within Coulomb's cone)
 //! [ik]         w_com (1), w_link (0.1), w_posture (1e-5), gain (10), contact_gain (20),
-//!              joint_range (0.95), substeps (4), com_blend (0.25, at most a quarter of the shortest move)
-//! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), rest_to_rest (false),
-//!              between_samples (10)
+//!              joint_range (0.95), substeps (4), com_blend (0.25, at most a quarter of the
+//!              shortest move)
+//! [retiming]   grid (100), discretization ("interpolation"), dt (0.01), check_dt (0.001),
+//!              rest_to_rest (false)
 //! [limits]     velocity (1.0: the URDF's; false), acceleration (none; 30.0 or
 //!              {default = 30.0, J = 50.0}), torque (1.0: the URDF's efforts; false)
 //! [[segments]] name?, stance = {LF = "floor", RF = "floor"}, w_link?, gain?
@@ -309,9 +310,14 @@ pub struct RetimingSpec {
     /// Discretization (interpolation).
     #[serde(default = "crate::retime::interpolation")]
     pub discretization: Discretization,
-    /// Output time step of the trajectory and of the checks (s; 0.01).
+    /// Output time step of the trajectory (s; 0.01): its samples are every `dt`, with the
+    /// instants where the path acceleration switches added where two samples would disagree
+    /// (module [`super::trajectory`]).
     #[serde(default = "dt")]
     pub dt: f64,
+    /// Time step of the independent checks (s; 0.001).
+    #[serde(default = "check_dt")]
+    pub check_dt: f64,
     /// Retime every segment from rest to rest (the paper's way) instead of the whole motion
     /// as one problem (false).
     #[serde(default)]
@@ -324,6 +330,7 @@ impl Default for RetimingSpec {
             grid: 100,
             discretization: Discretization::Interpolation,
             dt: dt(),
+            check_dt: check_dt(),
             rest_to_rest: false,
         }
     }
@@ -460,6 +467,10 @@ fn w_link() -> f64 {
 }
 /// `ik.com_blend` when the file gives none and every move is at least 1 path unit long.
 pub const DEFAULT_COM_BLEND: f64 = 0.25;
+
+fn check_dt() -> f64 {
+    0.001
+}
 
 fn w_posture() -> f64 {
     1e-5
