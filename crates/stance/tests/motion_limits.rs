@@ -392,31 +392,13 @@ fn cuts_give_the_profile_of_the_exact_projections() {
     );
 }
 
-/// Talos's URDF in the project virtualenv's `example-robot-data` (`scripts/setup-venv.sh
-/// --peers`), or why not.
+/// Talos's URDF in the project virtualenv, or why not.
 fn talos_urdf() -> Result<PathBuf, String> {
-    let venv = std::env::var_os("STANCE_VENV").map_or_else(|| root().join(".venv"), PathBuf::from);
-    let lib = std::fs::read_dir(venv.join("lib")).map_err(|e| {
-        format!(
-            "no virtualenv at {} ({e}): run scripts/setup-venv.sh --peers",
-            venv.display()
-        )
-    })?;
-    lib.flatten()
-        .map(|d| {
-            d.path().join(
-                "site-packages/cmeel.prefix/share/example-robot-data/robots/talos_data/robots/\
-                 talos_reduced.urdf",
-            )
-        })
-        .find(|p| p.is_file())
-        .ok_or_else(|| {
-            "example-robot-data is not in the virtualenv (scripts/setup-venv.sh --peers)".into()
-        })
+    stance_test_support::robots::talos_urdf(&root())
 }
 
-/// Another robot, from PyPI, with motions written for it (gallery/talos-*.toml): Talos squats
-/// and steps under its URDF's velocity and effort limits and a 20 rad/s^2 acceleration limit,
+/// Another robot, from PyPI, with motions written for it (gallery/talos-*.toml): Talos squats,
+/// steps aside and steps up a platform under its URDF's velocity and effort limits and a 20 rad/s^2 acceleration limit,
 /// every ratio at most one at 1 ms samples and supporting forces at every sample; with 60 % of
 /// its efforts the squat's knees bind with the contact forces as unknowns (cuts), still within
 /// the limits. Skipped without example-robot-data in the virtualenv.
@@ -445,6 +427,7 @@ fn talos_from_example_robot_data_keeps_its_limits() {
     for (name, spec) in [
         ("squat", load("squat")),
         ("step", load("step")),
+        ("step-up", load("step-up")),
         ("squat at 60 % of the efforts", squat_weak),
     ] {
         let r = run(spec, &RunOptions::default()).unwrap();
