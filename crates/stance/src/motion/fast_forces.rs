@@ -39,6 +39,8 @@ pub struct FastForces {
     b: DVector<f64>,
     lo: Vec<f64>,
     hi: Vec<f64>,
+    /// KKT solves of the dense solver so far, over every call (its work).
+    pub kkt_solves: usize,
 }
 
 impl FastForces {
@@ -145,6 +147,7 @@ impl FastForces {
         let mut rep = self.qp.solve(
             &self.p, &self.c, &self.a, &self.b, &self.lo, &self.hi, &opts,
         );
+        self.kkt_solves += rep.iterations;
         if rep.status != DenseQpStatus::Optimal {
             // a working set carried from the previous sample may not suit this one: once more
             // from every weight free
@@ -152,6 +155,7 @@ impl FastForces {
             rep = self.qp.solve(
                 &self.p, &self.c, &self.a, &self.b, &self.lo, &self.hi, &opts,
             );
+            self.kkt_solves += rep.iterations;
         }
         if rep.status != DenseQpStatus::Optimal {
             self.qp.reset();
