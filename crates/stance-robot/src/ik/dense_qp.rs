@@ -146,6 +146,14 @@ pub struct DenseQpWorkspace {
     /// The equations with the held rows below them, and their right-hand side.
     a_rows: DMatrix<f64>,
     b_rows: DVector<f64>,
+    /// Consecutive diagonal blocks of `P` ([`Self::set_blocks`]; empty: dense).
+    block_sizes: Vec<usize>,
+    /// Per coordinate `i`, the columns `[start, end)` of its block: `P[i][j] = 0` outside.
+    block: Vec<(usize, usize)>,
+    /// Per free coordinate (in the order of `free`), the free ones of its block `[start, end)`.
+    free_block: Vec<(usize, usize)>,
+    /// `1 / L[j][j]` (multiplications instead of divisions in the triangular solves).
+    l_inv: Vec<f64>,
 }
 
 impl DenseQpWorkspace {
@@ -178,6 +186,52 @@ impl DenseQpWorkspace {
     pub fn reset(&mut self) {
         self.held.iter_mut().for_each(|h| *h = Held::Free);
         self.row_active.iter_mut().for_each(|r| *r = false);
+    }
+
+    /// Declares `P` block diagonal, with these consecutive block sizes (empty: dense, the
+    /// default): the factorization and the products with `P` then skip the zeros outside the
+    /// blocks. A promise the solver does not check: entries outside the blocks are ignored.
+    /// Sizes that do not add up to the problem's size are ignored too.
+    ///
+    /// ```
+    /// use nalgebra::{DMatrix, DVector};
+    /// use stance_robot::ik::{DenseQpOptions, DenseQpStatus, DenseQpWorkspace};
+    /// // two 1 x 1 blocks: minimize |x - (1, 2)|^2 subject to x0 + x1 = 1
+    /// let p = DMatrix::identity(2, 2) * 2.0;
+    /// let c = DVector::from_vec(vec![-2.0, -4.0]);
+    /// let a = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+    /// let b = DVector::from_vec(vec![1.0]);
+    /// let mut ws = DenseQpWorkspace::new();
+    /// ws.set_blocks(&[1, 1]);
+    /// let rep = ws.solve(&p, &c, &a, &b, &[f64::NEG_INFINITY; 2], &[f64::INFINITY; 2],
+    ///     &DenseQpOptions::default());
+    /// assert_eq!(rep.status, DenseQpStatus::Optimal);
+    /// assert!((ws.solution()[0] - 0.0).abs() < 1e-12 && (ws.solution()[1] - 1.0).abs() < 1e-12);
+    /// ```
+    pub fn set_blocks(&mut self, sizes: &[usize]) {
+        if self.block_sizes != sizes {
+            self.block_sizes.clear();
+            self.block_sizes.extend_from_slice(sizes);
+            self.block.clear();
+        }
+    }
+
+    /// The block ranges of `n` coordinates ([`Self::set_blocks`]), laid out once per size.
+    fn layout_blocks(&mut self, n: usize) {
+        if self.block.len() == n {
+            return;
+        }
+        self.block.clear();
+        if self.block_sizes.iter().sum::<usize>() == n {
+            let mut start = 0;
+            for &k in &self.block_sizes {
+                self.block
+                    .extend(std::iter::repeat_n((start, start + k), k));
+                start += k;
+            }
+        } else {
+            self.block.resize(n, (0, n));
+        }
     }
 
     fn resize(&mut self, n: usize, m: usize) {
@@ -227,6 +281,7 @@ impl DenseQpWorkspace {
     ) -> DenseQpReport {
         let (n, m) = (p.nrows(), a.nrows());
         self.resize(n, m);
+        self.layout_blocks(n);
         // A warm-start bound that no longer exists is dropped.
         for i in 0..n {
             match self.held[i] {
@@ -434,7 +489,8 @@ impl DenseQpWorkspace {
     /// `(P x + c + A^T lambda)_i`.
     fn gradient(&self, p: &DMatrix<f64>, c: &DVector<f64>, a: &DMatrix<f64>, i: usize) -> f64 {
         let mut g = c[i];
-        for j in 0..self.n {
+        let (start, end) = self.block[i];
+        for j in start..end {
             g += p[(i, j)] * self.x[j];
         }
         for k in 0..self.m {
@@ -457,28 +513,41 @@ impl DenseQpWorkspace {
         self.free
             .extend((0..n).filter(|&i| self.held[i] == Held::Free));
         let nf = self.free.len();
+        // each free coordinate's block among the free ones (the free list is increasing)
+        self.free_block.clear();
+        for &i in &self.free {
+            let (start, end) = self.block[i];
+            self.free_block.push((
+                self.free.partition_point(|&j| j < start),
+                self.free.partition_point(|&j| j < end),
+            ));
+        }
         // r = -(c_F + P_FW x_W); b' = b - A_W x_W
         for (fi, &i) in self.free.iter().enumerate() {
             let mut v = -c[i];
-            for j in 0..n {
+            let (start, end) = self.block[i];
+            for j in start..end {
                 if self.held[j] != Held::Free {
                     v -= p[(i, j)] * self.x[j];
                 }
             }
             self.r[fi] = v;
         }
-        // P_FF into l, then Cholesky in place (lower, column-major).
+        // P_FF into l (its blocks), then Cholesky in place (lower, column-major).
         for (cj, &j) in self.free.iter().enumerate() {
-            for (ci, &i) in self.free.iter().enumerate().skip(cj) {
+            let end = self.free_block[cj].1;
+            for (ci, &i) in self.free.iter().enumerate().take(end).skip(cj) {
                 self.l[cj * nf + ci] = p[(i, j)];
             }
         }
-        if !cholesky_in_place(&mut self.l, nf) {
+        if !cholesky_blocks(&mut self.l, nf, &self.free_block) {
             return false;
         }
+        self.l_inv.clear();
+        self.l_inv.extend((0..nf).map(|j| 1.0 / self.l[j * nf + j]));
         // z = L^-1 r
         self.z[..nf].copy_from_slice(&self.r[..nf]);
-        forward_solve(&self.l, nf, &mut self.z[..nf]);
+        forward_blocks(&self.l, &self.l_inv, &self.free_block, &mut self.z[..nf]);
         if m > 0 {
             // Y = L^-1 A_F^T, and Y^T Y, Y^T z - b'
             for k in 0..m {
@@ -486,7 +555,7 @@ impl DenseQpWorkspace {
                 for (fi, &i) in self.free.iter().enumerate() {
                     col[fi] = a[(k, i)];
                 }
-                forward_solve(&self.l, nf, col);
+                forward_blocks(&self.l, &self.l_inv, &self.free_block, col);
             }
             let mut diag_max = 0.0f64;
             for k in 0..m {
@@ -524,7 +593,7 @@ impl DenseQpWorkspace {
                 }
             }
         }
-        backward_solve(&self.l, nf, &mut self.z[..nf]);
+        backward_blocks(&self.l, &self.l_inv, &self.free_block, &mut self.z[..nf]);
         for (fi, &i) in self.free.iter().enumerate() {
             self.x[i] = self.z[fi];
         }
@@ -543,13 +612,76 @@ impl DenseQpWorkspace {
     }
 }
 
-/// In-place Cholesky of the `n x n` lower triangle of `a` (column-major): `a = L L^T`.
+/// In-place Cholesky of the `n x n` lower triangle of a block-diagonal `a` (column-major):
+/// `a = L L^T`, with `blocks[j] = (start, end)` the rows and columns of `j`'s block (`(0, n)`
+/// for a dense matrix); `L` keeps the blocks, and nothing outside them is read or written.
 /// `false` on a non-positive pivot.
-fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
-    cholesky_in_place_rel(a, n, 0.0)
+fn cholesky_blocks(a: &mut [f64], n: usize, blocks: &[(usize, usize)]) -> bool {
+    for j in 0..n {
+        let (start, end) = blocks[j];
+        // a[j][j] -= sum_k<j L[j][k]^2
+        let mut d = a[j * n + j];
+        for k in start..j {
+            let l = a[k * n + j];
+            d -= l * l;
+        }
+        if d.is_nan() || d <= 0.0 || !d.is_finite() {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        // column j below the diagonal: L[i][j] = (a[i][j] - sum_k<j L[i][k] L[j][k]) / d
+        for k in start..j {
+            let ljk = a[k * n + j];
+            if ljk == 0.0 {
+                continue;
+            }
+            let (head, tail) = a.split_at_mut(j * n);
+            let colk = &head[k * n..(k + 1) * n];
+            let colj = &mut tail[..n];
+            for i in j + 1..end {
+                colj[i] -= colk[i] * ljk;
+            }
+        }
+        let inv = 1.0 / d;
+        for v in &mut a[j * n + j + 1..j * n + end] {
+            *v *= inv;
+        }
+    }
+    true
 }
 
-/// [`cholesky_in_place`] that also fails on a pivot (squared) below `min_pivot`.
+/// [`forward_solve`] for a block-diagonal `L` ([`cholesky_blocks`]), `inv` its inverse
+/// diagonal.
+fn forward_blocks(l: &[f64], inv: &[f64], blocks: &[(usize, usize)], v: &mut [f64]) {
+    let n = inv.len();
+    for j in 0..n {
+        let x = v[j] * inv[j];
+        v[j] = x;
+        let end = blocks[j].1;
+        if x != 0.0 {
+            let col = &l[j * n + j + 1..j * n + end];
+            for (vi, li) in v[j + 1..end].iter_mut().zip(col) {
+                *vi -= li * x;
+            }
+        }
+    }
+}
+
+/// [`backward_solve`] for a block-diagonal `L` ([`cholesky_blocks`]), `inv` its inverse
+/// diagonal.
+fn backward_blocks(l: &[f64], inv: &[f64], blocks: &[(usize, usize)], v: &mut [f64]) {
+    let n = inv.len();
+    for j in (0..n).rev() {
+        let end = blocks[j].1;
+        let col = &l[j * n + j + 1..j * n + end];
+        let s: f64 = col.iter().zip(&v[j + 1..end]).map(|(li, vi)| li * vi).sum();
+        v[j] = (v[j] - s) * inv[j];
+    }
+}
+
+/// In-place Cholesky of the `n x n` lower triangle of `a` (column-major), `a = L L^T`; `false`
+/// on a pivot (squared) below `min_pivot`.
 fn cholesky_in_place_rel(a: &mut [f64], n: usize, min_pivot: f64) -> bool {
     for j in 0..n {
         // a[j][j] -= sum_k<j L[j][k]^2

@@ -39,6 +39,8 @@ pub struct FastForces {
     b: DVector<f64>,
     lo: Vec<f64>,
     hi: Vec<f64>,
+    /// Block sizes of `P` (edges per vertex).
+    blocks: Vec<usize>,
     /// KKT solves of the dense solver so far, over every call (its work).
     pub kkt_solves: usize,
 }
@@ -110,6 +112,11 @@ impl FastForces {
             self.hi = vec![f64::INFINITY; n];
             self.qp.reset();
         }
+        // P is block diagonal: one block per vertex
+        self.blocks.clear();
+        self.blocks
+            .extend(points.iter().map(|(i, _)| edges[*i].len()));
+        self.qp.set_blocks(&self.blocks);
         self.p.fill(0.0);
         for (b, w) in self.b.iter_mut().zip(&w_c) {
             *b = -w / scale;
