@@ -24,9 +24,9 @@ schedule and the thresholds. The math of the control and of the measurements is 
   it was loaded), |F_t| / F_n of the resultant of MuJoCo's contact forces on it, contact losses
   (a planned contact separated from its surface), unplanned contacts (when, how hard, how long
   loaded; a landing or lift-off that touches while the reference has that pair within the
-  separation threshold is an early or late touch, reported apart), base and CoM errors, falls. Verdict: held iff no fall, no lost planned contact, no
-  unplanned contact carrying load (more than the load threshold) longer than the loss time, and
-  every slip below the bound.
+  separation threshold is an early or late touch, reported apart), base and CoM errors, falls.
+  Verdict: held iff no fall, no lost planned contact, no unplanned contact carrying load (more
+  than the load threshold) longer than the loss time, and every slip below the bound.
 """
 
 import json
@@ -233,10 +233,10 @@ def main(input_path, report_path, trace_path=None):
                         # in contact, by the same tolerance as a planned contact's loss
                         mujoco.mj_contactForce(model, data, c, force6)
                         seg = segments[s_now]
-                        landing = (rg, eg) in planned_pairs[s_now + 1] if s_now + 1 < len(
-                            segments) else False
+                        landing = s_now + 1 < len(segments) and (rg, eg) in planned_pairs[s_now + 1]
                         lifting = s_now > 0 and (rg, eg) in planned_pairs[s_now - 1]
                         if landing and lifting:
+                            # planned on both sides: nearer the segment's end, a landing
                             landing = tm - seg["t_start"] > seg["t_end"] - tm
                         pair = (f"{model.geom(rg).name} / {model.geom(eg).name}",
                                 seg["number"], "landed early" if landing else "lifted late")

@@ -331,8 +331,8 @@ fn the_paper_experiments_hold_as_retimed_and_fail_faster_or_slower() {
 /// (20 rad/s^2, 1.5 times the URDF's efforts), hold as retimed and fail 1.5 times faster;
 /// retimed without limits (thousands of rad/s^2, torques beyond the actuators) they fail as
 /// retimed. Then the gallery's walk (two steps), 15 cm step up, 15-degree slope, two surfaces of
-/// friction 0.9 and 0.3 on an incline, 35 cm squat, 10 cm step down and side step: each holds
-/// as retimed and fails 1.5 times faster. (Talos's motions need its URDF linked into gallery/:
+/// friction 0.9 and 0.3 on an incline, 35 cm squat, 10 cm step down, side step and a hand on a
+/// table: each holds as retimed and fails 1.5 times faster. (Talos's motions need its URDF linked into gallery/:
 /// bench/simulation.md.) About a minute.
 #[test]
 #[ignore = "about a minute of simulation; run with --ignored"]
@@ -356,6 +356,7 @@ fn the_gallery_holds_with_its_limits_and_fails_without() {
         ("deep-squat", true, 1.0, true),
         ("step-down", true, 1.0, true),
         ("side-step", true, 1.0, true),
+        ("hand-on-table", true, 1.0, true),
         ("walk", true, 1.5, false),
         ("step-up", true, 1.5, false),
         ("slope", true, 1.5, false),
@@ -363,6 +364,7 @@ fn the_gallery_holds_with_its_limits_and_fails_without() {
         ("deep-squat", true, 1.5, false),
         ("step-down", true, 1.5, false),
         ("side-step", true, 1.5, false),
+        ("hand-on-table", true, 1.5, false),
     ] {
         let spec: MotionSpec =
             stance::input::read_file(&root.join(format!("{name}.toml"))).unwrap();
