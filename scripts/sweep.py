@@ -10,10 +10,12 @@ under a change of scale, units or origin, a known closed form) or an error (exit
 line, naming what to fix). Each run is classified as
 
 - ok:      the expected outcome, and the oracle agrees;
-- unclear: an error was expected and given, but its message is not one line or does not name
-           what to fix (the case's keywords);
-- wrong:   an answer that fails its oracle, an error where an answer was expected, or an answer
-           (exit 0) where the input should have been refused (silently accepted);
+- unclear: an error was expected and given, but its message is not one line, does not name
+           what to fix (the case's keywords), or shows Rust's Debug formatting (`Some(`, `{ `,
+           `::`);
+- wrong:   an answer that fails its oracle, NaN or infinity written to its JSON, an error where
+           an answer was expected, or an answer (exit 0) where the input should have been
+           refused (silently accepted);
 - panic:   exit code 101 or a Rust panic message;
 - crash:   killed by a signal, or a timeout.
 
@@ -590,10 +592,14 @@ def run_case(case, runner, tmp):
         return "crash", "timeout after 120 s", time.time() - t0
     dt = time.time() - t0
     err = p.stderr or ""
+    # Rust's Debug formatting reaching a user: Some(..), a struct's braces, a path
+    debug = next((d for d in ("Some(", "{ ", "::") if d in err), None)
     if p.returncode == 101 or "panicked" in err:
         return "panic", err.strip().splitlines()[0] if err.strip() else "exit 101", dt
     if p.returncode < 0:
         return "crash", f"signal {-p.returncode}", dt
+    if p.returncode != 0 and debug:
+        return "unclear", f"Debug formatting ({debug!r}) in: " + err.strip()[:300].replace("\n", " | "), dt
     if case.expect == "ok_or_error" and p.returncode != 0:
         lines = err.strip().splitlines()
         if len(lines) == 1 and any(k.lower() in err.lower() for k in case.keywords):
@@ -609,10 +615,15 @@ def run_case(case, runner, tmp):
         return "ok", "", dt
     if p.returncode != 0:
         return "wrong", "error where an answer was expected: " + err.strip()[:300], dt
+    def no_constant(name):
+        raise ValueError(f"{name} written to JSON")
+
     try:
-        out = json.loads(stdout)
+        out = json.loads(stdout, parse_constant=no_constant)
     except json.JSONDecodeError:
         return "wrong", "exit 0 without JSON", dt
+    except ValueError as e:
+        return "wrong", str(e), dt
     if case.oracle is not None:
         try:
             why = case.oracle(out, runner)
