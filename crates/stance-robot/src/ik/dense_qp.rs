@@ -540,7 +540,7 @@ impl DenseQpWorkspace {
                 self.l[cj * nf + ci] = p[(i, j)];
             }
         }
-        if !cholesky_blocks(&mut self.l, nf, &self.free_block) {
+        if !cholesky_blocks(&mut self.l, nf, Some(&self.free_block), 0.0) {
             return false;
         }
         self.l_inv.clear();
@@ -579,7 +579,7 @@ impl DenseQpWorkspace {
                 self.lambda[k] = rhs;
             }
             // Y^T Y is filled in its lower triangle (s[k * m + l], l >= k, column k).
-            if !cholesky_in_place_rel(&mut self.s, m, diag_max * crate::tol::IK_DENSE_PIVOT) {
+            if !cholesky_blocks(&mut self.s, m, None, diag_max * crate::tol::IK_DENSE_PIVOT) {
                 return false;
             }
             forward_solve(&self.s, m, &mut self.lambda);
@@ -613,19 +613,24 @@ impl DenseQpWorkspace {
 }
 
 /// In-place Cholesky of the `n x n` lower triangle of a block-diagonal `a` (column-major):
-/// `a = L L^T`, with `blocks[j] = (start, end)` the rows and columns of `j`'s block (`(0, n)`
-/// for a dense matrix); `L` keeps the blocks, and nothing outside them is read or written.
-/// `false` on a non-positive pivot.
-fn cholesky_blocks(a: &mut [f64], n: usize, blocks: &[(usize, usize)]) -> bool {
+/// `a = L L^T`, with `blocks[j] = (start, end)` the rows and columns of `j`'s block (`None`:
+/// one dense block); `L` keeps the blocks, and nothing outside them is read or written.
+/// `false` on a pivot (squared) at most `min_pivot`.
+fn cholesky_blocks(
+    a: &mut [f64],
+    n: usize,
+    blocks: Option<&[(usize, usize)]>,
+    min_pivot: f64,
+) -> bool {
     for j in 0..n {
-        let (start, end) = blocks[j];
+        let (start, end) = blocks.map_or((0, n), |b| b[j]);
         // a[j][j] -= sum_k<j L[j][k]^2
         let mut d = a[j * n + j];
         for k in start..j {
             let l = a[k * n + j];
             d -= l * l;
         }
-        if d.is_nan() || d <= 0.0 || !d.is_finite() {
+        if d.is_nan() || d <= min_pivot || !d.is_finite() {
             return false;
         }
         let d = d.sqrt();
@@ -678,42 +683,6 @@ fn backward_blocks(l: &[f64], inv: &[f64], blocks: &[(usize, usize)], v: &mut [f
         let s: f64 = col.iter().zip(&v[j + 1..end]).map(|(li, vi)| li * vi).sum();
         v[j] = (v[j] - s) * inv[j];
     }
-}
-
-/// In-place Cholesky of the `n x n` lower triangle of `a` (column-major), `a = L L^T`; `false`
-/// on a pivot (squared) below `min_pivot`.
-fn cholesky_in_place_rel(a: &mut [f64], n: usize, min_pivot: f64) -> bool {
-    for j in 0..n {
-        // a[j][j] -= sum_k<j L[j][k]^2
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            let l = a[k * n + j];
-            d -= l * l;
-        }
-        if d.is_nan() || d <= min_pivot || !d.is_finite() {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        // column j below the diagonal: L[i][j] = (a[i][j] - sum_k<j L[i][k] L[j][k]) / d
-        for k in 0..j {
-            let ljk = a[k * n + j];
-            if ljk == 0.0 {
-                continue;
-            }
-            let (head, tail) = a.split_at_mut(j * n);
-            let colk = &head[k * n..(k + 1) * n];
-            let colj = &mut tail[..n];
-            for i in j + 1..n {
-                colj[i] -= colk[i] * ljk;
-            }
-        }
-        let inv = 1.0 / d;
-        for v in &mut a[j * n + j + 1..(j + 1) * n] {
-            *v *= inv;
-        }
-    }
-    true
 }
 
 /// Solves `L y = v` in place (`L` lower, column-major, `n x n`).
