@@ -34,6 +34,9 @@ import sys
 import tempfile
 import time
 
+# The binary finds JVRC-1 and MuJoCo in the source tree's virtualenv unless told otherwise.
+os.environ.setdefault("STANCE_VENV", os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), ".venv"))
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RNG = random.Random(20261126)
 

@@ -26,6 +26,9 @@ import numpy as np
 import cdd
 import pypoman
 
+# The binaries run here find JVRC-1 and MuJoCo in this virtualenv (the one running this script).
+os.environ.setdefault("STANCE_VENV", sys.prefix)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENES = ["single-support", "double-support", "stairs", "box-climbing"]
 GRAVITIES = [[0.15, 0.0, -9.81], [-0.15, 0.0, -9.81], [0.0, 0.15, -9.81], [0.0, -0.15, -9.81]]

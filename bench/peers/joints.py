@@ -16,7 +16,7 @@ For every case:
    no friction), all with first-order interpolation, the same grid, `TOPPRA` with its default
    seidel solver, rest to rest;
 3. answers first: the durations must agree within 1e-4 relative (the run stops otherwise);
-4. timings, in rounds (the Rust runner `crates/stance/examples/bench_joints.rs`, which times
+4. timings, in rounds (the Rust runner `crates/stance-motion/examples/bench_joints.rs`, which times
    rows + TOPP in one process; then toppra building its constraints on the grid, which
    evaluates their parameters with Pinocchio's RNEA, and solving), medians, and the ratio.
    Both sides build the robot model and the spline once, outside the timing.
@@ -38,6 +38,9 @@ import pinocchio as pin
 import toppra
 import toppra.algorithm as algo
 import toppra.constraint as tc
+
+# The binaries run here find JVRC-1 and MuJoCo in this virtualenv (the one running this script).
+os.environ.setdefault("STANCE_VENV", sys.prefix)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ROBOTS = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share",
@@ -156,7 +159,7 @@ def main():
     repeat = args.repeat or (20 if args.quick else 200)
     rounds = 3 if args.quick else 5
     runner = os.path.join(ROOT, "target", "release", "examples", "bench_joints")
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "stance", "--example",
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "stance-motion", "--example",
                     "bench_joints"], cwd=ROOT, check=True)
     print(f"toppra {importlib.metadata.version('toppra')}, Pinocchio {pin.__version__}; grid points "
           f"{args.grid_points}; {rounds} rounds of {repeat} solves")

@@ -7,7 +7,7 @@ Run from the project root, with the virtualenv of `scripts/setup-venv.sh --peers
     "${STANCE_VENV:-.venv}/bin/python" bench/peers/motion.py [--quick]
 
 Steps, per motion:
-1. the Rust runner (`crates/stance/examples/bench_motion.rs`, release build) runs the motion
+1. the Rust runner (`crates/stance-motion/examples/bench_motion.rs`, release build) runs the motion
    `--repeat` times and writes its stage timings (medians), each segment's GIWC generators (span
    form) and U_stance rows, and the whole motion's retiming rows exactly as its solver solved
    them;
@@ -40,6 +40,9 @@ import cdd.gmp
 import toppra
 import toppra.algorithm as algo
 import toppra.constraint as tc
+
+# The binaries run here find JVRC-1 and MuJoCo in this virtualenv (the one running this script).
+os.environ.setdefault("STANCE_VENV", sys.prefix)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MOTIONS = ["stair-climbing", "box-climbing"]
@@ -413,7 +416,7 @@ def main():
 
     started = datetime.datetime.now(datetime.timezone.utc)
     load_start = loadavg()
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "stance", "--example", "bench_motion"],
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "stance-motion", "--example", "bench_motion"],
                    cwd=ROOT, check=True)
     print("# Whole-body motions: the pipeline against pycddlib and toppra\n")
     print(f"date (UTC): {started:%Y-%m-%d %H:%M}; machine: {platform.machine()}, {os.cpu_count()} "

@@ -26,6 +26,9 @@ import time
 import numpy as np
 import pinocchio as pin
 
+# The binaries run here find JVRC-1 and MuJoCo in this virtualenv (the one running this script).
+os.environ.setdefault("STANCE_VENV", sys.prefix)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 FINGERS = ["R_UTHUMB", "R_LTHUMB", "R_UINDEX", "R_LINDEX", "R_ULITTLE", "R_LLITTLE",

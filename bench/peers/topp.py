@@ -29,6 +29,9 @@ import toppra
 import toppra.algorithm as algo
 import toppra.constraint as tc
 
+# The binaries run here find JVRC-1 and MuJoCo in this virtualenv (the one running this script).
+os.environ.setdefault("STANCE_VENV", sys.prefix)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 NAMES = ["ds_flat", "mc_minvel"]
 DISC = {"collocation": tc.DiscretizationType.Collocation,

@@ -53,6 +53,9 @@ enum Command {
     /// Robot models from URDF: centroidal quantities (Pinocchio's conventions).
     #[command(subcommand)]
     Robot(cmd::robot::RobotCommand),
+    /// Install from PyPI what the paper's robot and the simulator need (JVRC-1's description,
+    /// MuJoCo) into stance's virtualenv ($STANCE_VENV, else a per-user folder).
+    Setup(cmd::setup::SetupArgs),
 }
 
 /// What the arguments ask for.
@@ -108,6 +111,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Topp(a) => cmd::topp::run(a),
         Command::Robot(c) => cmd::robot::run(c),
         Command::View(a) => cmd::view::run(a),
+        Command::Setup(a) => cmd::setup::run(a),
         Command::Giwc(a) => cmd::contact::run_giwc(a),
         Command::Equilibrium(c) => cmd::contact::run_equilibrium(c),
     };

@@ -150,7 +150,40 @@ fn simulate_without_mujoco_says_how_to_install_it() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("scripts/setup-venv.sh"), "{err}");
+    assert!(err.contains("stance setup"), "{err}");
+}
+
+/// Without STANCE_VENV the virtualenv is the per-user one (under the platform's data folder),
+/// never a path of the machine that built the binary; `stance setup --check` says where.
+#[test]
+fn the_virtualenv_is_per_user_without_stance_venv() {
+    let home = tmp("home");
+    let out = stance()
+        .args(["setup", "--check"])
+        .env_remove("STANCE_VENV")
+        .env_remove("XDG_DATA_HOME")
+        .env("HOME", &home)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8(out.stdout).unwrap();
+    if cfg!(target_os = "linux") {
+        let want = home.join(".local/share/stance/.venv");
+        assert!(text.starts_with(&want.display().to_string()), "{text}");
+    }
+    assert!(text.contains("missing: run `stance setup`"), "{text}");
+    // and the motions that need it say how to get it
+    let out = stance()
+        .args(["motion", "stair-climbing"])
+        .env_remove("STANCE_VENV")
+        .env_remove("XDG_DATA_HOME")
+        .env_remove("STANCE_JVRC1_URDF")
+        .env("HOME", &home)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("stance setup"), "{err}");
 }
 
 #[test]

@@ -5,7 +5,7 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use stance::retime::{AngularSpec, Interpolation, MotionSpec, PathSpec, SceneRef};
+use stance::retime::{AngularSpec, Interpolation, ComMotionSpec, PathSpec, SceneRef};
 use stance::stance_topp::{CanonicalConstraints, Discretization, Row, SolveOptions, Workspace};
 
 use crate::contact::Stance;
@@ -288,7 +288,7 @@ pub fn retime<'py>(
         Some(d) if !d.is_none() => Some(angular(d)?),
         _ => None,
     };
-    let spec = MotionSpec {
+    let spec = ComMotionSpec {
         scene,
         path: PathSpec {
             waypoints,

@@ -55,7 +55,7 @@ def test_exception_tree() -> None:
         (lambda: stance.topp([0, 1], np.ones((2, 1)), np.ones((2, 1)), np.ones((2, 1)), sd_start=-1.0), "sd_start"),
         (lambda: stance.retime(STANCE, [[0, 0, 0.8]]), "waypoint"),
         (lambda: stance.retime(STANCE, [[0, 0, 0.8], [0.1, 0, 0.8]], interpolation="bezier"), "spline"),
-        (lambda: stance.motion("no-such-motion"), "neither a motion file nor a built-in motion"),
+        (lambda: stance.motion("no-such-motion"), "is neither a file nor a built-in motion"),
         (lambda: stance.motion("small-sway", grid=0), "grid"),
         (
             lambda: stance.Stance.from_scene({"mass": 39, "contacts": [["LF", [0, 0, 0], None, "point", 0.7]]}),

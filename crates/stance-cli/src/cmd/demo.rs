@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use stance::retime::{retime, Discretization, Interpolation, MotionSpec, PathSpec, SceneRef};
+use stance::retime::{retime, ComMotionSpec, Discretization, Interpolation, PathSpec, SceneRef};
 use stance::stance_contact::equilibrium::{PolygonWorkspace, RobustRegion, StaticEquilibrium};
 use stance::stance_contact::{examples, Giwc, GiwcOptions, Scene};
 use stance::stance_robot::{Data, Model, UrdfOptions, SMALL_HUMANOID_URDF};
@@ -224,7 +224,7 @@ fn retiming_section(o: &mut String, giwcs: &[SceneGiwc], out: &Path) -> Result<(
         "scene", "grid", "rows", "status", "duration s", "between %mg", "t_u ms", "t_abc", "t_topp"
     )?;
     for (name, _, _) in giwcs {
-        let spec = MotionSpec {
+        let spec = ComMotionSpec {
             scene: SceneRef::Named(name.to_string()),
             path: PathSpec {
                 waypoints: motion(name),
@@ -287,81 +287,32 @@ fn robot_section(o: &mut String) -> Result<()> {
     Ok(())
 }
 
-/// The paper's per-segment figures (Tables I and II): rows of `U_stance` (unpruned cdd), `T_U`,
-/// `T_abc`, `T_TOPP` (ms, 2015 CPU) and the segment durations (s) of HRP-4's motions.
-struct PaperTable {
-    rows: &'static [usize],
-    t_u: &'static [f64],
-    t_abc: &'static [f64],
-    t_topp: &'static [f64],
-    duration: &'static [f64],
-}
-
-const TABLE_I: PaperTable = PaperTable {
-    rows: &[114, 16, 162, 16, 162],
-    t_u: &[4.2, 1.3, 4.5, 1.3, 4.3],
-    t_abc: &[2.0, 2.0, 2.0, 2.0, 2.0],
-    t_topp: &[130.0, 350.0, 560.0, 360.0, 150.0],
-    duration: &[0.4, 0.6, 0.2, 0.8, 0.8],
-};
-
-const TABLE_II: PaperTable = PaperTable {
-    rows: &[113, 84, 55, 118],
-    t_u: &[4.4, 3.7, 3.0, 4.0],
-    t_abc: &[2.5, 2.5, 2.5, 2.5],
-    t_topp: &[420.0, 310.0, 60.0, 320.0],
-    duration: &[6.7, 8.3, 0.3, 6.1],
-};
-
-/// JVRC-1's URDF, installed from PyPI by the project's setup script when missing.
+/// JVRC-1's URDF, installed from PyPI (as `stance setup` does) when missing.
 fn ensure_jvrc1() -> Result<()> {
+    use stance::motion::venv;
     use stance::stance_robot::jvrc1::locate_urdf;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    if locate_urdf(Some(&root)).is_ok() {
+    if locate_urdf(venv::root().as_deref()).is_ok() {
         return Ok(());
     }
     eprintln!(
-        "stance demo: JVRC-1's URDF is not installed; running scripts/setup-venv.sh (PyPI \
-         jvrc-description 1.1.1 into the project virtualenv) ..."
+        "stance demo: JVRC-1's URDF is not installed; installing it as `stance setup` does \
+         (PyPI jvrc-description 1.1.1 into {}) ...",
+        venv::dir()?.display()
     );
-    let status = std::process::Command::new("bash")
-        .arg(root.join("scripts/setup-venv.sh"))
-        .current_dir(&root)
-        .status()
-        .context("cannot run scripts/setup-venv.sh (needs bash and python3 with venv)")?;
-    if !status.success() {
-        bail!(
-            "scripts/setup-venv.sh failed ({status}); install it by hand, then run the demo again"
-        );
-    }
-    locate_urdf(Some(&root))
+    venv::setup("python3").context("cannot install JVRC-1's description")?;
+    locate_urdf(venv::root().as_deref())
         .map(|_| ())
         .map_err(|why| anyhow::anyhow!("JVRC-1 is still not available after the setup: {why}"))
 }
 
-/// Section 6: the paper's whole-body experiments on JVRC-1, beside Tables I and II.
+/// Section 6: the paper's whole-body experiments on JVRC-1, beside Tables I and II
+/// ([`stance::motion::paper`]).
 fn motions(o: &mut String, out: &std::path::Path) -> Result<()> {
-    use stance::motion::{experiments, run, RunOptions};
+    use stance::motion::{experiments, paper, run, RunOptions};
     ensure_jvrc1()?;
-    writeln!(
-        o,
-        "\n6. Whole-body motions across stances on JVRC-1 (IK -> U_stance -> eq. 14 -> chained TOPP, \
-         force check at every 10 ms sample;\n   paper: HRP-4, unpruned cdd rows, 2015 CPU, every \
-         segment rest to rest; ours: irredundant rows, this machine, chained)"
-    )?;
-    for (name, title, paper) in [
-        (
-            "stair-climbing",
-            "Table I, stair climbing (24 cm step)",
-            &TABLE_I,
-        ),
-        (
-            "box-climbing",
-            "Table II, box climbing (10 cm box, slope, 90 cm ledge)",
-            &TABLE_II,
-        ),
-    ] {
-        let spec = experiments::by_name(name)?;
+    o.push_str(paper::HEADER);
+    for table in &paper::TABLES {
+        let spec = experiments::by_name(table.motion)?;
         let mut r2r_spec = spec.clone();
         r2r_spec.retiming.rest_to_rest = true;
         let r = run(spec, &RunOptions::default())?;
@@ -372,86 +323,8 @@ fn motions(o: &mut String, out: &std::path::Path) -> Result<()> {
                 ..Default::default()
             },
         )?;
-        super::motion::plots(&out.join(name), &r, "svg")?;
-        writeln!(
-            o,
-            "\n   {title}: {:?}, {} segments",
-            r.status,
-            r.segments.len()
-        )?;
-        writeln!(
-            o,
-            "   {:<3} {:>11} {:>13} {:>13} {:>15} {:>7} {:>6} {:>27}",
-            "seg",
-            "rows",
-            "T_U ms",
-            "T_abc ms",
-            "T_TOPP ms",
-            "T_IK",
-            "grid",
-            "duration s (chained, r2r)"
-        )?;
-        writeln!(
-            o,
-            "   {:<3} {:>11} {:>13} {:>13} {:>15} {:>7} {:>6} {:>27}",
-            "", "ours paper", "ours paper", "ours paper", "ours paper", "ms", "", "ours ours paper"
-        )?;
-        for (k, s) in r.segments.iter().enumerate() {
-            let d = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.2}"));
-            writeln!(
-                o,
-                "   {:<3} {:>5} {:>5} {:>6.2} {:>6.1} {:>6.2} {:>6.1} {:>7.2} {:>7.0} {:>7.1} {:>6} {:>9} {:>8} {:>8.1}",
-                k + 1,
-                s.u_stance_rows,
-                paper.rows[k],
-                s.t_u_ms,
-                paper.t_u[k],
-                s.t_abc_ms,
-                paper.t_abc[k],
-                s.t_topp_ms.unwrap_or(f64::NAN),
-                paper.t_topp[k],
-                s.t_ik_ms,
-                s.grid_points,
-                d(s.duration),
-                d(r2r.segments[k].duration),
-                paper.duration[k],
-            )?;
-        }
-        let t = &r.timings;
-        let total = |v: &[f64]| v.iter().sum::<f64>();
-        writeln!(
-            o,
-            "   all: U_stance + rows + TOPP {:.2} ms (paper {:.0} ms), refinement between grid \
-             points {:.2} ms, IK {:.1} ms, whole pipeline {:.1} ms",
-            t.t_u_abc_topp_ms,
-            total(paper.t_u) + total(paper.t_abc) + total(paper.t_topp),
-            t.t_refine_ms,
-            t.t_ik_ms,
-            t.t_pipeline_ms
-        )?;
-        writeln!(
-            o,
-            "   duration: chained {} s, rest to rest {} s ({}), paper {:.1} s",
-            r.duration.map_or("-".into(), |d| format!("{d:.2}")),
-            r2r.duration.map_or("-".into(), |d| format!("{d:.2}")),
-            r2r.failure.as_ref().map_or_else(
-                || "feasible".to_string(),
-                |f| format!("segment {} cannot end at rest", f.segment)
-            ),
-            total(paper.duration)
-        )?;
-        if let Some(c) = &r.checks {
-            writeln!(
-                o,
-                "   check: {} samples, {} without supporting forces; friction usage <= {:.2}, \
-                 contact drift <= {:.2} mm, joints within limits: {}",
-                c.samples,
-                c.samples_without_forces,
-                c.max_friction_usage,
-                c.max_contact_drift * 1e3,
-                c.max_joint_violation == 0.0
-            )?;
-        }
+        super::motion::plots(&out.join(table.motion), &r, "svg")?;
+        o.push_str(&table.compare(&r, &r2r));
     }
     Ok(())
 }

@@ -10,6 +10,7 @@ pub mod plot;
 pub mod retime;
 pub mod retime_joints;
 pub mod robot;
+pub mod setup;
 pub mod simulate;
 pub mod topp;
 pub mod view;

@@ -16,7 +16,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use stance::retime::{retime, MotionSpec, Retiming};
+use stance::retime::{retime, ComMotionSpec, Retiming};
 
 use super::io::{read_input, write_output, Common};
 
@@ -32,7 +32,7 @@ pub struct RetimeArgs {
 }
 
 pub fn run(args: RetimeArgs) -> Result<()> {
-    let spec: MotionSpec = read_input(&args.motion)?;
+    let spec: ComMotionSpec = read_input(&args.motion)?;
     let out = args.common.repeated(|| retime(&spec))?;
     if let Some(path) = &args.plot {
         phase_plane(path, &out)?;

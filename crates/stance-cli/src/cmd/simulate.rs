@@ -4,12 +4,12 @@
 //! `reason`, `max_slip_m`, `contact_losses`, `fell`, `max_base_error_m`, `max_friction_usage`,
 //! per-contact measurements with the simulated and planned friction, wall time); each surface
 //! is simulated at its own `friction` (`--friction MU` for all). MuJoCo comes from PyPI into the project virtualenv
-//! (`scripts/setup-venv.sh`); see `stance::sim` for the model, the control and the measurements.
+//! (`stance setup`); see `stance_sim` for the model, the control and the measurements.
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
-use stance::sim::{simulate, SimOptions};
+use stance_sim::{simulate, SimOptions};
 
 use super::io::{write_output, Common};
 
@@ -55,7 +55,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         }
     }
     let options = SimOptions {
-        mjcf: stance::sim::mjcf::MjcfOptions {
+        mjcf: stance_sim::mjcf::MjcfOptions {
             friction: args.friction,
             ..Default::default()
         },

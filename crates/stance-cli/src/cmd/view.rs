@@ -1,11 +1,11 @@
 //! `stance view FILE|NAME [-o view.html]`: one self-contained HTML page (three.js and the data
 //! inlined; opens offline from `file://`) of a scene, a motion, or a motion's result JSON. The
-//! library computes everything (`stance::view`); this writes the page.
+//! library computes everything (`stance_view`); this writes the page.
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use stance::view::{build, render, SceneViewOptions, SourceKind};
+use stance_view::{build, render, SceneViewOptions, SourceKind};
 
 use super::contact::parse_vec3;
 
@@ -46,7 +46,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         Some(SourceKind::Scene)
     } else if a.motion {
         Some(
-            stance::view::source_kind(&a.source).map_or(SourceKind::Motion, |k| match k {
+            stance_view::source_kind(&a.source).map_or(SourceKind::Motion, |k| match k {
                 SourceKind::MotionResult => k,
                 _ => SourceKind::Motion,
             }),

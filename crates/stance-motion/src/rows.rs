@@ -1,0 +1,473 @@
+//! Stage 3, contact stability rows: per segment, `U_stance` of its stance (once) and the rows of
+//! eq. 14 at its retiming grid points, from the path terms of the IK samples.
+//!
+//! # Math
+//!
+//! The stance's contacts are the robot surfaces at their placements at the segment's start
+//! (read off the configuration, [`super::ik_stage`]), with the planning friction and the
+//! polygons scaled by `sqrt(area_scale)` about their origin (the paper plans with mu = 0.7 and
+//! 70 % of each sole's area). `U_stance` is their GIWC's face form (unit rows, `U w_GI <= 0`,
+//! world origin; [`stance_contact::Stance::u_stance`]); with the IK's path terms at grid point
+//! `i`, eq. 14 gives `a_i = U w_a`, `b_i = U w_b`, `c_i = U w_c`
+//! ([`stance_topp::factored::eq14_vectors`], [`stance_topp::factored::FactoredRows`]).
+//!
+//! The IK's joint path has a constant `q_ss` on each IK step, so `p_ss` and `l2` jump at every
+//! IK sample: an interior grid point has the rows of both limits (the step arriving, the step
+//! leaving). The refinement between grid points makes the rows at every IK sample, once, and
+//! evaluates them under the profile.
+//!
+//! Each side of a sample also has the actuator-limit rows of [`crate::limit_rows`]; where the torque
+//! limits involve the contact forces (two contacts or more), its lifted rows are kept, and the
+//! retiming's separation oracle ([`super::separation`]) adds to the side the cuts in `(u, x)`
+//! it needed ([`SegmentRows::add_cut`]): the projection onto `(u, x)` is never computed.
+
+use std::time::{Duration, Instant};
+
+use stance_contact::{Contact, GiwcOptions, Stance};
+use stance_topp::factored::{eq14_vectors, FactoredRows};
+use stance_topp::lifted::{LiftedRows, Membership, Witnesses};
+use stance_topp::path::PathPoint;
+use stance_topp::Row;
+
+use super::ik_stage::{IkSample, SegmentPath};
+use super::plan::MotionPlan;
+use crate::binding::RowOrigin;
+use crate::limit_rows::{prune_unreachable, sample_limit_rows, LimitWorkspace, SegmentContacts};
+use crate::StanceError;
+
+/// Rows of several points, each point's in a slice (`offsets`), with what each row stands for.
+#[derive(Debug, Clone)]
+pub struct PointRows {
+    /// The rows, point after point.
+    pub rows: Vec<Row>,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// Where each point's rows start (one more than the points).
+    pub offsets: Vec<usize>,
+}
+
+impl Default for PointRows {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl PointRows {
+    fn new() -> Self {
+        Self {
+            rows: Vec::new(),
+            origins: Vec::new(),
+            offsets: vec![0],
+        }
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Whether there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The rows of point `i`.
+    pub fn rows_at(&self, i: usize) -> &[Row] {
+        &self.rows[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// What the rows of point `i` stand for.
+    pub fn origins_at(&self, i: usize) -> &[RowOrigin] {
+        &self.origins[self.offsets[i]..self.offsets[i + 1]]
+    }
+}
+
+/// Torque rows with the contact forces as unknowns at one side of a sample (rows in
+/// `(u, x, y)`).
+#[derive(Debug, Clone)]
+pub struct LiftedSide {
+    /// The rows.
+    pub rows: LiftedRows,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// The contact forces of the last admissible states found (module doc of
+    /// [`stance_topp::lifted::member`]).
+    pub witnesses: Witnesses,
+}
+
+/// The rows of one side of an IK sample: the step leaving it (right) or arriving at it (left).
+#[derive(Debug, Clone)]
+pub struct SideRows {
+    /// Contact rows of eq. 14, explicit limit rows, then the cuts of `lifted` the retiming
+    /// found.
+    pub rows: Vec<Row>,
+    /// What each row stands for.
+    pub origins: Vec<RowOrigin>,
+    /// Rows before the cuts.
+    pub explicit: usize,
+    /// The torque rows with the contact forces as unknowns (two contacts or more).
+    pub lifted: Option<Box<LiftedSide>>,
+}
+
+/// Both sides of an IK sample (the left is the right's copy at a segment's first sample).
+pub type Sides = [SideRows; 2];
+
+/// The GIWC of one segment, and its rows at its current retiming grid.
+#[derive(Debug, Clone)]
+pub struct SegmentRows {
+    /// The stance as planned (planning friction, scaled polygons): the GIWC's contacts, and
+    /// those of the independent force check.
+    pub stance: Stance,
+    /// `U_stance` rows (unit, `U w_GI <= 0`).
+    pub u: Vec<[f64; 6]>,
+    /// Whether the GIWC conversion certified its face form.
+    pub certified: bool,
+    /// The contacts as the torque limits need them (when torque limits apply).
+    pub contacts: Option<SegmentContacts>,
+    /// Indices of the IK samples at the retiming grid points (increasing; first and last
+    /// sample included).
+    pub grid: Vec<usize>,
+    /// Rows at the grid points: at an interior point those of both sides (the step arriving
+    /// and the step leaving), at the first point the right side, at the last the left side.
+    pub points: PointRows,
+    /// The rows of both sides of each IK sample, where computed (the grid's samples, and every
+    /// sample once the refinement asked for them).
+    pub sides: Vec<Option<Box<Sides>>>,
+    /// Time of `U_stance` (the paper's `T_U`).
+    pub t_u: Duration,
+    /// Time of the rows on the initial retiming grid (`T_abc`), actuator limits included.
+    pub t_abc: Duration,
+    /// Time of the actuator-limit rows within `t_abc`.
+    pub t_limits: Duration,
+    /// Cuts of the lifted torque rows kept in the sides' rows.
+    pub cuts: usize,
+}
+
+impl SegmentRows {
+    /// The rows at grid point `i`.
+    pub fn rows_at(&self, i: usize) -> &[Row] {
+        self.points.rows_at(i)
+    }
+
+    /// What the rows at grid point `i` stand for.
+    pub fn origins_at(&self, i: usize) -> &[RowOrigin] {
+        self.points.origins_at(i)
+    }
+
+    /// Computes both sides of the IK samples `samples` that have none yet.
+    fn compute(
+        &mut self,
+        plan: &MotionPlan,
+        path: &SegmentPath,
+        samples: &[usize],
+        ws: &mut LimitWorkspace,
+    ) -> Result<(), StanceError> {
+        let todo: Vec<usize> = samples
+            .iter()
+            .copied()
+            .filter(|&j| self.sides[j].is_none())
+            .collect();
+        if todo.is_empty() {
+            return Ok(());
+        }
+        let m = self.u.len();
+        let mass = plan.robot.model.total_mass();
+        let s: Vec<f64> = todo.iter().map(|&j| path.samples[j].s).collect();
+        let mut contact = [Vec::new(), Vec::new()];
+        for (side, left) in [false, true].into_iter().enumerate() {
+            let w = todo
+                .iter()
+                .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
+                .collect();
+            let f = FactoredRows::new(&self.u, s.clone(), w)?;
+            contact[side] = vec![Row::default(); todo.len() * m];
+            f.fill(&mut contact[side])?;
+        }
+        let t0 = Instant::now();
+        // each side is built and pruned in the workspace's buffers, then kept at its size: most
+        // limit rows are pruned, and writing them into the kept rows made most of this stage's
+        // time the kernel's (fresh pages for rows that were then dropped)
+        let mut scratch = std::mem::take(&mut ws.scratch);
+        for (i, &j) in todo.iter().enumerate() {
+            let smp = &path.samples[j];
+            for (side, (rows, origins)) in scratch.iter_mut().enumerate() {
+                rows.clear();
+                rows.extend_from_slice(&contact[side][i * m..(i + 1) * m]);
+                origins.clear();
+                origins.resize(m, RowOrigin::Contact);
+            }
+            let mut lifted_sides: [Option<Box<LiftedSide>>; 2] = [None, None];
+            if let Some(lp) = plan.limits.as_ref() {
+                let last = path.samples.len() - 1;
+                let left_qss = if j > 0 {
+                    &path.samples[j - 1].q_ss
+                } else {
+                    &smp.q_ss
+                };
+                // q_s at the other end of each side's step
+                let q_s_next = &path.samples[(j + 1).min(last)].q_s;
+                let q_s_prev = &path.samples[j.saturating_sub(1)].q_s;
+                let [(right_rows, right_origins), (left_rows, left_origins)] = &mut scratch;
+                let lifted = sample_limit_rows(
+                    plan,
+                    lp,
+                    self.contacts.as_ref(),
+                    smp,
+                    [&smp.q_ss, left_qss],
+                    [q_s_next, q_s_prev],
+                    ws,
+                    [(right_rows, right_origins), (left_rows, left_origins)],
+                )?;
+                for (q, ((rows, origins), l)) in scratch.iter_mut().zip(lifted).enumerate() {
+                    prune_unreachable(rows, origins, m, &mut ws.box_warm[q]);
+                    lifted_sides[q] = l.map(|(rows, origins)| {
+                        Box::new(LiftedSide {
+                            witnesses: Witnesses::new(),
+                            rows,
+                            origins,
+                        })
+                    });
+                }
+            }
+            let [lifted_r, lifted_l] = lifted_sides;
+            let keep = |(rows, origins): &(Vec<Row>, Vec<RowOrigin>), lifted| SideRows {
+                rows: rows.clone(),
+                origins: origins.clone(),
+                explicit: rows.len(),
+                lifted,
+            };
+            let sides: Sides = [keep(&scratch[0], lifted_r), keep(&scratch[1], lifted_l)];
+            self.sides[j] = Some(Box::new(sides));
+        }
+        ws.scratch = scratch;
+        self.t_limits += t0.elapsed();
+        Ok(())
+    }
+
+    /// Computes the rows at every IK sample (both sides), once.
+    pub fn ensure_sample_rows(
+        &mut self,
+        plan: &MotionPlan,
+        path: &SegmentPath,
+    ) -> Result<(), StanceError> {
+        let all: Vec<usize> = (0..path.samples.len()).collect();
+        self.compute(plan, path, &all, &mut LimitWorkspace::new(plan))
+    }
+
+    /// The rows of IK sample `j`: the right side (`left = false`) or the left one (after
+    /// [`Self::ensure_sample_rows`]).
+    pub fn sample_rows(&self, j: usize, left: bool) -> (&[Row], &[RowOrigin]) {
+        let s = &self.sides[j]
+            .as_ref()
+            .expect("rows computed at this sample")[usize::from(left)];
+        (&s.rows, &s.origins)
+    }
+
+    /// The side of IK sample `j` (computed).
+    pub fn side_mut(&mut self, j: usize, left: bool) -> &mut SideRows {
+        &mut self.sides[j]
+            .as_mut()
+            .expect("rows computed at this sample")[usize::from(left)]
+    }
+
+    /// Lays out the rows of the grid from the sides of its samples (computed).
+    fn lay_out(&mut self) {
+        let n = self.grid.len();
+        let mut out = PointRows::new();
+        for (i, &j) in self.grid.iter().enumerate() {
+            let sides = self.sides[j]
+                .as_ref()
+                .expect("rows computed at the grid's samples");
+            for (side, on) in [(0, i + 1 < n), (1, i > 0)] {
+                if on {
+                    out.rows.extend_from_slice(&sides[side].rows);
+                    out.origins.extend_from_slice(&sides[side].origins);
+                }
+            }
+            out.offsets.push(out.rows.len());
+        }
+        self.points = out;
+    }
+
+    /// Takes a new grid (indices of IK samples, increasing, first and last sample included)
+    /// whose samples have rows (after [`Self::ensure_sample_rows`]).
+    pub fn set_grid(&mut self, grid: Vec<usize>) {
+        self.grid = grid;
+        self.lay_out();
+    }
+
+    /// Adds a cut of the lifted rows of sample `j`'s side (valid for every admissible state of
+    /// that side) to its rows; the grid's rows change at the next [`Self::refresh`].
+    pub fn add_cut(&mut self, j: usize, left: bool, row: Row, origin: RowOrigin) {
+        let side = self.side_mut(j, left);
+        side.rows.push(row);
+        side.origins.push(origin);
+        self.cuts += 1;
+    }
+
+    /// Re-lays the grid out after cuts.
+    pub fn refresh(&mut self) {
+        self.lay_out();
+    }
+
+    /// Whether the lifted rows of sample `j`'s side (if any) hold at `(u, x)`.
+    pub fn lifted_holds(
+        &mut self,
+        j: usize,
+        left: bool,
+        u: f64,
+        x: f64,
+        member: &mut Membership,
+    ) -> Result<bool, StanceError> {
+        let side = self.side_mut(j, left);
+        match side.lifted.as_mut() {
+            Some(l) => Ok(member.contains(&l.rows, u, x, &mut l.witnesses)?),
+            None => Ok(true),
+        }
+    }
+}
+
+/// The planned stance of a segment path's contacts (planning friction and area scale).
+pub fn planned_stance(plan: &MotionPlan, path: &SegmentPath) -> Result<Stance, StanceError> {
+    let p = &plan.spec.planning;
+    stance_of(plan, path, p.area_scale.sqrt(), p.friction, p.friction_cone)
+}
+
+/// A segment's contacts as a stance: polygons scaled by `k`, friction `friction` (else each
+/// environment surface's), friction model `model`.
+pub fn stance_of(
+    plan: &MotionPlan,
+    path: &SegmentPath,
+    k: f64,
+    friction: Option<f64>,
+    model: stance_contact::FrictionModel,
+) -> Result<Stance, StanceError> {
+    let contacts = path
+        .contacts
+        .iter()
+        .map(|c| {
+            let surf = &plan.robot.surfaces[c.surface];
+            let env = &plan.environment[c.environment];
+            let r = &c.pose.rotation;
+            let rotation = [
+                [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
+                [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
+                [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
+            ];
+            Contact::new(
+                &surf.name,
+                c.pose.translation.into(),
+                rotation,
+                surf.shape.shape(k),
+                friction.unwrap_or(env.friction),
+                &Default::default(),
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Stance::new(contacts, model)?)
+}
+
+/// The three vectors of eq. 14 of an IK sample's right limit (`left = false`) or left limit.
+pub fn eq14_of(sample: &IkSample, left: bool, mass: f64, gravity: [f64; 3]) -> [[f64; 6]; 3] {
+    let t = if left {
+        &sample.terms_left
+    } else {
+        &sample.terms
+    };
+    let q = PathPoint {
+        p: t.p.into(),
+        ps: t.p_s.into(),
+        pss: t.p_ss.into(),
+    };
+    eq14_vectors(&q, mass, gravity, t.l1.into(), t.l2.into())
+}
+
+/// `U_stance` and the rows of segment `path` at every `substeps`-th IK sample (contact rows
+/// and, when the plan has them, actuator-limit rows).
+///
+/// # Errors
+///
+/// [`StanceError::BadMotion`] when the stance's GIWC is lower-dimensional (point or line
+/// contacts only).
+pub fn segment_rows(
+    plan: &MotionPlan,
+    k: usize,
+    path: &SegmentPath,
+    substeps: usize,
+    ws: &mut polycone::Workspace,
+) -> Result<SegmentRows, StanceError> {
+    let stance = planned_stance(plan, path)?;
+    let t0 = Instant::now();
+    let giwc = stance.u_stance_with(ws, &GiwcOptions::default())?;
+    let t_u = t0.elapsed();
+    if giwc.equations.nrows() > 0 {
+        return Err(StanceError::BadMotion(format!(
+            "segment {} ({}): the stance's GIWC is lower-dimensional ({} equation(s)); \
+             retiming needs surface contacts",
+            k + 1,
+            plan.segments[k].name,
+            giwc.equations.nrows()
+        )));
+    }
+    let u = giwc.facet_rows();
+    let t1 = Instant::now();
+    let contacts = match &plan.limits {
+        Some(lp) if lp.any_torque() => {
+            let surfaces: Vec<usize> = path.contacts.iter().map(|c| c.surface).collect();
+            let poses: Vec<stance_robot::Pose> = path.contacts.iter().map(|c| c.pose).collect();
+            Some(SegmentContacts::new(plan, &surfaces, &poses, &stance)?)
+        }
+        _ => None,
+    };
+    let grid: Vec<usize> = (0..path.samples.len()).step_by(substeps).collect();
+    let mut out = SegmentRows {
+        stance,
+        u,
+        certified: giwc.certified,
+        contacts,
+        grid: grid.clone(),
+        points: PointRows::new(),
+        sides: vec![None; path.samples.len()],
+        t_u,
+        t_abc: Duration::ZERO,
+        t_limits: Duration::ZERO,
+        cuts: 0,
+    };
+    out.compute(plan, path, &grid, &mut LimitWorkspace::new(plan))?;
+    out.lay_out();
+    out.t_abc = t1.elapsed();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod doc_examples {
+    //! The examples that were in the docs of this private module.
+
+    #[test]
+    fn planned_stance_example() {
+        use crate::{
+            experiments,
+            ik_stage::{self, run_segment, IkStageWorkspace},
+            plan::MotionPlan,
+            rows,
+        };
+        let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+        let mut ws = IkStageWorkspace::new(&plan);
+        let nv = plan.robot.model.nv;
+        let com = ik_stage::com_reference(&plan).unwrap();
+        let path = run_segment(
+            &plan,
+            0,
+            &com,
+            0.0,
+            &plan.q0,
+            &vec![0.0; nv],
+            &[],
+            8,
+            &mut ws,
+        )
+        .unwrap();
+        let stance = rows::planned_stance(&plan, &path).unwrap();
+        assert_eq!(stance.contacts().len(), 2);
+    }
+}

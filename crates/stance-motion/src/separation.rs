@@ -1,0 +1,150 @@
+//! The torque limits with the contact forces as unknowns, given to the retiming as a separation
+//! oracle ([`stance_topp::Separation`]).
+//!
+//! # Math
+//!
+//! A side of an IK sample with two contacts or more has lifted rows in `(u, x, y)`
+//! ([`crate::limit_rows`]): its admissible states are their projection onto `(u, x)`. The solver
+//! asks the oracle about each state its LPs reach at a grid point; the oracle tests it against
+//! every lifted side of that point (the grid point's own sides, and at a segment boundary the
+//! next segment's first side): a contact-force witness, or the margin program
+//! ([`stance_topp::lifted::Membership::separate`]), accepts it, or the program's dual gives a
+//! row valid for every admissible state of that side that the state violates. The solver adds
+//! the row to the point and solves that LP again; when every optimum is accepted, the profile
+//! is the one of the exact sets. The rows found are kept in the sides (so that a later solve,
+//! after the refinement adds grid points, starts from them) and named by the torque of largest
+//! weight in their definition.
+
+use std::time::{Duration, Instant};
+
+use stance_topp::lifted::Membership;
+use stance_topp::{Cut, Row, Separation, ToppError};
+
+use super::rows::SegmentRows;
+use crate::binding::RowOrigin;
+
+/// A side of an IK sample: segment, sample, left side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SideRef {
+    /// Segment index.
+    pub segment: usize,
+    /// IK sample within the segment.
+    pub sample: usize,
+    /// The left side (the step arriving at the sample).
+    pub left: bool,
+}
+
+/// A cut the oracle returned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FoundCut {
+    /// Whose lifted rows it separates.
+    pub side: SideRef,
+    /// The row in `(u, x)`.
+    pub row: Row,
+    /// What it stands for.
+    pub origin: RowOrigin,
+}
+
+/// The oracle of the lifted sides of a layout's grid points (module doc).
+pub struct LiftedOracle<'a> {
+    rows: &'a mut [SegmentRows],
+    /// Per global grid point, its lifted sides.
+    points: Vec<Vec<SideRef>>,
+    /// Added to the solver's grid index (a segment solved alone).
+    pub offset: usize,
+    member: Membership,
+    /// Cuts returned, in order (a cut's tag is its index here).
+    pub found: Vec<FoundCut>,
+    /// Time spent in the oracle.
+    pub elapsed: Duration,
+    /// States tested.
+    pub tests: usize,
+}
+
+impl<'a> LiftedOracle<'a> {
+    /// The oracle of the grid points of `rows` laid out end to end (segment `k`'s grid point `i`
+    /// is global point `seg_start[k] + i`; a segment's last point is the next one's first).
+    /// `None` when no grid point has lifted rows.
+    pub fn new(rows: &'a mut [SegmentRows], seg_start: &[usize]) -> Option<Self> {
+        let n = seg_start.last().map_or(0, |&e| e + 1);
+        let mut points = vec![Vec::new(); n];
+        let mut any = false;
+        for (k, r) in rows.iter().enumerate() {
+            let last = r.grid.len() - 1;
+            for (i, &j) in r.grid.iter().enumerate() {
+                let Some(sides) = r.sides[j].as_ref() else {
+                    continue;
+                };
+                for (left, on) in [(false, i < last), (true, i > 0)] {
+                    if on && sides[usize::from(left)].lifted.is_some() {
+                        points[seg_start[k] + i].push(SideRef {
+                            segment: k,
+                            sample: j,
+                            left,
+                        });
+                        any = true;
+                    }
+                }
+            }
+        }
+        any.then(|| Self {
+            rows,
+            points,
+            offset: 0,
+            member: Membership::new(),
+            found: Vec::new(),
+            elapsed: Duration::ZERO,
+            tests: 0,
+        })
+    }
+
+    /// Keeps the cuts found in their sides' rows (the grids' rows change at the next
+    /// [`SegmentRows::refresh`]); returns how many.
+    pub fn keep_cuts(self) -> usize {
+        let n = self.found.len();
+        for c in &self.found {
+            self.rows[c.side.segment].add_cut(c.side.sample, c.side.left, c.row, c.origin);
+        }
+        n
+    }
+}
+
+impl Separation for LiftedOracle<'_> {
+    fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        let t0 = Instant::now();
+        let mut out = None;
+        let sides = self
+            .points
+            .get(point + self.offset)
+            .map_or(&[][..], Vec::as_slice);
+        for &side in sides {
+            self.tests += 1;
+            let lifted = self.rows[side.segment].sides[side.sample]
+                .as_mut()
+                .and_then(|s| s[usize::from(side.left)].lifted.as_mut())
+                .expect("the oracle's sides have lifted rows");
+            let Some(cut) = self
+                .member
+                .separate(&lifted.rows, u, x, &mut lifted.witnesses)?
+            else {
+                continue;
+            };
+            let origin = cut
+                .support
+                .iter()
+                .map(|&(j, _)| lifted.origins[j])
+                .find(|o| matches!(o, RowOrigin::TorqueWithContacts(_)))
+                .unwrap_or(RowOrigin::Contact);
+            let tag = self.found.len() as u32;
+            self.found.push(FoundCut {
+                side,
+                row: cut.row,
+                origin,
+            });
+            out = Some(Cut { row: cut.row, tag });
+            break;
+        }
+        self.elapsed += t0.elapsed();
+        Ok(out)
+    }
+}

@@ -1,0 +1,176 @@
+//! Thresholds of the motion pipeline, the retimings and their checks (each with its unit,
+//! default and reason).
+
+/// Largest grid (number of points) the refinement between grid points may build before it
+/// stops unconverged. Unit: grid points. Default 20 000: a hundred times the paper's grids,
+/// still solved in milliseconds; beyond it the violation is not a grid effect.
+pub const MAX_REFINED_GRID_POINTS: usize = 20_000;
+
+/// Largest number of samples per grid interval in the check between grid points. Unit:
+/// samples. Default 100: the violation of smooth rows converges long before (10 is the
+/// default); with [`MAX_REFINED_GRID_POINTS`] points and about 170 rows per point it bounds the
+/// check to a few hundred million row evaluations (about a second), where a larger count from a
+/// file would hang the command.
+pub const MAX_SAMPLES_PER_INTERVAL: usize = 100;
+
+/// Largest distance (m) of a robot surface's vertices from the plane of the environment surface
+/// it is in contact with, at the start of a segment. Default 5 mm: the IK lands a link within a
+/// fraction of a millimetre of its target (measured on the built-in motions); 5 mm accepts
+/// that and rejects a link that did not land (a missing `onto`, a target out of reach).
+pub const CONTACT_DISTANCE: f64 = 5e-3;
+
+/// Largest angle (rad) between a contact's robot and environment normals. Default 0.05 rad
+/// (about 3 degrees), for the same reason as [`CONTACT_DISTANCE`].
+pub const CONTACT_ANGLE: f64 = 0.05;
+
+/// Largest distance (m) of a robot surface's vertex outside its environment surface's polygon.
+/// Default 5 mm, for the same reason as [`CONTACT_DISTANCE`].
+pub const CONTACT_OUTSIDE: f64 = 5e-3;
+
+/// Largest speed (m/s) of a landing link's frame when its contact is made: "arrives at zero
+/// velocity" in practice. Default 1 mm/s: a tracking residual of the IK (the references
+/// themselves land at rest), far below any impact that matters for a humanoid.
+pub const LANDING_SPEED: f64 = 1e-3;
+
+/// Largest angular speed (rad/s) of a landing link's frame when its contact is made. Default
+/// 0.01 rad/s, for the same reason as [`LANDING_SPEED`].
+pub const LANDING_ANGULAR_SPEED: f64 = 1e-2;
+
+/// Weight of the base coordinates against the joints' in the standing-posture search
+/// (dimensionless). Default 1e-3: the base moves freely to satisfy the contacts while the joints
+/// stay close to the nominal posture.
+pub const STAND_BASE_WEIGHT: f64 = 1e-3;
+
+/// Damping of the standing-posture steps (dimensionless). Default 1e-10: keeps the step defined
+/// at a singular configuration without biasing a regular one.
+pub const STAND_DAMPING: f64 = 1e-10;
+
+/// Convergence of the standing-posture search (m or rad). Default 1e-10: contacts exactly on their
+/// surfaces to far below the contact tolerances.
+pub const STAND_RESIDUAL: f64 = 1e-10;
+
+/// Residual (m or rad) below which the standing-posture search stops pulling towards the nominal
+/// posture and polishes the contacts and the CoM alone. Default 1e-6: the pull is second order
+/// in the step and would otherwise stall the residual near 1e-9 (measured on JVRC-1).
+pub const STAND_POLISH: f64 = 1e-6;
+
+/// Largest step of the standing-posture search (rad or m per coordinate). Default 0.2.
+pub const STAND_MAX_STEP: f64 = 0.2;
+
+/// Iterations of the standing-posture search. Default 200 (it converges in 10 to 30 from the
+/// nominal posture on the built-in robots).
+pub const STAND_MAX_ITERATIONS: usize = 200;
+
+/// Largest number of retiming grid intervals per segment of a motion. Default 10 000 (the paper
+/// uses 100); beyond it the IK's cost, not the answer, grows.
+pub const MAX_MOTION_GRID: usize = 10_000;
+
+/// Largest number of IK steps per retiming grid interval. Default 100.
+pub const MAX_IK_SUBSTEPS: usize = 100;
+
+/// Smallest output time step of a motion (s). Default 1e-4 (10 kHz; a 20 s motion then has
+/// 200 000 samples).
+pub const MIN_MOTION_DT: f64 = 1e-4;
+
+/// Shortest move (path units). Default 1e-3: the IK gains are per unit of path (10 by default),
+/// so a shorter move asks for accelerations the IK cannot follow.
+pub const MIN_MOVE_DURATION: f64 = 1e-3;
+
+/// Longest move (path units). Default 1e4.
+pub const MAX_MOVE_DURATION: f64 = 1e4;
+
+/// Rounds of the refinement between grid points of a motion's retiming (IK samples where the
+/// rows do not hold become grid points, and the motion is solved again). Default 8: each round
+/// adds only the violating samples; the built-in motions converge in 2 to 4.
+pub const MAX_REFINE_ROUNDS: usize = 8;
+
+/// A contact force below this fraction of the gravito-inertial force `|f_GI|` is zero in the
+/// force check's friction usage (dimensionless). Default 1e-6: the supporting-forces QP meets its
+/// equations to about 1e-9 relative; an unloaded contact's residual tangential force is
+/// round-off, not friction.
+pub const ZERO_FORCE: f64 = 1e-6;
+
+/// A row binds at a grid point when its value is within this fraction of the size of its terms
+/// (`|a u| + |b x| + |c|`) of zero ([`crate::binding`]). Dimensionless. Default 1e-6: the
+/// reachability pass puts the profile on its binding rows to round-off (about 1e-12 relative),
+/// while a row that is merely close (a limit not quite reached) is off by far more than 1e-6.
+pub const BINDING: f64 = 1e-6;
+
+/// Largest number of output samples of a retimed joint path (its duration over `dt`). Unit:
+/// samples. Default 10 000 000: ten hours at 1 ms, or the longest a user could ask for by
+/// mistake without hanging the command (each sample costs an inverse dynamics, about a
+/// microsecond for an arm).
+pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
+
+/// Largest thickness (m) of an environment surface's solid. Default 100 m: far beyond any
+/// scene; a larger value is a unit mistake.
+pub const MAX_SOLID_THICKNESS: f64 = 100.0;
+
+/// Deepest penetration (m) of a robot body into an environment solid that the collision check
+/// accepts. Default 1 mm: a landing link touches its surface within micrometres (measured on the
+/// built-in motions) and a link lifting off starts on it; deeper is a collision (MuJoCo, whose
+/// soft contacts push back from the first micrometre, reports it as an unplanned contact).
+pub const COLLISION_PENETRATION: f64 = 1e-3;
+
+/// Range (m) within which the collision check measures a robot body's clearance exactly (the
+/// bounding boxes of farther pairs are not refined). Default 0.2 m: a body farther than this
+/// from every surface is reported as clear without a number.
+pub const CLEARANCE_RANGE: f64 = 0.2;
+
+/// Distance (m) beyond the clearance at which the IK starts to watch a pair (robot body,
+/// environment solid): closer pairs get a distance row. Default 5 cm: the clearance damper
+/// decays an approach over about a tenth of a unit of path, and a link moving at the
+/// references' rates covers less than this in one IK step.
+pub const CLEARANCE_WATCH: f64 = 0.05;
+
+/// Largest `ik.clearance` (m). Default 0.5 m: beyond it no leg could step; a larger value is a
+/// unit mistake.
+pub const MAX_CLEARANCE: f64 = 0.5;
+
+/// Regularization `eps` of the force check's fast path (dimensionless, against the squared
+/// norm of unit-height pyramid edges). Default 1e-6: makes the Hessian of the edge weights
+/// definite (an 8-sided pyramid's edges span three directions) while moving the forces from
+/// the minimum-norm ones by about that fraction, far below what the friction usage reports.
+pub const FAST_FORCES_REGULARIZATION: f64 = 1e-6;
+
+/// Largest number of KKT solves of the force check's fast path before it hands the sample to
+/// the slow path. Default 50: a warm-started sample takes one to three; an infeasible sample
+/// cycles, and the slow path certifies it.
+pub const FAST_FORCES_MAX_ITERATIONS: usize = 50;
+
+/// Signed distance (m) at or below which a robot body touches an environment solid. Default
+/// 1 um: a foot placed on its surface sits there to the standing search's and the IK's
+/// residuals (1e-10 m), not exactly at 0.
+pub const TOUCH_DISTANCE: f64 = 1e-6;
+
+/// Shortest unplanned touch (s) the collision check reports: a robot body within
+/// [`TOUCH_DISTANCE`] of a solid it is not held on, for this long. Default 0.05 s: a lift-off or a
+/// landing touches for at most 16 ms in the built-in and gallery motions that hold in MuJoCo
+/// (measured at 1 ms), while a swing foot that the plan leaves on the floor for 0.86 s (the
+/// gallery's Talos step up) is what the simulator reports as leaning on an unplanned contact.
+pub const UNPLANNED_TOUCH_TIME: f64 = 0.05;
+
+/// Margin of the torque check's pruning (a ratio): a sample whose upper bound is below the
+/// largest exact ratio by more than this is not solved exactly. Default 1e-6: the bound's forces
+/// balance the base within the force check's residual (relative 1e-6), which the exact program
+/// also allows; a sample within the margin is solved.
+pub const TORQUE_BOUND_MARGIN: f64 = 1e-6;
+
+/// A via-point (CoM or link position) is reached when the IK's path ends its move within this
+/// distance of it (m). Default 1 mm: the IK tracks its references to a few hundredths of this,
+/// so a larger distance is a target out of reach or traded for another task.
+pub const VIA_POINT_DISTANCE: f64 = 1e-3;
+
+/// A link via-point's orientation is reached within this angle (degrees). Default 0.5, for the
+/// same reason as [`VIA_POINT_DISTANCE`].
+pub const VIA_POINT_ANGLE_DEG: f64 = 0.5;
+
+/// Two consecutive samples of an output trajectory agree when, for every one-coordinate joint,
+/// the position changes by the trapezoid of the two velocities within this (rad or m). Default
+/// 1e-4: what a user integrating the velocities, or a controller interpolating the positions,
+/// can ignore (the issue's bound).
+pub const TRAJECTORY_TRAPEZOID: f64 = 1e-4;
+
+/// Most halvings of an output interval that still disagrees once its switching instants are in
+/// ([`TRAJECTORY_TRAPEZOID`]). Default 12: a 10 ms step halved down to 2.4 us.
+pub const TRAJECTORY_REFINE_DEPTH: usize = 12;
