@@ -8,14 +8,19 @@
 //! `V_surf = A_surf V_point`: one generator `(e, v_j x e)` per vertex `v_j` and pyramid edge `e`.
 
 use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
 
 use crate::tol::ContactTolerances;
 use crate::{ContactError, FrictionModel};
 
 pub use crate::tol::MAX_FRICTION;
 
-/// Shape of a contact surface, in the contact frame (the plane z = 0).
-#[derive(Debug, Clone, PartialEq)]
+/// Shape of a contact surface, in the contact frame (the plane z = 0): the one shape type of
+/// contacts, scene and motion files (their `shape` key: `"point"`, `{"rectangle":
+/// {"half_length": X, "half_width": Y}}` or `{"polygon": [[x, y], ...]}`), the simulator and
+/// the page.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum Shape {
     /// A point contact at the frame origin.
     Point,
@@ -27,7 +32,49 @@ pub enum Shape {
         half_width: f64,
     },
     /// A convex polygon, vertices `[x, y]` in order (either orientation).
-    Polygon(Vec<[f64; 2]>),
+    Polygon(#[serde(deserialize_with = "crate::scene::strict::points2")] Vec<[f64; 2]>),
+}
+
+impl Shape {
+    /// The shape scaled by `k` about the contact origin (the rectangle's half sizes and the
+    /// polygon's vertices multiplied by `k`; `k = 1`: as given).
+    ///
+    /// ```
+    /// use stance_contact::Shape;
+    /// let r = Shape::Rectangle { half_length: 0.1, half_width: 0.05 };
+    /// assert_eq!(r.scaled(2.0), Shape::Rectangle { half_length: 0.2, half_width: 0.1 });
+    /// ```
+    pub fn scaled(&self, k: f64) -> Shape {
+        match self {
+            Shape::Point => Shape::Point,
+            Shape::Rectangle {
+                half_length,
+                half_width,
+            } => Shape::Rectangle {
+                half_length: half_length * k,
+                half_width: half_width * k,
+            },
+            Shape::Polygon(v) => Shape::Polygon(v.iter().map(|p| [p[0] * k, p[1] * k]).collect()),
+        }
+    }
+
+    /// The largest distance of the shape from the contact origin (m; 0 for a point).
+    ///
+    /// ```
+    /// use stance_contact::Shape;
+    /// let r = Shape::Rectangle { half_length: 0.3, half_width: 0.4 };
+    /// assert!((r.radius() - 0.5).abs() < 1e-15);
+    /// ```
+    pub fn radius(&self) -> f64 {
+        match self {
+            Shape::Point => 0.0,
+            Shape::Rectangle {
+                half_length,
+                half_width,
+            } => half_length.hypot(*half_width),
+            Shape::Polygon(v) => v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max),
+        }
+    }
 }
 
 /// A validated contact. Build it with [`Contact::new`].

@@ -4,8 +4,9 @@
 //! humanoid of the paper) does not affect static equilibrium. Rotations are exactly orthonormal
 //! to double precision (built from rational tan(angle/2) like the project's reference data).
 
-use crate::scene::{ContactSpec, Scene, ShapeSpec, STANDARD_GRAVITY};
+use crate::scene::{ContactSpec, Scene, STANDARD_GRAVITY};
 use crate::FrictionModel;
+use crate::Shape;
 
 const MASS: f64 = 39.0;
 const EYE: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -15,7 +16,7 @@ fn foot(name: &str, position: [f64; 3], rotation: [[f64; 3]; 3], mu: f64) -> Con
         name: name.into(),
         position,
         rotation,
-        shape: ShapeSpec::Rectangle {
+        shape: Shape::Rectangle {
             half_length: 0.11,
             half_width: 0.065,
         },
@@ -101,7 +102,7 @@ pub fn box_climbing() -> Scene {
         ],
         0.7,
     );
-    hand.shape = ShapeSpec::Rectangle {
+    hand.shape = Shape::Rectangle {
         half_length: 0.05,
         half_width: 0.04,
     };
@@ -146,7 +147,7 @@ fn rpy(roll: f64, pitch: f64, yaw: f64) -> [[f64; 3]; 3] {
 pub fn robust_equilibrium() -> Scene {
     let deg = std::f64::consts::PI / 180.0;
     let mut arm = foot("RA", [0.5, -0.4, 0.87], EYE, 0.7);
-    arm.shape = ShapeSpec::Rectangle {
+    arm.shape = Shape::Rectangle {
         half_length: 0.015,
         half_width: 0.025,
     };
@@ -156,7 +157,7 @@ pub fn robust_equilibrium() -> Scene {
         rpy(-8.6 * deg, 2.7 * deg, 0.0),
         0.7,
     );
-    rf.shape = ShapeSpec::Rectangle {
+    rf.shape = Shape::Rectangle {
         half_length: 0.112,
         half_width: 0.065,
     };

@@ -98,7 +98,7 @@ pub use giwc::Giwc;
 pub use giwc_dd::GiwcOptions;
 pub use giwc_incremental::GiwcBuilder;
 pub use nalgebra;
-pub use scene::{ContactSpec, Scene, ShapeSpec};
+pub use scene::{ContactSpec, Scene};
 pub use stance::{w_gi_static, Stance};
 
 #[inline]

@@ -87,49 +87,6 @@ pub mod strict {
     }
 }
 
-/// Shape of a contact in a scene file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum ShapeSpec {
-    /// A point contact.
-    Point,
-    /// A rectangle centred on the contact origin.
-    Rectangle {
-        /// Half size along x (m).
-        half_length: f64,
-        /// Half size along y (m).
-        half_width: f64,
-    },
-    /// A convex polygon, vertices `[x, y]` in the contact frame.
-    Polygon(#[serde(deserialize_with = "strict::points2")] Vec<[f64; 2]>),
-}
-
-impl ShapeSpec {
-    /// The contact shape it describes, scaled by `k` about the contact origin (`k = 1`: as
-    /// given; the polygon's vertices and the rectangle's half sizes are multiplied by `k`).
-    ///
-    /// ```
-    /// use stance_contact::{Shape, ShapeSpec};
-    /// let r = ShapeSpec::Rectangle { half_length: 0.1, half_width: 0.05 };
-    /// assert_eq!(r.shape(2.0), Shape::Rectangle { half_length: 0.2, half_width: 0.1 });
-    /// ```
-    pub fn shape(&self, k: f64) -> Shape {
-        match self {
-            ShapeSpec::Point => Shape::Point,
-            ShapeSpec::Rectangle {
-                half_length,
-                half_width,
-            } => Shape::Rectangle {
-                half_length: half_length * k,
-                half_width: half_width * k,
-            },
-            ShapeSpec::Polygon(v) => {
-                Shape::Polygon(v.iter().map(|p| [p[0] * k, p[1] * k]).collect())
-            }
-        }
-    }
-}
-
 /// One contact of a scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -143,7 +100,7 @@ pub struct ContactSpec {
     #[serde(default = "identity", deserialize_with = "strict::mat3")]
     pub rotation: [[f64; 3]; 3],
     /// Contact shape.
-    pub shape: ShapeSpec,
+    pub shape: Shape,
     /// Friction coefficient mu (>= 0).
     pub friction: f64,
 }
@@ -212,7 +169,7 @@ impl Scene {
                     &c.name,
                     c.position,
                     c.rotation,
-                    c.shape.shape(1.0),
+                    c.shape.clone(),
                     c.friction,
                     tol,
                 )

@@ -47,7 +47,7 @@ use parry3d_f64::math::{Pose as PPose, Rotation, Vector as PVector};
 use parry3d_f64::shape::{Capsule, ConvexPolyhedron, Cuboid, SharedShape};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use stance_contact::scene::ShapeSpec;
+use stance_contact::Shape;
 use stance_robot::{forward_kinematics, Data, Pose};
 
 use super::environment::{polygon_of, EnvSurface};
@@ -76,10 +76,10 @@ pub const MIN_SOLID_THICKNESS: f64 = 0.05;
 /// ```
 /// use stance_motion::{collision::default_thickness, environment::EnvSurface,
 ///     spec::EnvironmentSurfaceSpec};
-/// use stance_contact::scene::ShapeSpec;
+/// use stance_contact::Shape;
 /// let surface = |name: &str, z: f64| EnvSurface::new(&EnvironmentSurfaceSpec {
 ///     name: name.into(), position: [0.0, 0.0, z], rpy: None, rotation: None,
-///     shape: ShapeSpec::Rectangle { half_length: 0.2, half_width: 0.2 }, friction: 0.9,
+///     shape: Shape::Rectangle { half_length: 0.2, half_width: 0.2 }, friction: 0.9,
 ///     thickness: None }).unwrap();
 /// let t = default_thickness(&[surface("floor", 0.0), surface("box", 0.3)]);
 /// assert_eq!(t[0], 0.05);
@@ -113,11 +113,11 @@ pub fn default_thickness(environment: &[EnvSurface]) -> Vec<f64> {
 /// about the surface frame's origin (a point gets 1 mm).
 ///
 /// ```
-/// use stance_contact::scene::ShapeSpec;
-/// let r = ShapeSpec::Rectangle { half_length: 0.1, half_width: 0.05 };
+/// use stance_contact::Shape;
+/// let r = Shape::Rectangle { half_length: 0.1, half_width: 0.05 };
 /// assert_eq!(stance_motion::collision::surface_box_half_sizes(&r, "LF").unwrap(), [0.1, 0.05]);
 /// ```
-pub fn surface_box_half_sizes(shape: &ShapeSpec, name: &str) -> Result<[f64; 2], StanceError> {
+pub fn surface_box_half_sizes(shape: &Shape, name: &str) -> Result<[f64; 2], StanceError> {
     let poly = polygon_of(shape, name, true)?;
     Ok([
         poly.iter().map(|p| p[0].abs()).fold(1e-3, f64::max),
@@ -271,7 +271,7 @@ impl CollisionModel {
         for (k, e) in environment.iter().enumerate() {
             let t = e.thickness;
             let (shape, local) = match e.shape {
-                ShapeSpec::Rectangle {
+                Shape::Rectangle {
                     half_length,
                     half_width,
                 } => (

@@ -11,7 +11,6 @@
 //! make an angle below `angle` ([`crate::tol`]). Placing a robot surface "at `(x, y)` with yaw
 //! `psi`" on a surface gives `world_from_robot = world_from_surface * (Rz(psi), (x, y, 0))`.
 
-use stance_contact::scene::ShapeSpec;
 use stance_contact::{Contact, Shape};
 use stance_robot::Pose;
 
@@ -28,7 +27,7 @@ pub struct EnvSurface {
     /// Its convex polygon in the surface frame (counter-clockwise or clockwise, as given).
     pub polygon: Vec<[f64; 2]>,
     /// Its shape as given.
-    pub shape: ShapeSpec,
+    pub shape: Shape,
     /// Friction coefficient.
     pub friction: f64,
     /// Thickness of its solid below the surface (m; the file's, else the default of
@@ -66,22 +65,22 @@ impl OnSurface {
 /// `allow_point`), validated as a contact would be.
 ///
 /// ```
-/// use stance_contact::scene::ShapeSpec;
-/// let r = ShapeSpec::Rectangle { half_length: 0.1, half_width: 0.05 };
+/// use stance_contact::Shape;
+/// let r = Shape::Rectangle { half_length: 0.1, half_width: 0.05 };
 /// assert_eq!(stance_motion::environment::polygon_of(&r, "test", false).unwrap().len(), 4);
-/// assert!(stance_motion::environment::polygon_of(&ShapeSpec::Point, "test", false).is_err());
+/// assert!(stance_motion::environment::polygon_of(&Shape::Point, "test", false).is_err());
 /// ```
 pub fn polygon_of(
-    shape: &ShapeSpec,
+    shape: &Shape,
     what: &str,
     allow_point: bool,
 ) -> Result<Vec<[f64; 2]>, StanceError> {
-    if *shape == ShapeSpec::Point && !allow_point {
+    if *shape == Shape::Point && !allow_point {
         return Err(StanceError::BadMotion(format!(
             "{what} is a point; give a rectangle or polygon"
         )));
     }
-    let shape = shape.shape(1.0);
+    let shape = shape.clone();
     let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let c = Contact::new(what, [0.0; 3], eye, shape, 0.0, &Default::default())
         .map_err(|e| StanceError::BadMotion(format!("{what}: {e}")))?;
@@ -101,9 +100,9 @@ impl EnvSurface {
     ///
     /// ```
     /// use stance_motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
-    /// use stance_contact::scene::ShapeSpec;
+    /// use stance_contact::Shape;
     /// let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3], rpy: None,
-    ///     rotation: None, shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 },
+    ///     rotation: None, shape: Shape::Rectangle { half_length: 1.0, half_width: 1.0 },
     ///     friction: 0.9, thickness: None };
     /// assert_eq!(EnvSurface::new(&spec).unwrap().polygon.len(), 4);
     /// ```
@@ -170,10 +169,10 @@ impl EnvSurface {
     ///
     /// ```
     /// # use stance_motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
-    /// # use stance_contact::scene::ShapeSpec;
+    /// # use stance_contact::Shape;
     /// # let spec = EnvironmentSurfaceSpec { name: "step".into(), position: [0.3, 0.0, 0.24],
     /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
-    /// #     shape: ShapeSpec::Rectangle { half_length: 0.15, half_width: 0.5 } };
+    /// #     shape: Shape::Rectangle { half_length: 0.15, half_width: 0.5 } };
     /// let step = EnvSurface::new(&spec).unwrap();
     /// let p = step.placement([0.0, -0.1], 0.0);
     /// assert!((p.translation - nalgebra::Vector3::new(0.3, -0.1, 0.24)).norm() < 1e-15);
@@ -191,10 +190,10 @@ impl EnvSurface {
     ///
     /// ```
     /// # use stance_motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
-    /// # use stance_contact::scene::ShapeSpec;
+    /// # use stance_contact::Shape;
     /// # let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3],
     /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
-    /// #     shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 } };
+    /// #     shape: Shape::Rectangle { half_length: 1.0, half_width: 1.0 } };
     /// let floor = EnvSurface::new(&spec).unwrap();
     /// let foot = stance_robot::Pose::from_xyz_rpy([0.1, 0.2, 3e-5], [1e-5, -2e-5, 0.3]);
     /// let on = floor.snap(&foot);
@@ -213,10 +212,10 @@ impl EnvSurface {
     ///
     /// ```
     /// # use stance_motion::{environment::EnvSurface, spec::EnvironmentSurfaceSpec};
-    /// # use stance_contact::scene::ShapeSpec;
+    /// # use stance_contact::Shape;
     /// # let spec = EnvironmentSurfaceSpec { name: "floor".into(), position: [0.0; 3],
     /// #     rpy: None, rotation: None, friction: 0.9, thickness: None,
-    /// #     shape: ShapeSpec::Rectangle { half_length: 1.0, half_width: 1.0 } };
+    /// #     shape: Shape::Rectangle { half_length: 1.0, half_width: 1.0 } };
     /// let floor = EnvSurface::new(&spec).unwrap();
     /// let sole = [[0.1, 0.05], [-0.1, 0.05], [-0.1, -0.05], [0.1, -0.05]];
     /// let on = floor.check(&floor.placement([0.2, 0.0], 0.3), &sole);

@@ -20,7 +20,7 @@
 
 use std::path::{Path, PathBuf};
 
-use stance_contact::scene::ShapeSpec;
+use stance_contact::Shape;
 use stance_robot::{Model, Pose, UrdfOptions};
 
 use super::spec::{RobotRef, RobotSpec, RobotSurfaceSpec};
@@ -36,7 +36,7 @@ pub struct RobotSurface {
     /// Index of its frame in the model (named `surface:<name>`).
     pub frame: usize,
     /// Its shape (half sizes for rectangles), in the surface frame.
-    pub shape: ShapeSpec,
+    pub shape: Shape,
 }
 
 /// The robot of a motion.
@@ -102,14 +102,14 @@ impl MotionRobot {
     }
 }
 
-fn rect(h_l: f64, h_w: f64) -> ShapeSpec {
-    ShapeSpec::Rectangle {
+fn rect(h_l: f64, h_w: f64) -> Shape {
+    Shape::Rectangle {
         half_length: h_l,
         half_width: h_w,
     }
 }
 
-fn surface(name: &str, link: &str, position: [f64; 3], shape: ShapeSpec) -> RobotSurfaceSpec {
+fn surface(name: &str, link: &str, position: [f64; 3], shape: Shape) -> RobotSurfaceSpec {
     RobotSurfaceSpec {
         name: name.into(),
         link: link.into(),

@@ -358,7 +358,7 @@ pub fn stance_of(
                 &surf.name,
                 c.pose.translation.into(),
                 rotation,
-                surf.shape.shape(k),
+                surf.shape.scaled(k),
                 friction.unwrap_or(env.friction),
                 &Default::default(),
             )

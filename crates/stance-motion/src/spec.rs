@@ -38,8 +38,8 @@
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
-use stance_contact::scene::{strict, ShapeSpec};
 use stance_contact::FrictionModel;
+use stance_contact::{scene::strict, Shape};
 use stance_topp::Discretization;
 
 /// The robot: a built-in name or a URDF with its surfaces.
@@ -129,7 +129,7 @@ pub struct RobotSurfaceSpec {
     #[serde(default, deserialize_with = "strict::vec3")]
     pub rpy: [f64; 3],
     /// Shape in the surface frame (half sizes for rectangles).
-    pub shape: ShapeSpec,
+    pub shape: Shape,
 }
 
 /// An environment surface.
@@ -148,7 +148,7 @@ pub struct EnvironmentSurfaceSpec {
     #[serde(default, deserialize_with = "opt_mat3")]
     pub rotation: Option<[[f64; 3]; 3]>,
     /// Shape in the surface frame (the plane z = 0).
-    pub shape: ShapeSpec,
+    pub shape: Shape,
     /// Friction coefficient of the surface (the physical one; planning may use less).
     pub friction: f64,
     /// Thickness of the solid below the surface, along its normal (m): the collision check, the

@@ -241,7 +241,7 @@ fn distances_agree_with_sampled_faces() {
         .position(|e| e.name == "platform")
         .unwrap();
     let e = &plan.environment[k];
-    let stance_contact::scene::ShapeSpec::Rectangle {
+    let stance_contact::Shape::Rectangle {
         half_length,
         half_width,
     } = e.shape

@@ -13,7 +13,7 @@ use stance::stance_contact::equilibrium::{
 };
 use stance::stance_contact::{
     self as sc, Approximation, ContactSpec, ForcesOutcome, FrictionModel, Giwc as RustGiwc, Scene,
-    ShapeSpec,
+    Shape,
 };
 
 use crate::{arrays, errors, json};
@@ -36,7 +36,7 @@ impl Contact {
             &spec.name,
             spec.position,
             spec.rotation,
-            spec.shape.shape(1.0),
+            spec.shape.clone(),
             spec.friction,
             &Default::default(),
         )
@@ -52,7 +52,7 @@ impl Contact {
         name: Option<String>,
         position: &Bound<'_, PyAny>,
         rotation: Option<&Bound<'_, PyAny>>,
-        shape: ShapeSpec,
+        shape: Shape,
         friction: f64,
     ) -> PyResult<Self> {
         let position = arrays::vec3(position, "position", "contact origin in the world, m")?;
@@ -95,7 +95,7 @@ impl Contact {
             name,
             position,
             rotation,
-            ShapeSpec::Rectangle {
+            Shape::Rectangle {
                 half_length,
                 half_width,
             },
@@ -112,7 +112,7 @@ impl Contact {
         friction: f64,
         name: Option<String>,
     ) -> PyResult<Self> {
-        Self::build(name, position, rotation, ShapeSpec::Point, friction)
+        Self::build(name, position, rotation, Shape::Point, friction)
     }
 
     /// A convex polygonal contact, `vertices` `(n, 2)` in the contact frame (m), either
@@ -133,7 +133,7 @@ impl Contact {
             "polygon vertices in the contact frame, m",
         )?;
         let pts = (0..v.nrows()).map(|i| [v[(i, 0)], v[(i, 1)]]).collect();
-        Self::build(name, position, rotation, ShapeSpec::Polygon(pts), friction)
+        Self::build(name, position, rotation, Shape::Polygon(pts), friction)
     }
 
     /// The contact's name.
@@ -184,12 +184,12 @@ impl Contact {
             p[1],
             p[2],
             match &self.spec.shape {
-                ShapeSpec::Point => "point".to_string(),
-                ShapeSpec::Rectangle {
+                Shape::Point => "point".to_string(),
+                Shape::Rectangle {
                     half_length,
                     half_width,
                 } => format!("rectangle {half_length} x {half_width}"),
-                ShapeSpec::Polygon(v) => format!("polygon of {} vertices", v.len()),
+                Shape::Polygon(v) => format!("polygon of {} vertices", v.len()),
             },
             self.spec.friction
         )

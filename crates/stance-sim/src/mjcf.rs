@@ -39,7 +39,7 @@
 use std::fmt::Write as _;
 
 use nalgebra::{UnitQuaternion, Vector3};
-use stance_contact::scene::ShapeSpec;
+use stance_contact::Shape;
 use stance_robot::{JointKind, Pose};
 
 use stance_motion::collision::{surface_box_half_sizes, CAPSULE_RADIUS, SURFACE_THICKNESS};
@@ -123,9 +123,9 @@ pub fn environment_geom(name: &str) -> String {
 
 /// A convex polygon's box half sizes and centre when it is an axis-aligned rectangle centred on
 /// the origin, else `None`.
-fn rectangle(shape: &ShapeSpec) -> Option<[f64; 2]> {
+fn rectangle(shape: &Shape) -> Option<[f64; 2]> {
     match shape {
-        ShapeSpec::Rectangle {
+        Shape::Rectangle {
             half_length,
             half_width,
         } => Some([*half_length, *half_width]),

@@ -15,7 +15,7 @@
 //! `u |p_i|`, the rounding the caller's coordinates already carry.
 
 use super::statics::StaticPolygon;
-use crate::{Contact, Shape, Stance};
+use crate::Stance;
 
 /// `o` and `L` of a stance (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,21 +36,13 @@ impl LengthFrame {
                 *oi += pi / n;
             }
         }
-        let radius = |c: &Contact| match c.shape() {
-            Shape::Point => 0.0,
-            Shape::Rectangle {
-                half_length,
-                half_width,
-            } => half_length.hypot(*half_width),
-            Shape::Polygon(v) => v.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max),
-        };
         let extent = cs
             .iter()
             .map(|c| {
                 let p = c.position();
                 let d =
                     ((p[0] - o[0]).powi(2) + (p[1] - o[1]).powi(2) + (p[2] - o[2]).powi(2)).sqrt();
-                d + radius(c)
+                d + c.shape().radius()
             })
             .fold(0.0, f64::max);
         if !(extent > 0.0 && extent.is_finite()) {
@@ -73,19 +65,7 @@ impl LengthFrame {
             .iter()
             .map(|c| {
                 let p = c.position();
-                let shape = match c.shape() {
-                    Shape::Point => Shape::Point,
-                    Shape::Rectangle {
-                        half_length,
-                        half_width,
-                    } => Shape::Rectangle {
-                        half_length: half_length * inv,
-                        half_width: half_width * inv,
-                    },
-                    Shape::Polygon(v) => {
-                        Shape::Polygon(v.iter().map(|q| [q[0] * inv, q[1] * inv]).collect())
-                    }
-                };
+                let shape = c.shape().scaled(inv);
                 c.rescaled(
                     [
                         (p[0] - self.origin[0]) * inv,
