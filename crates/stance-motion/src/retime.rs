@@ -109,10 +109,6 @@ pub struct PathSpec {
 
 pub use stance_topp::Discretization;
 
-/// The old name of [`Discretization`] (the facade had its own copy).
-#[deprecated(note = "use stance_motion::retime::Discretization (stance_topp::Discretization)")]
-pub type DiscretizationName = Discretization;
-
 /// The facade's default discretization: interpolation (tighter between grid points).
 pub(crate) fn interpolation() -> Discretization {
     Discretization::Interpolation

@@ -5,7 +5,7 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use stance::retime::{AngularSpec, Interpolation, ComMotionSpec, PathSpec, SceneRef};
+use stance::retime::{AngularSpec, ComMotionSpec, Interpolation, PathSpec, SceneRef};
 use stance::stance_topp::{CanonicalConstraints, Discretization, Row, SolveOptions, Workspace};
 
 use crate::contact::Stance;

@@ -3,7 +3,6 @@
 pub mod cone;
 pub mod contact;
 pub mod demo;
-#[allow(dead_code)] // shared helpers; each command module uses the ones it needs
 pub mod io;
 pub mod motion;
 pub mod plot;
