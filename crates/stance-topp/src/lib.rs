@@ -145,8 +145,6 @@ pub mod tol;
 pub use constraints::{CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
-#[allow(deprecated)]
-pub use solver::solve_with;
 pub use solver::{
     end_speed_range, solve, Cut, Cuts, Discretization, Separation, Solution, SolutionReport,
     SolveOptions, SolveStats, Status, Workspace,
