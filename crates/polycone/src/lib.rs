@@ -92,18 +92,15 @@
 //!
 //! # Limitations
 //!
-//! - Speed: the certified tolerance mode is x5.6 (16 generators) to x11.3 (32 and more,
-//!   median) faster than cddlib's float mode on 6-D wrench cones (x17 to x27 at 48 and 64
-//!   generators), short of the x10 / x30 aimed at (`bench/peers/cones.md`, 2026-11-22). The
-//!   checks are what cost: the certificate is two thirds of a conversion (single support
-//!   14 us: whitening 1.1, double description 2.8, certificate 9.2; the 38-facet stress
-//!   stances 48 us: 2.4, 10.4, 32.7), and everything but the certificate already stands at
-//!   about x10 on generic 16-generator cones and x28 to x32 on 32-generator ones. Every facet
-//!   but `t - 2` needs its ridges: from its claimed neighbours in closed form (about 6,800
-//!   instructions a facet on the single support), by closed forms of its tight generators, or
-//!   by a double description of them (about 12,000), and every facet its support. Without the
-//!   completeness part (`DdOptions::check_completeness`, uncertified) the medians were x7.0
-//!   and x14.7 (the 09:25 run of `cones.md`).
+//! - Speed: the certified tolerance mode is faster than cddlib's float mode on 6-D wrench
+//!   cones, but short of the ten times (16 generators) and thirty times (32) aimed at
+//!   (`bench/peers/cones.md` has the figures and how to measure them). The checks are what
+//!   cost: the certificate is most of a conversion, and everything but the certificate
+//!   already stands about at those targets. Every facet but `t - 2` needs its ridges: from its
+//!   claimed neighbours in closed form (the cheapest), by closed forms of its tight
+//!   generators, or by a double description of them (the dearest), and every facet its
+//!   support. Without the completeness part (`DdOptions::check_completeness`, uncertified)
+//!   the targets are still not met.
 //! - Above `d = 8` the preconditioning and the lineality split use nalgebra's SVD, which can
 //!   return wrong singular values on rank-deficient inputs (its issue 1172; a review found
 //!   227 defective decompositions among 3000 random rank-1 to rank-4 matrices with 9 to 12
@@ -112,16 +109,16 @@
 //! - The hot bitset scans of the double description use AVX-512 (with `vpopcntq`) or AVX2
 //!   when the CPU has them, chosen at run time; every variant gives the same answers (unit
 //!   tests compare them), only the speed differs.
-//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: milliseconds to
-//!   a few tens of milliseconds for 16 to 32 generators (20 ms for the stairs' 282 exact
-//!   facets), from as fast as cddlib's GMP mode (the flat rectangle) to 35 times faster
-//!   (`bench/peers/cones.md`), but far slower than the floating-point path.
+//! - [`Arithmetic::Exact`] uses big integers without a floating-point filter: as fast as
+//!   cddlib's GMP mode or faster (`bench/peers/cones.md`), but far slower than the
+//!   floating-point path; its cost grows with the size of the integers, hence with the
+//!   number of exact facets.
 //! - [`face_to_span`] runs the double description on the polar, whose constraints are the
 //!   facets: with hundreds of facets it is much slower than [`span_to_face`] of the same cone.
 //! - Inputs degenerate at the scale of the tolerances may need the exact fallback (slow) or
 //!   fail certification (an error, never a wrong certified cone). The fallback's slivers are
-//!   merged (see above) at a cost: `stance giwc` on the stairs with 10 um patches (270 exact
-//!   rows) takes about 35 ms, 21 ms without the shallow-row pass. The merge keeps the first row
+//!   merged (see above) at a cost: least-squares fits over the exact rows, which the
+//!   shallow-row pass adds to the fallback (`bench/peers/cones.md`). The merge keeps the first row
 //!   of a near-parallel pair and drops shallow rows in increasing distance: a greedy choice, so
 //!   it may keep more rows than the fewest a tolerance of `1e-8` allows, never more than the
 //!   exact answer, and it is certified whatever the choice. Its distances are measured in the
@@ -149,14 +146,14 @@
 //!   the generators (`stance-contact` does) or use [`Arithmetic::Exact`].
 //! - [`Continuation`] saves only the double description of the generators already converted
 //!   (and the SVD of the preconditioning while its coordinates stay well-conditioned): each
-//!   step runs the full certificate (64-68 % of a conversion of a 6-D wrench cone) on the
+//!   step runs the full certificate (most of a conversion of a 6-D wrench cone) on the
 //!   result, as no incremental certificate is done, and the double description of the new rows
-//!   usually dominates the rest. Measured against a conversion from scratch when the second
-//!   contact of the paper's stances is added: x0.93 (box climbing, whose hand moves the state
-//!   to fresh coordinates) to x1.09; x1.9 when the new rows cut no ray
-//!   (`bench/peers/contact.md`). A step that may enlarge the linear span of the generators (a
-//!   lower-dimensional cone) is a conversion from scratch; continued steps allocate their
-//!   results and some bookkeeping.
+//!   usually dominates the rest. Against a conversion from scratch when the second contact of
+//!   the paper's stances is added, that saves about nothing (a little is lost on the box
+//!   climbing, whose hand moves the state to fresh coordinates); the gain is large only when
+//!   the new rows cut no ray (`bench/peers/contact.md`). A step that may enlarge the linear
+//!   span of the generators (a lower-dimensional cone) is a conversion from scratch; continued
+//!   steps allocate their results and some bookkeeping.
 //! - The 2-D and 3-D polygon/polyhedron routines live in a separate module (`polytope`).
 
 // Index loops over several parallel arrays read like the math here.

@@ -60,9 +60,10 @@
 //!
 //! One least-squares fit per row of pass 1's result, one per candidate and one per
 //! re-certification (per coordinate system), each over at most `m` unit rows of dimension
-//! `d`; no conversion. On the 270 exact rows of the stairs stance with 10 um patches, `stance
-//! giwc` takes about 35 ms where it took 21 ms with the near-parallel merge alone (which kept
-//! 176 rows); on two raised feet (108 to 124 exact rows) the whole fallback takes about 10 ms.
+//! `d`; no conversion. The fits grow with the number of exact rows and candidates: on the 270
+//! exact rows of the stairs stance with 10 um patches the shallow-row pass makes `stance giwc`
+//! markedly slower than the near-parallel merge alone (`bench/peers/cones.md` has the figures,
+//! and those of two raised feet).
 
 use nalgebra::{DMatrix, DVector};
 

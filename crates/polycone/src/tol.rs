@@ -191,15 +191,16 @@ pub(crate) const NNLS_MAX_STEPS: usize = 3;
 /// as good numerically); it makes the choice independent of rounding in the last bits. The
 /// whitened rows all have norm 1 to the last bit, and which one starts the basis sets the
 /// size of the intermediate cones: on the 64-generator whole-space cone
-/// (`opposing_walls_friction`) the last bit of the whitening moved the work by a factor of 2.3.
+/// (`opposing_walls_friction`) the last bit of the whitening moved the work by a large factor
+/// (`bench/peers/cones.md`).
 pub(crate) const BASIS_TIE: f64 = 1e-9;
 
 /// The double description's initial basis takes, in input order, the first unit row whose
 /// residual off the rows already taken is at least this (well clear of their span), and only
 /// when none is, the row of largest residual. Input order keeps rows of one contact together,
-/// and the intermediate cones start smaller than from the largest residual: on fourteen
-/// benchmark cones (callgrind, 2026-11-22) 1.8-9 % fewer instructions per conversion on
-/// twelve, 30 % on the whole-space cone, 0.5 % and 2.3 % more on two generic ones.
+/// and the intermediate cones start smaller than from the largest residual: fewer
+/// instructions per conversion on most benchmark cones, a few more on two generic ones
+/// (`bench/peers/cones.md`).
 pub(crate) const BASIS_CLEAR: f64 = 0.7;
 
 /// Largest ambient dimension the conversions accept. Unit: coordinates. Value `1024`: the

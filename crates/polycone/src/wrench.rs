@@ -111,8 +111,8 @@
 //!   directions): the 32 extreme rays every time up to 3 km; from 10 km (and at 30 km) the
 //!   float certificate fails almost every time (a review's rerun had 1 of 6 runs pass at
 //!   10 km in one direction) and the exact fallback returns 3300 to 4000 rays, the exact
-//!   answer for the rounded facets (about 1.2 s). `tests/wrench.rs` checks 1 km, with
-//!   the one-ulp perturbations.
+//!   answer for the rounded facets (slow: `bench/peers/cones.md`). `tests/wrench.rs` checks
+//!   1 km, with the one-ulp perturbations.
 //! - Only for `d = 6` with rows `(f_x, f_y, f_z, tau_x, tau_y, tau_z)`; with
 //!   [`crate::Arithmetic::Exact`] the option is refused (the map rounds the input, and exact
 //!   mode already decides ranks exactly). The exact fallback of tolerance mode runs on the
@@ -121,15 +121,13 @@
 //! # Cost
 //!
 //! Two least-squares fits and a median over the input, the map, copies of the input and of
-//! the answer, and one small SVD per non-empty equation or lineality basis. Measured on the
-//! stairs stance (32 generators, 176 facets; release build, median of 1000 conversions,
-//! `cargo run --release -p polycone --example cone_bench -- INPUT.json 1000 [--wrench]` on the
-//! fixture written about each point): at its own origin 0.168 ms without the option, 0.178 ms
-//! with it; about points 1 km to 100 km away 0.177-0.193 ms with it, where without it the
-//! conversion takes 0.169 ms at 1 km (176 facets) and returns a 5-D cone with 116 facets at
-//! 30 km (0.063 ms), a 4-D one with 37 at 100 km (0.023 ms), and at 50 km along `x` fails the
-//! float certificate and falls back to exact arithmetic (276 facets; 0.66 s when measured, 50 ms
-//! with the faster exact path measured later); 0.24 ms with it.
+//! the answer, and one small SVD per non-empty equation or lineality basis: linear in the
+//! number of generators and facets, small against the double description and the
+//! certificate, so a stance at its own origin converts only slightly slower with the option
+//! than without it. Far from the origin the option keeps the conversion in floating point where
+//! without it the cone loses dimensions (30 km, 100 km) or fails its float certificate and
+//! falls back to exact arithmetic (50 km along `x`), far slower. The figures, and the command
+//! that measures them, are in `bench/peers/cones.md`.
 //!
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 

@@ -53,8 +53,8 @@
 //!   of CoM per 1e-9 at 1 km): test CoMs with the half-spaces in metres
 //!   ([`equilibrium::StaticEquilibrium`], [`equilibrium::RobustRegion`]) instead.
 //! - Adding a contact ([`GiwcBuilder::add_contact`]) continues the double description, but
-//!   the certificate still runs on the whole result, so there is no gain to speak of: x0.93 to
-//!   x1.07 on the paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact
+//!   the certificate still runs on the whole result, so there is no gain to speak of on the
+//!   paper's stances and a 4-contact one (`bench/peers/contact.md`). A contact
 //!   that may enlarge the linear span of the GIWC (lower-dimensional stances, e.g. point
 //!   contacts) is a conversion from scratch; so is removing a contact (not offered).
 //! - Region computations are tolerance-based (metres, [`tol`]): a CoM within

@@ -157,19 +157,6 @@ impl Stance {
         v
     }
 
-    /// `V_all` (6n x N) with generators as **columns**, the paper's layout.
-    ///
-    /// ```
-    /// # use stance_contact::examples;
-    /// let s = examples::double_support_flat().stance().unwrap();
-    /// # #[allow(deprecated)]
-    /// assert_eq!(s.v_all().shape(), (12, 32));
-    /// ```
-    #[deprecated(note = "generators are rows in this project: use v_all_rows (its transpose)")]
-    pub fn v_all(&self) -> DMatrix<f64> {
-        self.v_all_rows().transpose()
-    }
-
     /// Span form of the GIWC, one generator per **row** (`V_all A_stance^T`, the layout of
     /// polycone): for each contact vertex `q` (world) and pyramid edge `e` (world), the row
     /// `-(e, q x e)`. Wrench at the world origin, paper's convention.

@@ -62,9 +62,8 @@ pub const MAX_FRICTION: f64 = 1e6;
 
 /// Largest accepted number of vertices of a polygon contact (64). Reason: the contact wrench
 /// cone has four generators per vertex and the double description's work grows steeply with
-/// them (measured: the GIWC of a 64-vertex polygon and a rectangle takes 0.4 s, of a 100-vertex
-/// one 5 s, of a 1,000-vertex one more than 300 s); a contact surface is described well by far
-/// fewer vertices.
+/// them (`bench/peers/contact.md` has measured times); a contact surface is described well
+/// by far fewer vertices.
 pub const MAX_POLYGON_VERTICES: usize = 64;
 
 /// The thresholds of this crate; see the constants of this module for units and reasons.

@@ -38,20 +38,6 @@ pub struct SoleRectangle {
     pub half_width: f64,
 }
 
-impl SoleRectangle {
-    /// The full length (the fields were full sizes before; the project uses half sizes).
-    #[deprecated(note = "use 2.0 * half_length")]
-    pub fn length(&self) -> f64 {
-        2.0 * self.half_length
-    }
-
-    /// The full width (see [`SoleRectangle::length`]).
-    #[deprecated(note = "use 2.0 * half_width")]
-    pub fn width(&self) -> f64 {
-        2.0 * self.half_width
-    }
-}
-
 /// JVRC-1's sole rectangles, 0.20 x 0.08 m, centred at (0.0303, -0.0012, -0.1077) in each
 /// `*_ANKLE_P_S` frame (the same offset for both feet).
 ///

@@ -81,10 +81,9 @@
 //!   optionally the joint rates along the path; a target out of reach drives the limbs to
 //!   singular configurations and ends as an infeasible or failed status. Its dense QP solver
 //!   handles bounds on single coordinates only (all the IK has) and needs independent contact
-//!   rows (two contact frames on one rigid body go to the Clarabel fallback, about 20 times
-//!   slower). One step on JVRC-1 (two feet held, a hand pose task, posture, damper bounds) took
-//!   30 us on the development machine (Clarabel: 580 us); the step returns its `q_ss` in a new
-//!   vector, the rest reuses [`IkWorkspace`].
+//!   rows (two contact frames on one rigid body go to the Clarabel fallback, an interior-point
+//!   method, much slower: `bench/peers/robot.md` has the figures); the step returns its `q_ss`
+//!   in a new vector, the rest reuses [`IkWorkspace`].
 
 pub mod centroidal;
 pub mod data;

@@ -45,9 +45,10 @@
 //! - The factored eq. 14 rows against the shared rows to 1e-12 (`tests/factored_between.rs`).
 //!
 //! The warm start (the rows that were active at the previous stage are added first) leaves the
-//! answer unchanged and cuts the solve time 2.4-3.7 times on the shared instances (LP inner
-//! work down 9-95 times); see `bench/peers/topp.md` for the measured figures against toppra
-//! (26-73x faster than its Python package on the shared instances at N = 100 and 1000).
+//! answer unchanged and cuts the solve time severalfold on the shared instances (the optimum
+//! found from those rows rarely moves when the others are added); see `bench/peers/topp.md` for
+//! the measured figures, and against toppra (faster than its Python package on the shared
+//! instances at N = 100 and 1000).
 //!
 //! ## Between grid points
 //!
@@ -86,18 +87,18 @@
 //!   `tol.max_x` and [`Solution::hit_box`] says so.
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
-//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) for 101 grid points takes
-//!   8.5-8.6 us for 137 rows and 9.8-9.9 us for 172 rows (medians on the test machine, quiet)
-//!   with the AVX-512 kernel `avx512-gz`, chosen at run time: the 10 us is met, for
-//!   172 rows by about 2 % (above it when the other core is busy). Its edge over the previous
-//!   AVX-512 kernel (recomputing `U_z m g_z` instead of loading it) needs vertical gravity;
-//!   for other gravity vectors it runs as that kernel (10.2-10.3 us for 172 rows). Elsewhere
-//!   the AVX2 + FMA kernel (11-12.5 us and 14-15.6 us) or the
-//!   portable one (about 20 and 25 us) runs. The fill is bound by writing its 24-byte rows into
-//!   the second-level cache (the same bytes alone: 6.3-7.3 us for 172 rows) plus the part of
-//!   its 14 multiply-adds per row that does not overlap with them; beyond that cache
-//!   (N = 1000) all kernels are bound by memory (`bench/peers/topp.md`). The AVX-512 kernel
-//!   keeps 8 rotated copies of `U` (8x its size) built once per factored form.
+//! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) for 101 grid points runs
+//!   the AVX-512 kernel `avx512-gz` where the CPU has AVX-512F (chosen at run time); it meets
+//!   the time target for the shared instances' 137 and 172 rows on a quiet machine,
+//!   the latter with a small margin (above it when the other core is busy; `bench/peers/topp.md`
+//!   has the target, the figures and the commands). Its edge over the previous AVX-512 kernel
+//!   (recomputing `U_z m g_z` instead of loading it) needs vertical gravity; for other gravity
+//!   vectors it runs as that kernel. Elsewhere the AVX2 + FMA kernel or the portable one runs
+//!   (slower: 4 rows per vector with AVX2, the baseline target's vectors otherwise). The fill
+//!   is bound by writing its 24-byte rows into the second-level cache (most of its time) plus
+//!   the part of its 14 multiply-adds per row that does not overlap with them; beyond that
+//!   cache (N = 1000) all kernels are bound by memory. The AVX-512 kernel keeps 8 rotated
+//!   copies of `U` (8x its size) built once per factored form.
 //! - Row coefficients (and the products of the factored form) are limited to
 //!   [`tol::MAX_ABS_COEFFICIENT`] (1e100) and the LP box to [`tol::MAX_BOX`]: the kernel squares
 //!   them. Every row test is relative within the row (`tol.zero_row`, `tol.feasibility`), so a
@@ -145,8 +146,6 @@ pub mod tol;
 pub use constraints::{CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
-#[allow(deprecated)]
-pub use solver::solve_with;
 pub use solver::{
     end_speed_range, solve, Cut, Cuts, Discretization, Separation, Solution, SolutionReport,
     SolveOptions, SolveStats, Status, Workspace,

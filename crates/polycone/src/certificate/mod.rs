@@ -277,6 +277,11 @@ pub(crate) struct CheckOptions<'a> {
 /// Certifies a [`Claim`] (whitened facets against the whitened generators, and the claimed
 /// lineality split) as `how` says. Returns the certificate and the extreme generators (indices into `wh.kept`, see
 /// [`Incidence::extreme`]).
+///
+/// The four checks of the module doc in order: the slacks `u . g` of every generator on every
+/// facet give soundness (and, for a pointed cone, the incidence); support is the rank of each
+/// facet's tight generators, unless the ridge check decides it on the way; lineality is a
+/// double description in `L`; completeness counts the open ridges.
 pub(crate) fn certify_whitened(
     claim: Claim,
     how: CheckOptions,
@@ -291,33 +296,11 @@ pub(crate) fn certify_whitened(
     let r = wh.r;
     let nf = fw.len().checked_div(r).unwrap_or(0);
     let t = perp.len().checked_div(r).unwrap_or(0);
-    let l = lin.len().checked_div(r).unwrap_or(0);
     let ng = wh.kept.len();
     let pointed = t == r;
-    let gw = ng.div_ceil(64).max(1);
-    let fwd = nf.div_ceil(64).max(1);
-
-    // Slacks of every generator on every facet (unit vectors), and for a pointed cone the
-    // incidence in the same sweep.
-    cs.gt.clear();
-    cs.gt.resize(r * ng, 0.0);
-    for i in 0..ng {
-        for (c, &g) in wh.gen(i).iter().enumerate() {
-            cs.gt[c * ng + i] = g;
-        }
-    }
-    cs.inc.clear();
-    cs.inc.resize(nf * gw, 0);
-    let max_violation = slacks(
-        fw,
-        &cs.gt,
-        r,
-        ng,
-        &mut cs.slack,
-        pointed.then_some((&mut cs.inc[..], gw, tol.incidence)),
-    );
 
     // 1. Soundness.
+    let max_violation = slacks_and_incidence(wh, fw, nf, pointed, tol, cs);
     let soundness = max_violation <= tol.certificate && wh.equation_residual <= tol.certificate;
 
     // 2. Support: tight generators, projected on the facet's hyperplane, have rank r - 1.
@@ -326,76 +309,19 @@ pub(crate) fn certify_whitened(
     let merged_support = check_completeness && t >= 3 && ok_dims(t, nf);
     let mut unsupported_facets = Vec::new();
     if !merged_support {
-        let mut proj = std::mem::take(&mut cs.rows);
-        for f in 0..nf {
-            let u = &fw[f * r..(f + 1) * r];
-            proj.clear();
-            let mut cnt = 0;
-            for i in 0..ng {
-                let s = cs.slack[f * ng + i];
-                if s.abs() <= tol.incidence {
-                    let g = wh.gen(i);
-                    for c in 0..r {
-                        proj.push(g[c] - s * u[c]);
-                    }
-                    cnt += 1;
-                }
-            }
-            let rank = rank_of(
-                (0..cnt).map(|i| &proj[i * r..(i + 1) * r]),
-                r,
-                r - 1,
-                tol.support_rank,
-                &mut cs.buf,
-            );
-            if rank + 1 != r {
-                unsupported_facets.push(f);
-            }
-        }
-        cs.rows = proj;
+        unsupported_by_rank(wh, fw, nf, tol, cs, &mut unsupported_facets);
     }
 
     // 3. Lineality: generators in L positively span L.
-    let mut lineality = true;
-    if l > 0 {
-        let mut rows = Vec::new();
-        let mut m = 0;
-        for i in 0..ng {
-            let g = wh.gen(i);
-            let out: f64 = (0..t)
-                .map(|b| dot(&perp[b * r..(b + 1) * r], g).powi(2))
-                .sum();
-            if out.sqrt() <= tol.certificate {
-                let start = rows.len();
-                for b in 0..l {
-                    rows.push(dot(&lin[b * r..(b + 1) * r], g));
-                }
-                normalize(&mut rows[start..]);
-                m += 1;
-            }
-        }
-        lineality = match cs.small.run(&rows, m, l, tol.incidence, tol.support_rank) {
-            Ok(()) => cs.small.n == 0,
-            Err(_) => false,
-        };
-    }
+    let lineality = lineality_spanned(wh, perp, lin, tol, &mut cs.small);
 
     // 4. Completeness: every ridge of every claimed facet lies in exactly two claimed facets.
     if !pointed {
         project_incidence(wh, fw, perp, t, tol, cs);
     }
-    cs.by_gen.clear();
-    cs.by_gen.resize(ng * fwd, 0);
-    for f in 0..nf {
-        for wi in 0..gw {
-            let mut w = cs.inc[f * gw + wi];
-            while w != 0 {
-                let i = wi * 64 + w.trailing_zeros() as usize;
-                w &= w - 1;
-                cs.by_gen[i * fwd + f / 64] |= 1 << (f % 64);
-            }
-        }
-    }
+    let gw = ng.div_ceil(64).max(1);
+    let fwd = nf.div_ceil(64).max(1);
+    transpose_incidence(&cs.inc, nf, ng, gw, fwd, &mut cs.by_gen);
     let (gp, fp): (&[f64], &[f64]) = if pointed {
         (&wh.w, fw)
     } else {
@@ -458,6 +384,146 @@ pub(crate) fn certify_whitened(
         wrench_frame: None,
     };
     (cert, extreme)
+}
+
+/// Slacks `u . g` of every generator `g` on every facet `u` (unit vectors, whitened
+/// coordinates) into `cs.slack`, with the generators transposed first (`cs.gt`, `r x ng`) so
+/// that the loop runs along contiguous generators; for a pointed cone, the incidence
+/// (`|u . g| <= incidence`) in the same sweep into `cs.inc` (`nf x gw` words). Returns the
+/// largest slack, at least 0 (soundness: at most [`Tolerances::certificate`]).
+fn slacks_and_incidence(
+    wh: &Whitened,
+    fw: &[f64],
+    nf: usize,
+    pointed: bool,
+    tol: &Tolerances,
+    cs: &mut CertScratch,
+) -> f64 {
+    let (r, ng) = (wh.r, wh.kept.len());
+    let gw = ng.div_ceil(64).max(1);
+    cs.gt.clear();
+    cs.gt.resize(r * ng, 0.0);
+    for i in 0..ng {
+        for (c, &g) in wh.gen(i).iter().enumerate() {
+            cs.gt[c * ng + i] = g;
+        }
+    }
+    cs.inc.clear();
+    cs.inc.resize(nf * gw, 0);
+    slacks(
+        fw,
+        &cs.gt,
+        r,
+        ng,
+        &mut cs.slack,
+        pointed.then_some((&mut cs.inc[..], gw, tol.incidence)),
+    )
+}
+
+/// The support check alone (item 2 of the module doc), for when the ridge check does not
+/// decide it: each facet `u`'s tight generators `g` (`|u . g| <= incidence`, from the slacks
+/// in `cs.slack`), projected on its hyperplane (`g - (u . g) u`), must have rank `r - 1`.
+/// Facets that fail are pushed to `unsupported`.
+fn unsupported_by_rank(
+    wh: &Whitened,
+    fw: &[f64],
+    nf: usize,
+    tol: &Tolerances,
+    cs: &mut CertScratch,
+    unsupported: &mut Vec<usize>,
+) {
+    let (r, ng) = (wh.r, wh.kept.len());
+    let mut proj = std::mem::take(&mut cs.rows);
+    for f in 0..nf {
+        let u = &fw[f * r..(f + 1) * r];
+        proj.clear();
+        let mut cnt = 0;
+        for i in 0..ng {
+            let s = cs.slack[f * ng + i];
+            if s.abs() <= tol.incidence {
+                let g = wh.gen(i);
+                for c in 0..r {
+                    proj.push(g[c] - s * u[c]);
+                }
+                cnt += 1;
+            }
+        }
+        let rank = rank_of(
+            (0..cnt).map(|i| &proj[i * r..(i + 1) * r]),
+            r,
+            r - 1,
+            tol.support_rank,
+            &mut cs.buf,
+        );
+        if rank + 1 != r {
+            unsupported.push(f);
+        }
+    }
+    cs.rows = proj;
+}
+
+/// The lineality check (item 3 of the module doc): the generators lying in the claimed
+/// lineality space `L` (`l` orthonormal rows `lin`; a generator is in `L` when its component
+/// along the `t` rows `perp` of `L^perp` is at most [`Tolerances::certificate`]) positively
+/// span `L`, i.e. the double description of their coordinates in `L` (unit rows) finds no
+/// ray. True when `l = 0`.
+fn lineality_spanned(
+    wh: &Whitened,
+    perp: &[f64],
+    lin: &[f64],
+    tol: &Tolerances,
+    small: &mut DdCore,
+) -> bool {
+    let r = wh.r;
+    let t = perp.len().checked_div(r).unwrap_or(0);
+    let l = lin.len().checked_div(r).unwrap_or(0);
+    if l == 0 {
+        return true;
+    }
+    let mut rows = Vec::new();
+    let mut m = 0;
+    for i in 0..wh.kept.len() {
+        let g = wh.gen(i);
+        let out: f64 = (0..t)
+            .map(|b| dot(&perp[b * r..(b + 1) * r], g).powi(2))
+            .sum();
+        if out.sqrt() <= tol.certificate {
+            let start = rows.len();
+            for b in 0..l {
+                rows.push(dot(&lin[b * r..(b + 1) * r], g));
+            }
+            normalize(&mut rows[start..]);
+            m += 1;
+        }
+    }
+    match small.run(&rows, m, l, tol.incidence, tol.support_rank) {
+        Ok(()) => small.n == 0,
+        Err(_) => false,
+    }
+}
+
+/// The incidence by generator (`by_gen`, `ng x fwd` words: bit `f` of row `i` when generator
+/// `i` is tight on facet `f`) from the incidence by facet (`inc`, `nf x gw` words).
+fn transpose_incidence(
+    inc: &[u64],
+    nf: usize,
+    ng: usize,
+    gw: usize,
+    fwd: usize,
+    by_gen: &mut Vec<u64>,
+) {
+    by_gen.clear();
+    by_gen.resize(ng * fwd, 0);
+    for f in 0..nf {
+        for wi in 0..gw {
+            let mut w = inc[f * gw + wi];
+            while w != 0 {
+                let i = wi * 64 + w.trailing_zeros() as usize;
+                w &= w - 1;
+                by_gen[i * fwd + f / 64] |= 1 << (f % 64);
+            }
+        }
+    }
 }
 
 /// Facet counts that are possible for a pointed cone of dimension `t` (with `t >= 1`, at least

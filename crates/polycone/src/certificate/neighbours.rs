@@ -299,7 +299,10 @@ fn prove_facet(
 }
 
 /// The geometric part of [`neighbours_prove_facet`] in the hyperplane of dimension `K`, on
-/// the maximal neighbours left in `s.meet`.
+/// the maximal neighbours left in `s.meet`: the extreme rays of `Q_F` from the neighbours'
+/// projected normals ([`NeighbourNormals`]), each matched by a tight generator within the
+/// angle of the module doc ([`RayBounds::matches`]), and the matched generators spanning the
+/// hyperplane ([`Matched::span`]).
 fn prove_k<const K: usize>(
     incd: &Incidence,
     f: usize,
@@ -314,64 +317,22 @@ fn prove_k<const K: usize>(
     if p != K && p != K + 1 {
         return false;
     }
-    // Unit projections y_G of the neighbours' normals on the hyperplane of F, and their norms
-    // before normalization.
-    let mut y = [[0.0f64; K]; 9];
-    let mut ny = [0.0f64; 9];
-    for (q, &(_, g)) in s.meet.iter().enumerate() {
-        let g = g as usize;
-        y[q] = hp.project_k::<K>(&incd.fp[g * t..(g + 1) * t]);
-        let norm = y[q].iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm <= tol.support_rank {
-            return false;
-        }
-        let inv = 1.0 / norm;
-        for x in y[q].iter_mut() {
-            *x *= inv;
-        }
-        ny[q] = norm;
+    let mut nb = NeighbourNormals::<K> {
+        y: [[0.0f64; K]; 9],
+        ny: [0.0f64; 9],
+        vol: [0.0f64; 9],
+        p,
+    };
+    if !nb.project(incd, &s.meet, hp, tol) || !nb.extreme_rays(tol, &mut s.drops) {
+        return false;
     }
-    // The extreme rays of Q_F, as dropped pairs `(a, b)` (`a == b`: one dropped vector), and
-    // the volume bound `c |lambda_q|` (or `|det Y|`) per vector.
-    let mut vol = [0.0f64; 9];
-    s.drops.clear();
-    if p == K {
-        let mut m = [[0.0f64; K]; K];
-        m.copy_from_slice(&y[..K]);
-        let det = abs_det(m);
-        if det < tol.certificate {
-            return false;
-        }
-        s.drops.extend((0..K).map(|a| (a, a)));
-        vol[..K].fill(det);
-    } else {
-        let Some((lambda, c)) = dependency_k::<K>(&y[..K + 1], tol.support_rank) else {
-            return false;
-        };
-        if ridges_from_dependency(&lambda.0[..K + 1], c, tol, &mut s.drops) != Some(true) {
-            return false;
-        }
-        for q in 0..=K {
-            vol[q] = c * lambda.0[q].abs();
-        }
-    }
-    let pk = volume_factor(K);
-    let root = ((K - 1) as f64).sqrt();
-    // A tight generator's projection is within `2 incidence` of orthogonal to a unit `u_G`
-    // tight on it (`y_G . g = u_G . g - (u_G . u_F)(u_F . g)`), i.e. `2 incidence / |y_G|`
-    // to the unit `y_G`; the factor covers the rounding of that bound.
-    let tight_cos = 2.0 * tol.incidence * (1.0 + 1e-6);
-    // Projected matched generators, by slot (`gi`: their indices).
-    let mut gh = [[0.0f64; K]; 16];
-    let mut gi = [usize::MAX; 16];
-    let mut ng = 0usize;
-    // Tight generators of each neighbour, and the smallest norm before normalization (the a
-    // priori bound below uses it for every S').
+    let bounds = RayBounds::new::<K>(tol, &nb);
+    // Tight generators of each neighbour.
     let mut gmask = [0u64; 9];
     for (q, &(_, g)) in s.meet.iter().enumerate() {
         gmask[q] = inc[g as usize];
     }
-    let min_ny = ny[..p].iter().copied().fold(f64::INFINITY, f64::min);
+    let mut matched = Matched::<K>::new();
     for &(a, b) in &s.drops {
         // The generators tight on the facets the ray is tight on: all but the dropped ones.
         let mut tight = tf;
@@ -384,19 +345,128 @@ fn prove_k<const K: usize>(
             return false;
         }
         let i = tight.trailing_zeros() as usize;
-        let slot = match gi[..ng].iter().position(|&x| x == i) {
-            Some(slot) => slot,
-            None => {
-                if ng == gi.len() {
-                    return false;
-                }
-                gh[ng] = hp.project_k::<K>(&incd.gp[i * t..(i + 1) * t]);
-                gi[ng] = i;
-                ng += 1;
-                ng - 1
-            }
+        let Some(slot) = matched.slot(i, || hp.project_k::<K>(&incd.gp[i * t..(i + 1) * t])) else {
+            return false;
         };
-        let g = &gh[slot];
+        if !bounds.matches(&nb, a, b, &matched.gh[slot], tol) {
+            return false;
+        }
+    }
+    matched.span(tol, &mut s.rows, &mut s.buf)
+}
+
+/// The `p` (`K` or `K + 1`) neighbours of a facet seen in its hyperplane: the unit
+/// projections `y_G` of their normals, the norms of those projections before normalization,
+/// and per vector the volume bound of the module doc (`|det Y|` for a basis, `c |lambda_q|`
+/// for `K + 1` vectors).
+struct NeighbourNormals<const K: usize> {
+    y: [[f64; K]; 9],
+    ny: [f64; 9],
+    vol: [f64; 9],
+    p: usize,
+}
+
+impl<const K: usize> NeighbourNormals<K> {
+    /// The unit projections of the normals of the neighbours `meet` (`p` of them) on the
+    /// hyperplane `hp`, and their norms; `false` when one is at most
+    /// [`Tolerances::support_rank`] long (a neighbour nearly parallel to the facet).
+    #[inline(always)]
+    fn project(
+        &mut self,
+        incd: &Incidence,
+        meet: &[(u64, u32)],
+        hp: &Hyperplane,
+        tol: &Tolerances,
+    ) -> bool {
+        let t = K + 1;
+        let (y, ny) = (&mut self.y, &mut self.ny);
+        for (q, &(_, g)) in meet.iter().enumerate() {
+            let g = g as usize;
+            y[q] = hp.project_k::<K>(&incd.fp[g * t..(g + 1) * t]);
+            let norm = y[q].iter().map(|x| x * x).sum::<f64>().sqrt();
+            if norm <= tol.support_rank {
+                return false;
+            }
+            let inv = 1.0 / norm;
+            for x in y[q].iter_mut() {
+                *x *= inv;
+            }
+            ny[q] = norm;
+        }
+        true
+    }
+
+    /// The extreme rays of `Q_F`, as dropped pairs `(a, b)` into `drops` (`a == b`: one
+    /// dropped vector), and the volume bounds: with `K` vectors (a basis, `|det Y|` at least
+    /// [`Tolerances::certificate`]) every ray drops one; with `K + 1`, the rays of the
+    /// near-simplicial closed form on their dependency. `false` when neither decides.
+    #[inline(always)]
+    fn extreme_rays(&mut self, tol: &Tolerances, drops: &mut Vec<(usize, usize)>) -> bool {
+        drops.clear();
+        if self.p == K {
+            let mut m = [[0.0f64; K]; K];
+            m.copy_from_slice(&self.y[..K]);
+            let det = abs_det(m);
+            if det < tol.certificate {
+                return false;
+            }
+            drops.extend((0..K).map(|a| (a, a)));
+            self.vol[..K].fill(det);
+        } else {
+            let Some((lambda, c)) = dependency_k::<K>(&self.y[..K + 1], tol.support_rank) else {
+                return false;
+            };
+            if ridges_from_dependency(&lambda.0[..K + 1], c, tol, drops) != Some(true) {
+                return false;
+            }
+            for q in 0..=K {
+                self.vol[q] = c * lambda.0[q].abs();
+            }
+        }
+        true
+    }
+}
+
+/// The constants of the match of a ray by a generator (module doc): the volume factor `P`,
+/// `sqrt(K - 1)`, the cosine a tight generator may keep with a unit `u_G` tight on it, and the
+/// smallest norm of a projected neighbour normal.
+struct RayBounds {
+    pk: f64,
+    root: f64,
+    tight_cos: f64,
+    min_ny: f64,
+}
+
+impl RayBounds {
+    #[inline(always)]
+    fn new<const K: usize>(tol: &Tolerances, nb: &NeighbourNormals<K>) -> Self {
+        Self {
+            pk: volume_factor(K),
+            root: ((K - 1) as f64).sqrt(),
+            // A tight generator's projection is within `2 incidence` of orthogonal to a unit
+            // `u_G` tight on it (`y_G . g = u_G . g - (u_G . u_F)(u_F . g)`), i.e.
+            // `2 incidence / |y_G|` to the unit `y_G`; the factor covers the rounding of that
+            // bound.
+            tight_cos: 2.0 * tol.incidence * (1.0 + 1e-6),
+            // The smallest norm before normalization: the a priori bound below uses it for
+            // every S'.
+            min_ny: nb.ny[..nb.p].iter().copied().fold(f64::INFINITY, f64::min),
+        }
+    }
+
+    /// Whether the projected generator `g` matches the ray that drops `a` and `b`: within
+    /// `beta <= support_rank` of its line (through `S'`, all but `a` and one more vector, and
+    /// its volume bound), on the side of `+q` (each dropped vector has `y . g < -beta`).
+    #[inline(always)]
+    fn matches<const K: usize>(
+        &self,
+        nb: &NeighbourNormals<K>,
+        a: usize,
+        b: usize,
+        g: &[f64; K],
+        tol: &Tolerances,
+    ) -> bool {
+        let (p, y, vol) = (nb.p, &nb.y, &nb.vol);
         // S' (all but `a` and `skip`) and its volume bound.
         let (skip, v) = if p == K {
             (a, vol[a])
@@ -412,11 +482,11 @@ fn prove_k<const K: usize>(
             }
             (bb, vol[bb])
         };
-        let sigma = v / pk;
+        let sigma = v / self.pk;
         if sigma.is_nan() || sigma <= 0.0 {
             return false;
         }
-        let mut beta = root * tight_cos / min_ny / sigma;
+        let mut beta = self.root * self.tight_cos / self.min_ny / sigma;
         if beta > tol.support_rank {
             // The a priori bound is too coarse: measure the cosines.
             let mut err: f64 = 0.0;
@@ -425,32 +495,72 @@ fn prove_k<const K: usize>(
                     err = err.max(dot(&y[q], g).abs());
                 }
             }
-            beta = root * err / sigma;
+            beta = self.root * err / sigma;
             if beta > tol.support_rank {
                 return false;
             }
         }
         // The dropped vectors cut the ray strictly: ĝ is on the side of +q.
-        if dot(&y[a], g) >= -beta || (b != a && dot(&y[b], g) >= -beta) {
-            return false;
+        !(dot(&y[a], g) >= -beta || (b != a && dot(&y[b], g) >= -beta))
+    }
+}
+
+/// The generators matched to the rays so far: their projections on the hyperplane (`gh`) and
+/// indices (`gi`), `ng` of them (at most 16).
+struct Matched<const K: usize> {
+    gh: [[f64; K]; 16],
+    gi: [usize; 16],
+    ng: usize,
+}
+
+impl<const K: usize> Matched<K> {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            gh: [[0.0f64; K]; 16],
+            gi: [usize::MAX; 16],
+            ng: 0,
         }
     }
-    if ng < K {
-        return false;
+
+    /// The slot of generator `i`, added with its projection `project()` when new; `None` when
+    /// all 16 slots are taken.
+    #[inline(always)]
+    fn slot(&mut self, i: usize, project: impl FnOnce() -> [f64; K]) -> Option<usize> {
+        match self.gi[..self.ng].iter().position(|&x| x == i) {
+            Some(slot) => Some(slot),
+            None => {
+                if self.ng == self.gi.len() {
+                    return None;
+                }
+                self.gh[self.ng] = project();
+                self.gi[self.ng] = i;
+                self.ng += 1;
+                Some(self.ng - 1)
+            }
+        }
     }
-    // Support: the matched generators span the hyperplane (the determinant fast path of
-    // `spans`, on the first `K` of them, then `spans` itself).
-    let mut m = [[0.0f64; K]; K];
-    m.copy_from_slice(&gh[..K]);
-    let bound = if ng == K { 1.0 } else { K as f64 } * tol.support_rank;
-    if abs_det(m) > bound {
-        return true;
+
+    /// Support: the matched generators span the hyperplane (at least `K` of them; the
+    /// determinant fast path of `spans` on the first `K`, then `spans` itself).
+    #[inline(always)]
+    fn span(&self, tol: &Tolerances, rows: &mut Vec<f64>, buf: &mut Vec<f64>) -> bool {
+        let ng = self.ng;
+        if ng < K {
+            return false;
+        }
+        let mut m = [[0.0f64; K]; K];
+        m.copy_from_slice(&self.gh[..K]);
+        let bound = if ng == K { 1.0 } else { K as f64 } * tol.support_rank;
+        if abs_det(m) > bound {
+            return true;
+        }
+        rows.clear();
+        for g in &self.gh[..ng] {
+            rows.extend_from_slice(g);
+        }
+        spans(rows, ng, K, tol.support_rank, buf)
     }
-    s.rows.clear();
-    for g in &gh[..ng] {
-        s.rows.extend_from_slice(g);
-    }
-    spans(&s.rows, ng, K, tol.support_rank, &mut s.buf)
 }
 
 #[cfg(test)]

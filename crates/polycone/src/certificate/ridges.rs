@@ -134,6 +134,11 @@ impl FacetRidges {
 /// The ridge check of facet `f`: its ridges found by the first rule that applies (claimed
 /// neighbours, Balinski skip, simplicial, near-simplicial closed form, double description in
 /// its hyperplane), each counted open unless exactly two facets cover it.
+///
+/// The facet's `m` tight generators are taken in orthonormal coordinates of its hyperplane
+/// (`t - 1` of them, [`hyperplane_coordinates`]); then `m = t - 1` is the simplicial rule
+/// ([`simplicial_ridges`]), `m = t` the closed form ([`near_simplicial_facet_ridges`]), and
+/// anything else, or a closed form that defers, the double description ([`dd_ridges`]).
 fn facet_ridges(
     incd: &Incidence,
     f: usize,
@@ -142,36 +147,13 @@ fn facet_ridges(
     scan: Scan,
 ) -> FacetRidges {
     let Incidence { gw, t, .. } = *incd;
-    let (gp, fp, inc) = (incd.gp, incd.fp, incd.inc);
-    let members = &mut *w.members;
-    members.clear();
-    for wi in 0..gw {
-        let mut word = inc[f * gw + wi];
-        while word != 0 {
-            members.push(wi * 64 + word.trailing_zeros() as usize);
-            word &= word - 1;
-        }
-    }
+    let inc = incd.inc;
+    tight_generators(inc, gw, f, w.members);
+    let members = &*w.members;
     if members.len() < t - 1 {
         return FacetRidges::UNSUPPORTED;
     }
-    // Coordinates in the hyperplane u^perp: a Householder reflection H = I - 2 v v^T / v.v
-    // with v = u + sign(u_j) e_j maps u to -sign(u_j) e_j; the other coordinates of H g
-    // are orthonormal coordinates of g in u^perp.
-    let u = &fp[f * t..(f + 1) * t];
-    let j = (0..t)
-        .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
-        .unwrap_or(0);
-    let v = &mut w.vbuf[..];
-    v.copy_from_slice(u);
-    v[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
-    let vv = dot(v, v);
-    let k = t - 1;
-    let hp = Hyperplane {
-        v: &w.vbuf[..],
-        vv,
-        j,
-    };
+    let hp = hyperplane_coordinates(&incd.fp[f * t..(f + 1) * t], w.vbuf);
     // The other facets that may share a ridge with this one (one-word rows only).
     // Balinski's theorem (module doc): up to `t - 2` facets need only support; those with
     // the most tight generators (beyond `t`) are the expensive ones.
@@ -197,11 +179,12 @@ fn facet_ridges(
                 .map(|&g| inc[g as usize]),
         );
     }
+    let k = t - 1;
     let rows = &mut *w.rows;
     rows.clear();
     rows.resize(members.len() * k, 0.0);
     for (&i, out) in members.iter().zip(rows.chunks_exact_mut(k)) {
-        hp.project(&gp[i * t..(i + 1) * t], out);
+        hp.project(&incd.gp[i * t..(i + 1) * t], out);
         // No normalization needed: H is orthogonal and the dropped coordinate is
         // `±u . g`, at most `incidence` for a tight generator, so the row's norm is 1 to
         // within `incidence^2 / 2` (1e-18 by default), far below every threshold.
@@ -214,72 +197,145 @@ fn facet_ridges(
             FacetRidges::UNSUPPORTED
         };
     }
-    // Each candidate ridge (generator indices) counts open unless exactly two facets hold it.
-    let ridge = &mut *w.ridge;
-    let mut open = 0;
-    let mut count = |ridge: &[usize], acc: &mut Vec<u64>| {
-        if covered(incd, t, ridge, w.neighbours, acc, scan) != 2 {
-            open += 1;
-        }
-    };
     if members.len() == t - 1 {
-        // Simplicial facet (when its generators are independent: support): its ridges drop
-        // one generator each.
-        if !spans(&rows[..k * k], k, k, tol.support_rank, w.buf) {
-            return FacetRidges::UNSUPPORTED;
-        }
-        record!(simplicial);
-        for drop in 0..members.len() {
-            ridge.clear();
-            ridge.extend(
-                members
-                    .iter()
-                    .enumerate()
-                    .filter(|&(k, _)| k != drop)
-                    .map(|(_, &i)| i),
-            );
-            count(ridge, w.acc);
-        }
-        return FacetRidges {
-            open,
-            unsupported: false,
-        };
+        return simplicial_ridges(incd, tol, w, scan);
     }
     if members.len() == t && !force_dd() {
-        // One generator more than simplicial: closed form (module doc, "Near-simplicial
-        // facets"), unless the dependency has an entry near zero: then the DD below decides.
-        let m = members.len();
-        match near_simplicial_ridges(rows, k, tol, w.lambda, w.buf, w.drops) {
-            Some(true) => {
-                record!(closed_form);
-                for &(a, b) in w.drops.iter() {
-                    ridge.clear();
-                    ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
-                    count(ridge, w.acc);
-                }
-                return FacetRidges {
-                    open,
-                    unsupported: false,
-                };
-            }
-            Some(false) => {
-                // The facet's generators positively span its hyperplane: not a face of a
-                // pointed cone, so the claimed form is wrong.
-                record!(closed_form);
-                return FacetRidges::WRONG;
-            }
-            None => {}
+        if let Some(found) = near_simplicial_facet_ridges(incd, tol, w, scan) {
+            return found;
         }
     }
+    dd_ridges(incd, tol, w, scan)
+}
+
+/// The tight generators of facet `f` (the set bits of its `gw`-word incidence row), into
+/// `members`, in increasing order.
+#[inline(always)]
+fn tight_generators(inc: &[u64], gw: usize, f: usize, members: &mut Vec<usize>) {
+    members.clear();
+    for wi in 0..gw {
+        let mut word = inc[f * gw + wi];
+        while word != 0 {
+            members.push(wi * 64 + word.trailing_zeros() as usize);
+            word &= word - 1;
+        }
+    }
+}
+
+/// Coordinates in the hyperplane `u^perp` of the unit facet normal `u` (length `t`): a
+/// Householder reflection `H = I - 2 v v^T / v.v` with `v = u + sign(u_j) e_j` (`j` the
+/// largest `|u_j|`, so that `v.v >= 1`) maps `u` to `-sign(u_j) e_j`; the other coordinates of
+/// `H g` are orthonormal coordinates of `g` in `u^perp`. `v` is written into `vbuf` (length
+/// `t`).
+#[inline(always)]
+fn hyperplane_coordinates<'b>(u: &[f64], vbuf: &'b mut [f64]) -> Hyperplane<'b> {
+    let t = u.len();
+    let j = (0..t)
+        .max_by(|&a, &b| u[a].abs().total_cmp(&u[b].abs()))
+        .unwrap_or(0);
+    vbuf.copy_from_slice(u);
+    vbuf[j] += if u[j] >= 0.0 { 1.0 } else { -1.0 };
+    let vv = dot(vbuf, vbuf);
+    Hyperplane { v: vbuf, vv, j }
+}
+
+/// A simplicial facet (`t - 1` tight generators, their hyperplane coordinates in `w.rows`):
+/// supported iff they are independent, and then its ridges drop one generator each.
+#[inline(always)]
+fn simplicial_ridges(
+    incd: &Incidence,
+    tol: &Tolerances,
+    w: &mut RidgeWork,
+    scan: Scan,
+) -> FacetRidges {
+    let t = incd.t;
+    let k = t - 1;
+    let members = &*w.members;
+    if !spans(&w.rows[..k * k], k, k, tol.support_rank, w.buf) {
+        return FacetRidges::UNSUPPORTED;
+    }
+    record!(simplicial);
+    let ridge = &mut *w.ridge;
+    let mut open = 0;
+    for drop in 0..members.len() {
+        ridge.clear();
+        ridge.extend(
+            members
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| k != drop)
+                .map(|(_, &i)| i),
+        );
+        if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
+            open += 1;
+        }
+    }
+    FacetRidges {
+        open,
+        unsupported: false,
+    }
+}
+
+/// A facet with one tight generator more than simplicial (`t`, hyperplane coordinates in
+/// `w.rows`): its ridges by the closed form (module doc, "Near-simplicial facets"), or `None`
+/// when the dependency has an entry near zero (the double description decides then).
+#[inline(always)]
+fn near_simplicial_facet_ridges(
+    incd: &Incidence,
+    tol: &Tolerances,
+    w: &mut RidgeWork,
+    scan: Scan,
+) -> Option<FacetRidges> {
+    let t = incd.t;
+    let k = t - 1;
+    let members = &*w.members;
+    let m = members.len();
+    match near_simplicial_ridges(w.rows, k, tol, w.lambda, w.buf, w.drops) {
+        Some(true) => {
+            record!(closed_form);
+            let ridge = &mut *w.ridge;
+            let mut open = 0;
+            for &(a, b) in w.drops.iter() {
+                ridge.clear();
+                ridge.extend((0..m).filter(|&q| q != a && q != b).map(|q| members[q]));
+                if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
+                    open += 1;
+                }
+            }
+            Some(FacetRidges {
+                open,
+                unsupported: false,
+            })
+        }
+        Some(false) => {
+            // The facet's generators positively span its hyperplane: not a face of a
+            // pointed cone, so the claimed form is wrong.
+            record!(closed_form);
+            Some(FacetRidges::WRONG)
+        }
+        None => None,
+    }
+}
+
+/// The facet's ridges by a double description in its hyperplane: the zero sets of the
+/// extreme rays of the polar of `cone(rows)` (`w.rows`, the tight generators' hyperplane
+/// coordinates). A rank deficiency fails support; any other failure of the double
+/// description fails the facet.
+#[inline(always)]
+fn dd_ridges(incd: &Incidence, tol: &Tolerances, w: &mut RidgeWork, scan: Scan) -> FacetRidges {
     record!(dd);
-    // The facet's ridges: the zero sets of the extreme rays of the polar of cone(rows).
+    let t = incd.t;
+    let k = t - 1;
+    let members = &*w.members;
     let m = members.len();
     let small = &mut *w.small;
-    match small.run(rows, m, k, tol.incidence, tol.support_rank) {
+    match small.run(w.rows, m, k, tol.incidence, tol.support_rank) {
         Ok(()) => {}
         Err(DdFailure::RankDeficient) => return FacetRidges::UNSUPPORTED,
         Err(_) => return FacetRidges::WRONG,
     }
+    let ridge = &mut *w.ridge;
+    let mut open = 0;
     for q in 0..small.n {
         let z_hi = |loc: usize| small.z[q * small.words + loc / 64] >> (loc % 64) & 1 == 1;
         ridge.clear();
@@ -288,7 +344,9 @@ fn facet_ridges(
                 ridge.push(i);
             }
         }
-        count(ridge, w.acc);
+        if covered(incd, t, ridge, w.neighbours, w.acc, scan) != 2 {
+            open += 1;
+        }
     }
     FacetRidges {
         open,

@@ -69,12 +69,10 @@
 //!   of its two neighbours by up to `dist_tol / sin theta` (`theta` the smallest angle
 //!   between the face and another face at that vertex), which clusters of points on nearly
 //!   parallel faces produce (4e-8 m seen for `theta` = 6e-4).
-//! - [`hull3`] (with its check) costs 17 us for the 8 vertices of a single-support robust
-//!   region, 50 us for the 18 of the stairs and 200 us for the 67 of the box climbing:
-//!   x1.1, x1.2 and x0.8 the polar route alone (`hull3_timing`, release, one core); about
-//!   half of it is the exact hull, half the facets. 1.6 ms for 500 points (300 on the hull),
-//!   x2.5 Qhull's time (`bench/peers/hull3.md`): the fitted planes and the check are
-//!   `O(n F)`.
+//! - [`hull3`] (with its check) costs about as much as the polar route alone on the vertices
+//!   of the example stances' robust regions (`hull3_timing`); the exact hull and the facets
+//!   take about equal shares of it. On hundreds of points it is slower than Qhull
+//!   (`bench/peers/hull3.md` has the figures): the fitted planes and the check are `O(n F)`.
 //! - The routines allocate (they are not meant for inner loops; test points against the
 //!   returned half-spaces instead).
 

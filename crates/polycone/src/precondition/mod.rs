@@ -422,9 +422,9 @@ fn whiten_core<const D: usize>(
 }
 
 /// From this many kept generators on, the duplicate test sorts them by first coordinate
-/// ([`mark_distinct`]); below, comparing each with every earlier distinct one is faster
-/// (measured: whitening 10-15 % faster compared one by one at 16 and 32 generators, 20 %
-/// faster sorted at 64). Same decisions either way.
+/// ([`mark_distinct`]); below, comparing each with every earlier distinct one is faster (the
+/// sort costs more than the comparisons it saves; measured in `bench/peers/cones.md`). Same
+/// decisions either way.
 const SORTED_DUPLICATE_TEST_FROM: usize = 48;
 
 /// Whether the whitened generators `gt` and `gs` are within `duplicate` (Euclidean): within

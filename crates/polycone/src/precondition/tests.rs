@@ -263,10 +263,12 @@ proptest! {
 fn golden_stances_match_the_general_svd() {
     for case in [
         "single_support_flat",
+        "surface_cwc_foot",
         "double_support_flat",
         "double_support_stairs",
         "tilted_foot_hand_ledge",
         "opposing_walls_frictionless",
+        "opposing_walls_friction",
     ] {
         let v = super::alloc_count::golden_for_tests(case);
         check_against_reference(&v).unwrap();

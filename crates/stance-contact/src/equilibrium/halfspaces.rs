@@ -165,7 +165,8 @@ impl Tester {
 
     pub(crate) fn contains_batch(&self, points: &[[f64; 3]], out: &mut [bool]) {
         use rayon::prelude::*;
-        /// Points per rayon task: large enough to amortize scheduling (about 10 us of work).
+        /// Points per rayon task: enough half-space tests that a task's work amortizes rayon's
+        /// scheduling (`bench/peers/contact.md`).
         const CHUNK: usize = 4096;
         out.par_chunks_mut(CHUNK)
             .zip(points.par_chunks(CHUNK))

@@ -194,14 +194,6 @@ impl StaticEquilibrium {
         self.tester.contains(p)
     }
 
-    /// The old name of [`StaticEquilibrium::contains`] (regions answer `contains`, as
-    /// [`super::RobustRegion`] does).
-    #[deprecated(note = "use StaticEquilibrium::contains")]
-    #[inline]
-    pub fn is_stable(&self, p: [f64; 3]) -> bool {
-        self.contains(p)
-    }
-
     /// Tests many CoMs in parallel (rayon), writing `out[i]` for `points[i]`; no allocation per
     /// point. Slices of different lengths are an error.
     ///
@@ -224,16 +216,6 @@ impl StaticEquilibrium {
         super::halfspaces::same_length(points.len(), out.len())?;
         self.tester.contains_batch(points, out);
         Ok(())
-    }
-
-    /// The old name of [`StaticEquilibrium::contains_batch`].
-    #[deprecated(note = "use StaticEquilibrium::contains_batch")]
-    pub fn is_stable_batch(
-        &self,
-        points: &[[f64; 3]],
-        out: &mut [bool],
-    ) -> Result<(), ContactError> {
-        self.contains_batch(points, out)
     }
 
     /// The cross-section of the static-equilibrium prism at height `z = height` (m): the

@@ -148,6 +148,43 @@ impl IkWorkspace {
         ds: f64,
         options: &IkOptions,
     ) -> Result<(), RobotError> {
+        self.check_inputs(model, tasks, ds, options)?;
+        let dh = centroidal_map_dot_v(model, data, q, q_s)?;
+        // objective: 2 eps I, then the weighted tasks
+        self.p.fill(0.0);
+        self.p.fill_diagonal(2.0 * options.regularization);
+        self.c.fill(0.0);
+        self.add_com_task(data, q_s, &tasks.com, &dh, options);
+        for l in tasks.links {
+            self.add_link_task(model, data, q_s, l, options)?;
+        }
+        if let (Some(post), true) = (tasks.posture, options.w_posture > 0.0) {
+            self.add_posture_task(model, q, q_s, post, options);
+        }
+        // equations: contacts, then hard link tasks
+        self.equation_rows(model, data, q_s, tasks, options)?;
+        self.clearance_rows(
+            model,
+            data,
+            q_s,
+            tasks.distances,
+            ds,
+            options.clearance_gain,
+        )?;
+        self.joint_bounds(model, q, q_s, ds, options);
+        Ok(())
+    }
+
+    /// The checks of [`Self::build`]'s inputs before anything is assembled: the options, this
+    /// workspace's model, a finite positive `ds`, finite task references, known frames and a
+    /// valid posture configuration.
+    fn check_inputs(
+        &self,
+        model: &Model,
+        tasks: &IkTasks,
+        ds: f64,
+        options: &IkOptions,
+    ) -> Result<(), RobotError> {
         check_options(options)?;
         if self.nv != model.nv {
             return Err(RobotError::Dimension {
@@ -191,16 +228,23 @@ impl IkWorkspace {
         if let Some(post) = tasks.posture {
             crate::kinematics::check_configuration(model, post)?;
         }
-        let nv = model.nv;
-        let dh = centroidal_map_dot_v(model, data, q, q_s)?;
-        self.p.fill(0.0);
-        self.p.fill_diagonal(2.0 * options.regularization);
-        self.c.fill(0.0);
-        // CoM task
+        Ok(())
+    }
+
+    /// The CoM task `w_com |J_com x + Jd_com q_s - pdd_com*|^2` (module doc) added to the
+    /// objective: the CoM drift `Jd_com q_s` is the linear part of the centroidal momentum
+    /// rate `dh` (`A_g`-dot `q_s`, from [`centroidal_map_dot_v`]) divided by the mass.
+    fn add_com_task(
+        &mut self,
+        data: &Data,
+        q_s: &[f64],
+        com: &PointReference,
+        dh: &nalgebra::Vector6<f64>,
+        options: &IkOptions,
+    ) {
         let j_com = &data.com_jacobian;
         let com_s = row_dot(j_com, q_s);
         let drift_com = Vector3::new(dh[0], dh[1], dh[2]) / data.mass;
-        let com = &tasks.com;
         let desired = com.p_ss + (com.p_s - com_s) * options.k_d + (com.p - data.com) * options.k_p;
         add_task(
             &mut self.p,
@@ -209,32 +253,66 @@ impl IkWorkspace {
             &(desired - drift_com),
             options.w_com,
         );
-        // link tasks
-        for l in tasks.links {
-            let (lin, ang) = self.link_rows(model, data, q_s, l, options)?;
-            let j_lin = self.jac.fixed_rows::<3>(0);
-            add_task(&mut self.p, &mut self.c, &j_lin, &lin, options.w_link);
-            if let Some(ang) = ang {
-                let j_ang = self.jac.fixed_rows::<3>(3);
-                add_task(&mut self.p, &mut self.c, &j_ang, &ang, options.w_link);
+    }
+
+    /// A link task `w_link |J_l x + Jd_l q_s - pdd_l*|^2` (and its orientation part, with the
+    /// same weight) added to the objective.
+    fn add_link_task(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        q_s: &[f64],
+        l: &LinkTarget,
+        options: &IkOptions,
+    ) -> Result<(), RobotError> {
+        let (lin, ang) = self.link_rows(model, data, q_s, l, options)?;
+        let j_lin = self.jac.fixed_rows::<3>(0);
+        add_task(&mut self.p, &mut self.c, &j_lin, &lin, options.w_link);
+        if let Some(ang) = ang {
+            let j_ang = self.jac.fixed_rows::<3>(3);
+            add_task(&mut self.p, &mut self.c, &j_ang, &ang, options.w_link);
+        }
+        Ok(())
+    }
+
+    /// The posture task `w_posture |x_j - xdd_j*|^2` on the revolute and prismatic joints,
+    /// `xdd_j* = -K_d q_s,j + K_p (q*_j - q_j)`: `2 w_posture` on the diagonal of `P` and
+    /// `-2 w_posture xdd_j*` in `c`.
+    fn add_posture_task(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        q_s: &[f64],
+        post: &[f64],
+        options: &IkOptions,
+    ) {
+        let w2 = 2.0 * options.w_posture;
+        for j in &model.joints[1..] {
+            if matches!(
+                j.kind,
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+            ) {
+                let desired =
+                    -options.k_d * q_s[j.idx_v] + options.k_p * (post[j.idx_q] - q[j.idx_q]);
+                self.p[(j.idx_v, j.idx_v)] += w2;
+                self.c[j.idx_v] -= w2 * desired;
             }
         }
-        // posture task on the revolute and prismatic joints
-        if let (Some(post), true) = (tasks.posture, options.w_posture > 0.0) {
-            let w2 = 2.0 * options.w_posture;
-            for j in &model.joints[1..] {
-                if matches!(
-                    j.kind,
-                    JointKind::Revolute { .. } | JointKind::Prismatic { .. }
-                ) {
-                    let desired =
-                        -options.k_d * q_s[j.idx_v] + options.k_p * (post[j.idx_q] - q[j.idx_q]);
-                    self.p[(j.idx_v, j.idx_v)] += w2;
-                    self.c[j.idx_v] -= w2 * desired;
-                }
-            }
-        }
-        // contacts, then hard link tasks
+    }
+
+    /// The equations `A_eq x = b_eq`: per contact frame the 6 rows
+    /// `J_c x = -Jd_c q_s - gamma J_c q_s + k_c e_c` (`e_c` the placement error when the hold
+    /// has a target and `k_c > 0`, else 0), then per hard link task its 3 (or 6, with an
+    /// orientation) rows `J_h x = pdd_h* - Jd_h q_s`.
+    fn equation_rows(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        q_s: &[f64],
+        tasks: &IkTasks,
+        options: &IkOptions,
+    ) -> Result<(), RobotError> {
+        let nv = model.nv;
         let rows = 6 * tasks.contacts.len()
             + tasks
                 .hard_links
@@ -293,14 +371,29 @@ impl IkWorkspace {
                 }
             }
         }
-        // clearance rows: n^T J_p x <= min(K^2 (d - d_min) + 2 K d_s, 2 (d + d_s ds) / ds^2)
-        //                                - n^T a_p
-        if self.g_rows.nrows() != tasks.distances.len() {
-            self.g_rows = DMatrix::zeros(tasks.distances.len(), nv);
-            self.h_rows = DVector::zeros(tasks.distances.len());
+        Ok(())
+    }
+
+    /// The clearance rows `G x <= h` (module doc):
+    /// `n^T J_p x <= min(K^2 (d - d_min) + 2 K d_s, 2 (d + d_s ds) / ds^2) - n^T a_p`, with
+    /// `n^T J_p` summed along the joint's chain to the root (`n . (s_lin + s_ang x p)` per
+    /// velocity coordinate), `d_s = -n^T J_p q_s` and `a_p` the point's classical acceleration
+    /// at `x = 0`. A bound on an unknown joint or with a value that is not finite is an error.
+    fn clearance_rows(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        q_s: &[f64],
+        distances: &[DistanceBound],
+        ds: f64,
+        gain: f64,
+    ) -> Result<(), RobotError> {
+        let nv = model.nv;
+        if self.g_rows.nrows() != distances.len() {
+            self.g_rows = DMatrix::zeros(distances.len(), nv);
+            self.h_rows = DVector::zeros(distances.len());
         }
-        let gain = options.clearance_gain;
-        for (r, b) in tasks.distances.iter().enumerate() {
+        for (r, b) in distances.iter().enumerate() {
             if b.joint >= model.joints.len()
                 || ![b.distance, b.min_distance]
                     .iter()
@@ -338,7 +431,21 @@ impl IkWorkspace {
             let next_step = 2.0 * (b.distance + d_s * ds) / (ds * ds) - n_a;
             self.h_rows[r] = damper.min(next_step);
         }
-        // joint bounds (boxes on single coordinates)
+        Ok(())
+    }
+
+    /// The joint bounds `lo <= x <= hi` (boxes on single coordinates, module doc): for
+    /// revolute and prismatic joints the bounds of [`joint_box`], for all of them, continuous
+    /// joints included, the rate bound `-r_max <= q_s + x ds <= r_max` when
+    /// [`IkOptions::max_path_rate`] is finite; an infinite (or NaN) bound is no bound.
+    fn joint_bounds(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        q_s: &[f64],
+        ds: f64,
+        options: &IkOptions,
+    ) {
         self.lo.fill(f64::NEG_INFINITY);
         self.hi.fill(f64::INFINITY);
         for j in &model.joints[1..] {
@@ -354,46 +461,8 @@ impl IkWorkspace {
             ) {
                 continue;
             }
-            let (k, qj, vj) = (j.idx_v, q[j.idx_q], q_s[j.idx_v]);
-            let scale = 2.0 / (ds * ds);
-            let mut next_step = (
-                scale * (j.lower - qj - vj * ds),
-                scale * (j.upper - qj - vj * ds),
-            );
-            // within the step: a joint that turns back before its end peaks below
-            // q + q_s ds / 2, so keeping q + q_s ds / 2 within the limits at every sample keeps
-            // the whole step within them; at the step's end that is
-            // q + 1.5 q_s ds + x ds^2 within the limits (the QP stays feasible from a state
-            // that breaks it: the bound then only asks for the other end's)
-            let viable = (
-                (j.lower - qj - 1.5 * vj * ds) / (ds * ds),
-                (j.upper - qj - 1.5 * vj * ds) / (ds * ds),
-            );
-            next_step = (
-                next_step.0.max(viable.0.min(next_step.1)),
-                next_step.1.min(viable.1.max(next_step.0)),
-            );
-            let (lo, hi) = match options.joint_bounds {
-                JointBounds::NextStep => next_step,
-                JointBounds::Damper { k_s, k_ss, range } => {
-                    let (mid, half) = (0.5 * (j.upper + j.lower), 0.5 * (j.upper - j.lower));
-                    let (lower, upper) = (mid - range * half, mid + range * half);
-                    // the damper may overshoot its shrunk range by about q_s / K_ss: the
-                    // next-step bound keeps the joint within its true limits meanwhile
-                    let damped = (
-                        (k_ss * (k_s * (lower - qj) - vj)).max(next_step.0),
-                        (k_ss * (k_s * (upper - qj) - vj)).min(next_step.1),
-                    );
-                    // where the damper's bounds cross (a joint beyond its shrunk range on one
-                    // side, driven hard: a soft task out of reach), the true limits alone hold
-                    // it, instead of making the step infeasible
-                    if damped.0 <= damped.1 {
-                        damped
-                    } else {
-                        next_step
-                    }
-                }
-            };
+            let (k, vj) = (j.idx_v, q_s[j.idx_v]);
+            let (lo, hi) = joint_box(j.lower, j.upper, q[j.idx_q], vj, ds, options.joint_bounds);
             // an infinite limit gives an infinite (or NaN, for inf - inf) bound: no bound
             self.lo[k] = if lo.is_finite() {
                 lo
@@ -406,7 +475,6 @@ impl IkWorkspace {
                 self.hi[k] = self.hi[k].min((options.max_path_rate - vj) / ds);
             }
         }
-        Ok(())
     }
 
     /// A link task's Jacobian (left in `self.jac`) and its desired accelerations minus drifts:
@@ -580,6 +648,55 @@ impl IkWorkspace {
             b_eq: self.b_eq.clone(),
             g,
             h,
+        }
+    }
+}
+
+/// The position bounds on `x` of a joint at `q` (velocity `q_s`) with limits
+/// `[lower, upper]` over a path step `ds` (module doc, [`JointBounds`]): the next-step bounds
+/// `2 (limit - q - q_s ds) / ds^2` at the step's end, tightened by
+/// `(limit - q - 1.5 q_s ds) / ds^2` within the step (keeping `q + q_s ds / 2` within the limits,
+/// and relaxed to the end bound where the state breaks it); with the damper, its bounds
+/// `K_ss (K_s (limit' - q) - q_s)` on the shrunk range, within the next-step bounds, unless
+/// they cross.
+fn joint_box(lower: f64, upper: f64, qj: f64, vj: f64, ds: f64, bounds: JointBounds) -> (f64, f64) {
+    let scale = 2.0 / (ds * ds);
+    let mut next_step = (
+        scale * (lower - qj - vj * ds),
+        scale * (upper - qj - vj * ds),
+    );
+    // within the step: a joint that turns back before its end peaks below
+    // q + q_s ds / 2, so keeping q + q_s ds / 2 within the limits at every sample keeps
+    // the whole step within them; at the step's end that is
+    // q + 1.5 q_s ds + x ds^2 within the limits (the QP stays feasible from a state
+    // that breaks it: the bound then only asks for the other end's)
+    let viable = (
+        (lower - qj - 1.5 * vj * ds) / (ds * ds),
+        (upper - qj - 1.5 * vj * ds) / (ds * ds),
+    );
+    next_step = (
+        next_step.0.max(viable.0.min(next_step.1)),
+        next_step.1.min(viable.1.max(next_step.0)),
+    );
+    match bounds {
+        JointBounds::NextStep => next_step,
+        JointBounds::Damper { k_s, k_ss, range } => {
+            let (mid, half) = (0.5 * (upper + lower), 0.5 * (upper - lower));
+            let (lower, upper) = (mid - range * half, mid + range * half);
+            // the damper may overshoot its shrunk range by about q_s / K_ss: the
+            // next-step bound keeps the joint within its true limits meanwhile
+            let damped = (
+                (k_ss * (k_s * (lower - qj) - vj)).max(next_step.0),
+                (k_ss * (k_s * (upper - qj) - vj)).min(next_step.1),
+            );
+            // where the damper's bounds cross (a joint beyond its shrunk range on one
+            // side, driven hard: a soft task out of reach), the true limits alone hold
+            // it, instead of making the step infeasible
+            if damped.0 <= damped.1 {
+                damped
+            } else {
+                next_step
+            }
         }
     }
 }

@@ -13,8 +13,9 @@
 //! ("flat" index) at byte `24 k`. Measured on the development machine (`bench/peers/topp.md`
 //! in the repository, example `fill_bounds`), the fill is bound first by writing these rows into
 //! the second-level cache: for 172 rows and 101 grid points, storing the same 417 KB and
-//! computing nothing takes 6.3-7.3 us, the 14 multiply-adds per row without stores 6.5 us, the
-//! fill about 10 us; stores that straddle two cache lines cost more. Steps are therefore
+//! computing nothing takes most of the fill's time, about as long as the 14 multiply-adds per
+//! row without stores, and the two overlap only in part; stores that straddle two cache lines
+//! cost more. Steps are therefore
 //! aligned on the *output*: each step computes the flat rows `k, ..., k + 7` with `24 k`
 //! bytes past a 64-byte boundary, i.e. exactly three cache lines, written by three aligned
 //! 64-byte stores after six two-source permutes interleave `a`, `b`, `c`.
@@ -39,10 +40,10 @@
 //! load per step costs about as much as the multiply-adds and permutes it feeds while the
 //! stores stream out (the first-level cache serves the loads and the lines written back to the
 //! second level): with vertical gravity, `U_f (m g) = U_z m g_z` is therefore recomputed by one
-//! multiply from the `U_z` already loaded instead of loaded (`FillKernel::Avx512Gz`, 3 % to 4 %
-//! faster on 137 and 172 rows). The product is the one stored in `U_f (m g)`, so the rows are
+//! multiply from the `U_z` already loaded instead of loaded (`FillKernel::Avx512Gz`, faster on
+//! 137 and 172 rows). The product is the one stored in `U_f (m g)`, so the rows are
 //! unchanged bit for bit. Keeping `U` in a layout that needs no permutes (each output line
-//! computed directly, 18 multiply-adds and 18 loads per step) was measured 12 % slower for the
+//! computed directly, 18 multiply-adds and 18 loads per step) was measured slower for the
 //! same reason.
 
 use std::arch::x86_64::*;
@@ -85,7 +86,7 @@ const SOURCES: usize = 7;
 /// (unit: bytes; 256 KiB). Not a numerical threshold (results do not depend on it), a cache
 /// size: a chunk's output stays well inside a 2 MB second-level cache, so sweeping it phase by
 /// phase costs nothing, while sweeping a whole output larger than the cache phase by phase was
-/// measured 10 % slower than in order (N = 1000, 4 MB of rows).
+/// measured slower than in order (N = 1000, 4 MB of rows; `bench/peers/topp.md`).
 const PHASE_CHUNK_BYTES: usize = 256 * 1024;
 
 impl WideColumns {

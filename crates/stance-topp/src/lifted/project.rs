@@ -213,8 +213,7 @@ impl Projector {
         out.lps = 0;
         out.pivots = 0;
         let k = rows.extra();
-        let n = 2 + k;
-        if n + 1 > MAX_VARS {
+        if 2 + k + 1 > MAX_VARS {
             return Err(ToppError::InvalidValue {
                 what: "lifted rows",
                 detail: format!(
@@ -223,9 +222,35 @@ impl Projector {
                 ),
             });
         }
-        // the program: unit rows in (u, x, y)
+        let Some(index) = self.load_program(rows, bbox, out)? else {
+            return Ok(());
+        };
+        let Some(axes) = self.initial_polygon(out)? else {
+            return Ok(());
+        };
+        let size = (bbox.u_hi - bbox.u_lo)
+            .abs()
+            .max((bbox.x_hi - bbox.x_lo).abs())
+            .max(1e-300);
+        let facets = self.expand(eps * size, out)?;
+        self.write_rows(facets, axes, &index, out);
+        Ok(())
+    }
+
+    /// The LP's constraints: the lifted rows as unit rows `g . (u, x, y) <= h` (rows with
+    /// `a = b = d = 0` are constants, skipped when they hold), and the box on `(u, x)` and
+    /// the bound on `y` as variable bounds. Returns the lifted row of each program row;
+    /// `None` when a constant row is violated (nothing is feasible: `out` says so, the row as
+    /// its support).
+    fn load_program(
+        &mut self,
+        rows: &LiftedRows,
+        bbox: Box2,
+        out: &mut Projection,
+    ) -> Result<Option<Vec<usize>>, ToppError> {
+        let k = rows.extra();
         let p = &mut self.program;
-        p.n = n;
+        p.n = 2 + k;
         p.g.clear();
         p.h.clear();
         for j in 0..rows.len() {
@@ -249,7 +274,7 @@ impl Projector {
                         c: 1.0,
                     });
                     out.support.push(vec![j]);
-                    return Ok(());
+                    return Ok(None);
                 }
                 continue;
             }
@@ -272,16 +297,17 @@ impl Projector {
         p.hi.extend_from_slice(&[bbox.u_hi, bbox.x_hi]);
         p.lo.extend(std::iter::repeat_n(-rows.y_bound, k));
         p.hi.extend(std::iter::repeat_n(rows.y_bound, k));
-        let m = p.h.len();
+        Ok(Some(index))
+    }
 
-        // initial directions: the axes and the previous polygon's normals
+    /// The first vertices of the inner polygon, into `self.dirs`: the supports in the
+    /// directions of the axes and of the previous polygon's facet normals. Returns the four
+    /// axis directions (their supporting lines become rows too); `None` when the LP is
+    /// infeasible (the projection is empty: `out` says so, and the warm start is forgotten).
+    fn initial_polygon(&mut self, out: &mut Projection) -> Result<Option<Vec<Dir>>, ToppError> {
         let mut initial: Vec<[f64; 2]> = vec![[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
         initial.extend(self.previous.iter().copied());
         self.dirs.clear();
-        let size = (bbox.u_hi - bbox.u_lo)
-            .abs()
-            .max((bbox.x_hi - bbox.x_lo).abs())
-            .max(1e-300);
         let mut axes: Vec<Dir> = Vec::with_capacity(4);
         for (q, nrm) in initial.into_iter().enumerate() {
             match self.support(nrm, out)? {
@@ -300,13 +326,18 @@ impl Projector {
                     });
                     out.support.push(Vec::new());
                     self.previous.clear();
-                    return Ok(());
+                    return Ok(None);
                 }
             }
         }
-        // expand: certify every edge of the inner polygon or split it, sweeping until every
-        // edge (from each direction's vertex to the next one's, cyclically) is done
-        let tol = eps * size;
+        Ok(Some(axes))
+    }
+
+    /// The expansion of the module doc: every edge `[v_a, v_b]` of the inner polygon (from each
+    /// direction's vertex to the next one's, cyclically) is certified, `h(n) <= n . v_a + tol`
+    /// in its outward normal `n` (a facet, returned), or split by the new vertex `v(n)`,
+    /// sweeping until every edge is done. Edges shorter than `tol` are done as they are.
+    fn expand(&mut self, tol: f64, out: &mut Projection) -> Result<Vec<Dir>, ToppError> {
         let mut facets: Vec<Dir> = Vec::new();
         while let Some(i) = self.dirs.iter().position(|d| !d.edge_done) {
             if out.lps > MAX_LPS {
@@ -343,10 +374,22 @@ impl Projector {
                 self.dirs[i].edge_done = true;
             }
         }
-        let _ = m;
+        Ok(facets)
+    }
+
+    /// The rows `n . (u, x) - h(n) <= 0` of the facets, and the supporting lines of the axes
+    /// (they bound a polygon that is a segment or a point, and cost nothing otherwise), each
+    /// with its support: the lifted rows (through `index`) with a positive multiplier at the
+    /// LP's optimum; a positive multiplier on a bound of `y` sets
+    /// [`Projection::y_bound_active`]. The facet normals are the next warm start.
+    fn write_rows(
+        &mut self,
+        facets: Vec<Dir>,
+        axes: Vec<Dir>,
+        index: &[usize],
+        out: &mut Projection,
+    ) {
         let previous: Vec<[f64; 2]> = facets.iter().map(|d| d.n).collect();
-        // rows: the facets, and the supporting lines of the axes (they bound a polygon that
-        // is a segment or a point, and cost nothing otherwise)
         for d in facets.into_iter().chain(axes) {
             out.rows.push(Row {
                 a: d.n[0],
@@ -371,7 +414,6 @@ impl Projector {
             out.support.push(sup);
         }
         self.previous = previous;
-        Ok(())
     }
 
     /// The LP in direction `nrm`: `Some` vertex and support, `None` when infeasible.

@@ -24,8 +24,6 @@ mod report;
 pub mod separation;
 
 pub use options::{Discretization, Solution, SolveOptions, SolveStats, Status};
-#[allow(deprecated)]
-pub use reachability::solve_with;
 pub use reachability::{end_speed_range, solve, Workspace};
 pub use report::SolutionReport;
 pub use separation::{Cut, Cuts, Separation};

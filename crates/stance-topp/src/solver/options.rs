@@ -50,7 +50,8 @@ pub struct SolveOptions {
     pub tol: Tolerances,
     /// Add the lines active at the previous stage first in each LP of the backward pass, and
     /// the previous step's limiting row first in each forward step (see [`crate::lp2`]). The
-    /// answer does not depend on it; the time does (about 3x faster on the shared instances).
+    /// answer does not depend on it; the time does (severalfold faster on the shared instances:
+    /// `bench/peers/topp.md`).
     pub warm_start: bool,
 }
 

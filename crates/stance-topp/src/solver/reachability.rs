@@ -172,17 +172,6 @@ pub fn solve(k: &CanonicalConstraints, opts: &SolveOptions) -> Result<Solution, 
     Workspace::new().solve(k, opts)
 }
 
-/// [`solve`] with a reusable [`Workspace`], argument order of the old API (the workspace last;
-/// the project puts it first or as the receiver).
-#[deprecated(note = "use ws.solve(k, opts) (Workspace::solve)")]
-pub fn solve_with(
-    k: &CanonicalConstraints,
-    opts: &SolveOptions,
-    ws: &mut Workspace,
-) -> Result<Solution, ToppError> {
-    ws.solve(k, opts)
-}
-
 /// The body of [`Workspace::solve`] and [`Workspace::solve_separated`].
 fn solve_in(
     k: &CanonicalConstraints,

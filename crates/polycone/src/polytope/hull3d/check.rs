@@ -64,7 +64,6 @@ pub(crate) fn check_hull(
     poly: &Polyhedron,
     opts: &PolytopeOptions,
 ) -> Result<(), &'static str> {
-    let tol = opts.dist_tol;
     let (nv, nf) = (poly.vertices.len(), poly.faces.len());
     if poly.status != RegionStatus::Bounded || poly.dim != 3 {
         return Err("not a bounded solid");
@@ -72,7 +71,18 @@ pub(crate) fn check_hull(
     if nf < 4 || nv < 4 || poly.planes.len() != nf || poly.active.len() != nf {
         return Err("fewer than four faces or vertices, or inconsistent lengths");
     }
-    // 1. Soundness.
+    check_soundness(pts, poly, opts.dist_tol)?;
+    check_vertices(pts, poly, opts.merge_tol)?;
+    let around = FacesAround::new(poly)?;
+    for fi in 0..nf {
+        check_face(poly, fi, &around, opts.dist_tol)?;
+    }
+    check_lattice(poly)
+}
+
+/// 1. Soundness: unit normals, finite offsets, and every point within `tol` of the inner side
+///    of every face plane.
+fn check_soundness(pts: &[[f64; 3]], poly: &Polyhedron, tol: f64) -> Result<(), &'static str> {
     for &(n, d) in &poly.planes {
         if !le((dot(n, n).sqrt() - 1.0).abs(), HULL_CHECK_UNIT_NORMAL) || !d.is_finite() {
             return Err("a face normal is not a unit vector");
@@ -81,116 +91,157 @@ pub(crate) fn check_hull(
             return Err("a point lies outside a face plane by more than dist_tol");
         }
     }
-    // 2. Vertices are input points.
+    Ok(())
+}
+
+/// 2. Vertices are input points (each within `merge_tol` of one).
+fn check_vertices(pts: &[[f64; 3]], poly: &Polyhedron, merge_tol: f64) -> Result<(), &'static str> {
     for &v in &poly.vertices {
         let near = pts
             .iter()
-            .any(|&p| dot(sub(p, v), sub(p, v)).sqrt() <= opts.merge_tol);
+            .any(|&p| dot(sub(p, v), sub(p, v)).sqrt() <= merge_tol);
         if !near {
             return Err("a vertex is not an input point");
         }
     }
-    // 3. Faces.
-    // Faces around each vertex (compressed rows: faces_at[start[v]..start[v + 1]]).
-    let mut start = vec![0usize; nv + 1];
-    for face in &poly.faces {
-        if face.len() < 3 || face.iter().any(|&v| v >= nv) {
-            return Err("a face has fewer than three vertices or a bad index");
-        }
-        for &v in face {
-            start[v + 1] += 1;
-        }
-    }
-    for v in 0..nv {
-        start[v + 1] += start[v];
-    }
-    let mut faces_at = vec![0usize; start[nv]];
-    let mut fill = start.clone();
-    for (f, face) in poly.faces.iter().enumerate() {
-        for &v in face {
-            faces_at[fill[v]] = f;
-            fill[v] += 1;
-        }
-    }
-    if (0..nv).any(|v| start[v + 1] - start[v] < 3) {
-        return Err("a vertex lies on fewer than three faces");
-    }
-    for (fi, (face, &(n, d))) in poly.faces.iter().zip(&poly.planes).enumerate() {
-        let m = face.len();
-        let mut sorted = face.clone();
-        sorted.sort_unstable();
-        sorted.dedup();
-        if sorted.len() != m {
-            return Err("a face repeats a vertex");
-        }
-        let p: Vec<[f64; 3]> = face.iter().map(|&v| poly.vertices[v]).collect();
-        if p.iter().any(|&q| !le((dot(n, q) - d).abs(), tol)) {
-            return Err("a face vertex is farther than dist_tol from the face plane");
-        }
-        let mut winding = 0.0;
-        // In-plane accuracy of the loop (the largest dist_tol / sin theta of its corners) and
-        // the distance from the centroid to the nearest edge.
-        let mut accuracy = tol;
-        let mut clearance = f64::INFINITY;
-        let mut area = [0.0; 3];
-        // Vectors projected on the face plane (out-of-plane parts, up to dist_tol, would
-        // distort short edges).
-        let flat = |x: [f64; 3]| {
-            let h = dot(x, n);
-            [x[0] - h * n[0], x[1] - h * n[1], x[2] - h * n[2]]
-        };
-        let mut centre = [0.0; 3];
-        for q in &p {
-            for k in 0..3 {
-                centre[k] += q[k] / m as f64;
+    Ok(())
+}
+
+/// The faces around each vertex, as compressed rows: `faces_at[start[v]..start[v + 1]]`.
+struct FacesAround {
+    start: Vec<usize>,
+    faces_at: Vec<usize>,
+}
+
+impl FacesAround {
+    /// The rows of `poly`, after checking that every face has at least three vertices with
+    /// valid indices and that every vertex lies on at least three faces.
+    fn new(poly: &Polyhedron) -> Result<Self, &'static str> {
+        let nv = poly.vertices.len();
+        let mut start = vec![0usize; nv + 1];
+        for face in &poly.faces {
+            if face.len() < 3 || face.iter().any(|&v| v >= nv) {
+                return Err("a face has fewer than three vertices or a bad index");
+            }
+            for &v in face {
+                start[v + 1] += 1;
             }
         }
-        for i in 0..m {
-            let (a, b, c) = (p[i], p[(i + 1) % m], p[(i + 2) % m]);
-            let e = flat(sub(b, a));
-            if !lt(0.0, dot(e, e)) {
-                return Err("a face has a zero-length edge");
-            }
-            // Dent depth of b: its signed distance to the left of (inside) the chord a -> c,
-            // in the face plane (at most |b - a|, so short edges cannot inflate it). The
-            // in-plane position of b, a corner of this face and of faces at angles theta to
-            // it, is known to dist_tol / sin(theta): the allowed depth.
-            let chord = flat(sub(c, a));
-            let lc = dot(chord, chord).sqrt();
-            let vb = face[(i + 1) % m];
-            let sin_min = faces_at[start[vb]..start[vb + 1]]
-                .iter()
-                .filter(|&&g| g != fi)
-                .map(|&g| {
-                    let x = cross(n, poly.planes[g].0);
-                    dot(x, x).sqrt()
-                })
-                .fold(1.0, f64::min);
-            if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc * sin_min > tol {
-                return Err("a face is not convex (a vertex inside by more than dist_tol / sin)");
-            }
-            accuracy = accuracy.max(tol / sin_min);
-            clearance = clearance.min(segment_distance(flat(sub(centre, a)), e));
-            // The loop seen from its centroid: the angle swept from a to b (short edges in
-            // a cluster far from the centroid sweep tiny angles whatever their direction).
-            let (ra, rb) = (flat(sub(a, centre)), flat(sub(b, centre)));
-            winding += dot(n, cross(ra, rb)).atan2(dot(ra, rb));
-            let w = cross(sub(a, p[0]), sub(b, p[0]));
-            for k in 0..3 {
-                area[k] += 0.5 * w[k];
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let mut faces_at = vec![0usize; start[nv]];
+        let mut fill = start.clone();
+        for (f, face) in poly.faces.iter().enumerate() {
+            for &v in face {
+                faces_at[fill[v]] = f;
+                fill[v] += 1;
             }
         }
-        // The winding is decided only when the centroid is clear of the edges by more than
-        // their accuracy (not for needle faces, whose centroid lies within it).
-        if clearance > accuracy && !le((winding - std::f64::consts::TAU).abs(), HULL_CHECK_WINDING)
-        {
-            return Err("a face loop does not wind once around its normal");
+        if (0..nv).any(|v| start[v + 1] - start[v] < 3) {
+            return Err("a vertex lies on fewer than three faces");
         }
-        if !lt(0.0, dot(area, n)) {
-            return Err("a face has no positive area along its normal");
+        Ok(Self { start, faces_at })
+    }
+
+    /// The faces at vertex `v`.
+    fn at(&self, v: usize) -> &[usize] {
+        &self.faces_at[self.start[v]..self.start[v + 1]]
+    }
+}
+
+/// 3. Face `fi`: distinct vertices within `tol` of its plane, forming a convex loop (no vertex
+///    inside the chord of its neighbours by more than `tol / sin theta`) that winds once
+///    counter-clockwise around the normal (decided when the centroid is clear of the edges by
+///    more than their in-plane accuracy) with positive area along it.
+fn check_face(
+    poly: &Polyhedron,
+    fi: usize,
+    around: &FacesAround,
+    tol: f64,
+) -> Result<(), &'static str> {
+    let (face, (n, d)) = (&poly.faces[fi], poly.planes[fi]);
+    let m = face.len();
+    let mut sorted = face.clone();
+    sorted.sort_unstable();
+    sorted.dedup();
+    if sorted.len() != m {
+        return Err("a face repeats a vertex");
+    }
+    let p: Vec<[f64; 3]> = face.iter().map(|&v| poly.vertices[v]).collect();
+    if p.iter().any(|&q| !le((dot(n, q) - d).abs(), tol)) {
+        return Err("a face vertex is farther than dist_tol from the face plane");
+    }
+    let mut winding = 0.0;
+    // In-plane accuracy of the loop (the largest dist_tol / sin theta of its corners) and
+    // the distance from the centroid to the nearest edge.
+    let mut accuracy = tol;
+    let mut clearance = f64::INFINITY;
+    let mut area = [0.0; 3];
+    // Vectors projected on the face plane (out-of-plane parts, up to dist_tol, would
+    // distort short edges).
+    let flat = |x: [f64; 3]| {
+        let h = dot(x, n);
+        [x[0] - h * n[0], x[1] - h * n[1], x[2] - h * n[2]]
+    };
+    let mut centre = [0.0; 3];
+    for q in &p {
+        for k in 0..3 {
+            centre[k] += q[k] / m as f64;
         }
     }
-    // 4. Lattice: directed edges (a, b, face), sorted.
+    for i in 0..m {
+        let (a, b, c) = (p[i], p[(i + 1) % m], p[(i + 2) % m]);
+        let e = flat(sub(b, a));
+        if !lt(0.0, dot(e, e)) {
+            return Err("a face has a zero-length edge");
+        }
+        // Dent depth of b: its signed distance to the left of (inside) the chord a -> c,
+        // in the face plane (at most |b - a|, so short edges cannot inflate it). The
+        // in-plane position of b, a corner of this face and of faces at angles theta to
+        // it, is known to dist_tol / sin(theta): the allowed depth.
+        let chord = flat(sub(c, a));
+        let lc = dot(chord, chord).sqrt();
+        let vb = face[(i + 1) % m];
+        let sin_min = around
+            .at(vb)
+            .iter()
+            .filter(|&&g| g != fi)
+            .map(|&g| {
+                let x = cross(n, poly.planes[g].0);
+                dot(x, x).sqrt()
+            })
+            .fold(1.0, f64::min);
+        if lt(0.0, lc) && dot(n, cross(chord, flat(sub(b, a)))) / lc * sin_min > tol {
+            return Err("a face is not convex (a vertex inside by more than dist_tol / sin)");
+        }
+        accuracy = accuracy.max(tol / sin_min);
+        clearance = clearance.min(segment_distance(flat(sub(centre, a)), e));
+        // The loop seen from its centroid: the angle swept from a to b (short edges in
+        // a cluster far from the centroid sweep tiny angles whatever their direction).
+        let (ra, rb) = (flat(sub(a, centre)), flat(sub(b, centre)));
+        winding += dot(n, cross(ra, rb)).atan2(dot(ra, rb));
+        let w = cross(sub(a, p[0]), sub(b, p[0]));
+        for k in 0..3 {
+            area[k] += 0.5 * w[k];
+        }
+    }
+    // The winding is decided only when the centroid is clear of the edges by more than
+    // their accuracy (not for needle faces, whose centroid lies within it).
+    if clearance > accuracy && !le((winding - std::f64::consts::TAU).abs(), HULL_CHECK_WINDING) {
+        return Err("a face loop does not wind once around its normal");
+    }
+    if !lt(0.0, dot(area, n)) {
+        return Err("a face has no positive area along its normal");
+    }
+    Ok(())
+}
+
+/// 4. Lattice: every directed edge appears once and its reverse on another face, two faces
+///    share at most one edge, and Euler's formula `V - E + F = 2` holds.
+fn check_lattice(poly: &Polyhedron) -> Result<(), &'static str> {
+    let (nv, nf) = (poly.vertices.len(), poly.faces.len());
+    // Directed edges (a, b, face), sorted.
     let mut edge_face: Vec<(usize, usize, usize)> = Vec::new();
     for (f, face) in poly.faces.iter().enumerate() {
         let m = face.len();

@@ -200,44 +200,14 @@ fn simplex(pts: &[[f64; 3]]) -> Option<[usize; 4]> {
 ///
 /// Returns the triangles and the *marginal* points: exactly outside the hull but at most
 /// `tol` above its triangles. Every other point that is no hull vertex is inside the hull.
+///
+/// Each step of the module doc's loop: the farthest outside point `p` of the next triangle
+/// with outside points, the triangles it sees ([`Work::visible_region`]), the horizon cycle
+/// ([`Step::horizon_cycle`]), the cone from `p` over it ([`Work::add_cone`]) and the outside
+/// points of the removed triangles handed on ([`Work::reassign_orphans`]).
 pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u32>)> {
-    let [i0, i1, i2, i3] = simplex(pts)?.map(|i| i as u32);
-    let mut w = Work {
-        tris: Vec::with_capacity(4 * pts.len()),
-        alive: Vec::with_capacity(4 * pts.len()),
-        outside: Vec::with_capacity(4 * pts.len()),
-        normal: Vec::with_capacity(4 * pts.len()),
-        tol,
-    };
-    // Faces of the tetrahedron (i3 below i0 i1 i2); neighbours by shared edges:
-    // t0 = (i0 i1 i2), t1 = (i0 i3 i1), t2 = (i1 i3 i2), t3 = (i2 i3 i0).
-    w.push(pts, [i0, i1, i2], [1, 2, 3]);
-    w.push(pts, [i0, i3, i1], [3, 2, 0]);
-    w.push(pts, [i1, i3, i2], [1, 3, 0]);
-    w.push(pts, [i2, i3, i0], [2, 1, 0]);
-    let n = pts.len() as u32;
-    // Points exactly outside the hull but skipped as within `tol` of it ("marginal"): the only
-    // ones that can end up above a later triangle. A point found inside the exact hull stays
-    // inside every later one.
-    let mut marginal = vec![false; pts.len()];
-    for p in 0..n {
-        if [i0, i1, i2, i3].contains(&p) {
-            continue;
-        }
-        if let Some(t) = (0..4).find(|&t| w.outside_of(pts, t, p)) {
-            w.outside[t].push(p);
-        } else if (0..4).any(|t| w.sees(pts, t, p)) {
-            marginal[p as usize] = true;
-        }
-    }
-    let mut visible: Vec<u32> = Vec::new();
-    let mut is_visible: Vec<bool> = Vec::new();
-    let mut stack: Vec<u32> = Vec::new();
-    // (a, b, triangle beyond the edge, visible triangle on this side)
-    let mut horizon: Vec<(u32, u32, u32, u32)> = Vec::new();
-    let mut next_of: Vec<u32> = vec![NONE; pts.len()];
-    let mut orphans: Vec<u32> = Vec::new();
-    let mut new_tris: Vec<u32> = Vec::new();
+    let (mut w, mut marginal) = Work::start(pts, tol)?;
+    let mut st = Step::new(pts.len());
     let mut cursor = 0usize;
     loop {
         // Next triangle with a non-empty outside set (triangles are only appended).
@@ -245,22 +215,7 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u3
             cursor += 1;
         }
         if cursor == w.tris.len() {
-            // Points skipped as within `tol` of the hull at their time may be higher above a
-            // triangle made later (near a sharp corner): sweep them against the final
-            // triangles, and go on if any is still outside.
-            let mut again = false;
-            for q in 0..n {
-                if !marginal[q as usize] {
-                    continue;
-                }
-                if let Some(t) = (0..w.tris.len()).find(|&t| w.alive[t] && w.outside_of(pts, t, q))
-                {
-                    w.outside[t].push(q);
-                    marginal[q as usize] = false;
-                    again = true;
-                }
-            }
-            if !again {
+            if !w.sweep_marginal(pts, &mut marginal) {
                 break;
             }
             cursor = 0;
@@ -270,26 +225,61 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u3
         let p = *w.outside[t0]
             .iter()
             .max_by(|&&a, &&b| w.height(pts, t0, a).total_cmp(&w.height(pts, t0, b)))?;
-        // The visible region: the connected set of triangles that see p.
-        is_visible.resize(w.tris.len(), false);
-        visible.clear();
-        stack.clear();
-        stack.push(t0 as u32);
-        is_visible[t0] = true;
-        while let Some(t) = stack.pop() {
-            visible.push(t);
-            for k in 0..3 {
-                let u = w.tris[t as usize].nb[k];
-                if !is_visible[u as usize] && w.sees(pts, u as usize, p) {
-                    is_visible[u as usize] = true;
-                    stack.push(u);
-                }
-            }
+        w.visible_region(pts, t0, p, &mut st);
+        st.horizon_cycle(&w)?;
+        w.add_cone(pts, p, &mut st)?;
+        w.reassign_orphans(pts, p, &mut st, &mut marginal);
+        // Triangles before the cursor are dead or empty for good (outside sets only go to new
+        // triangles, which are appended), so the cursor moves back only after the sweep.
+    }
+    w.compact(&marginal)
+}
+
+/// Buffers of one step of [`exact_hull`], reused across steps.
+struct Step {
+    /// The triangles that see the point, and a flag per triangle.
+    visible: Vec<u32>,
+    is_visible: Vec<bool>,
+    stack: Vec<u32>,
+    /// `(a, b, triangle beyond the edge, visible triangle on this side)`.
+    horizon: Vec<(u32, u32, u32, u32)>,
+    /// `next_of[a]`: position in `horizon` of the edge leaving `a` (`NONE` between steps).
+    next_of: Vec<u32>,
+    /// Positions in `horizon` along the cycle.
+    order: Vec<usize>,
+    orphans: Vec<u32>,
+    new_tris: Vec<u32>,
+}
+
+impl Step {
+    fn new(n: usize) -> Self {
+        Self {
+            visible: Vec::new(),
+            is_visible: Vec::new(),
+            stack: Vec::new(),
+            horizon: Vec::new(),
+            next_of: vec![NONE; n],
+            order: Vec::new(),
+            orphans: Vec::new(),
+            new_tris: Vec::new(),
         }
-        // The horizon: edges of visible triangles whose neighbour is not visible, in the
-        // orientation of the visible triangle.
+    }
+
+    /// The horizon: edges of visible triangles whose neighbour is not visible, in the
+    /// orientation of the visible triangle, chained into one cycle (`order`). `None` when they
+    /// do not form a simple cycle of at least three edges.
+    #[inline(always)]
+    fn horizon_cycle(&mut self, w: &Work) -> Option<()> {
+        let Step {
+            visible,
+            is_visible,
+            horizon,
+            next_of,
+            order,
+            ..
+        } = self;
         horizon.clear();
-        for &t in &visible {
+        for &t in visible.iter() {
             let tri = &w.tris[t as usize];
             for k in 0..3 {
                 let u = tri.nb[k];
@@ -306,7 +296,8 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u3
             next_of[a as usize] = j as u32;
         }
         let m = horizon.len();
-        let mut order: Vec<usize> = Vec::with_capacity(m);
+        order.clear();
+        order.reserve(m);
         let mut j = 0usize;
         for _ in 0..m {
             order.push(j);
@@ -317,74 +308,177 @@ pub(crate) fn exact_hull(pts: &[[f64; 3]], tol: f64) -> Option<(Vec<Tri>, Vec<u3
             }
             j = nj as usize;
         }
-        for &(a, ..) in &horizon {
+        for &(a, ..) in horizon.iter() {
             next_of[a as usize] = NONE;
         }
         if order.len() != m || j != 0 || m < 3 {
             return None;
         }
-        // The cone from p over the horizon.
-        new_tris.clear();
-        let base = w.tris.len() as u32;
-        for (q, &j) in order.iter().enumerate() {
-            let (a, b, beyond, old) = horizon[j];
+        Some(())
+    }
+}
+
+impl Work {
+    /// The starting tetrahedron (`None` when the points are exactly coplanar) and the outside
+    /// sets of its four triangles; the points exactly outside it but within `tol` are flagged
+    /// marginal.
+    fn start(pts: &[[f64; 3]], tol: f64) -> Option<(Work, Vec<bool>)> {
+        let [i0, i1, i2, i3] = simplex(pts)?.map(|i| i as u32);
+        let mut w = Work {
+            tris: Vec::with_capacity(4 * pts.len()),
+            alive: Vec::with_capacity(4 * pts.len()),
+            outside: Vec::with_capacity(4 * pts.len()),
+            normal: Vec::with_capacity(4 * pts.len()),
+            tol,
+        };
+        // Faces of the tetrahedron (i3 below i0 i1 i2); neighbours by shared edges:
+        // t0 = (i0 i1 i2), t1 = (i0 i3 i1), t2 = (i1 i3 i2), t3 = (i2 i3 i0).
+        w.push(pts, [i0, i1, i2], [1, 2, 3]);
+        w.push(pts, [i0, i3, i1], [3, 2, 0]);
+        w.push(pts, [i1, i3, i2], [1, 3, 0]);
+        w.push(pts, [i2, i3, i0], [2, 1, 0]);
+        // Points exactly outside the hull but skipped as within `tol` of it ("marginal"): the
+        // only ones that can end up above a later triangle. A point found inside the exact hull
+        // stays inside every later one.
+        let mut marginal = vec![false; pts.len()];
+        for p in 0..pts.len() as u32 {
+            if [i0, i1, i2, i3].contains(&p) {
+                continue;
+            }
+            if let Some(t) = (0..4).find(|&t| w.outside_of(pts, t, p)) {
+                w.outside[t].push(p);
+            } else if (0..4).any(|t| w.sees(pts, t, p)) {
+                marginal[p as usize] = true;
+            }
+        }
+        Some((w, marginal))
+    }
+
+    /// Points skipped as within `tol` of the hull at their time may be higher above a
+    /// triangle made later (near a sharp corner): sweeps them against the live triangles and
+    /// hands those still outside to a triangle. `true` when any was (the loop goes on).
+    fn sweep_marginal(&mut self, pts: &[[f64; 3]], marginal: &mut [bool]) -> bool {
+        let mut again = false;
+        for q in 0..pts.len() as u32 {
+            if !marginal[q as usize] {
+                continue;
+            }
+            if let Some(t) =
+                (0..self.tris.len()).find(|&t| self.alive[t] && self.outside_of(pts, t, q))
+            {
+                self.outside[t].push(q);
+                marginal[q as usize] = false;
+                again = true;
+            }
+        }
+        again
+    }
+
+    /// The visible region of `p` from the triangle `t0` that sees it: the connected set of
+    /// triangles that see `p` (a walk over neighbours), into `st.visible` and `st.is_visible`.
+    #[inline(always)]
+    fn visible_region(&self, pts: &[[f64; 3]], t0: usize, p: u32, st: &mut Step) {
+        st.is_visible.resize(self.tris.len(), false);
+        st.visible.clear();
+        st.stack.clear();
+        st.stack.push(t0 as u32);
+        st.is_visible[t0] = true;
+        while let Some(t) = st.stack.pop() {
+            st.visible.push(t);
+            for k in 0..3 {
+                let u = self.tris[t as usize].nb[k];
+                if !st.is_visible[u as usize] && self.sees(pts, u as usize, p) {
+                    st.is_visible[u as usize] = true;
+                    st.stack.push(u);
+                }
+            }
+        }
+    }
+
+    /// The cone from `p` over the horizon cycle (new triangles into `st.new_tris`), with the
+    /// triangles beyond the horizon re-linked to them. `None` when a link is missing (an
+    /// inconsistent surface).
+    #[inline(always)]
+    fn add_cone(&mut self, pts: &[[f64; 3]], p: u32, st: &mut Step) -> Option<()> {
+        st.new_tris.clear();
+        let m = st.horizon.len();
+        let base = self.tris.len() as u32;
+        for (q, &j) in st.order.iter().enumerate() {
+            let (a, b, beyond, old) = st.horizon[j];
             let next = base + ((q + 1) % m) as u32;
             let prev = base + ((q + m - 1) % m) as u32;
-            let t = w.push(pts, [a, b, p], [beyond, next, prev]);
-            new_tris.push(t);
+            let t = self.push(pts, [a, b, p], [beyond, next, prev]);
+            st.new_tris.push(t);
             // Re-link the triangle beyond the edge: it pointed to the visible triangle.
-            let k = w.slot(beyond, old)?;
-            w.tris[beyond as usize].nb[k] = t;
+            let k = self.slot(beyond, old)?;
+            self.tris[beyond as usize].nb[k] = t;
         }
-        is_visible.resize(w.tris.len(), false);
-        // Outside points of the removed triangles go to a new triangle they see, if any.
-        orphans.clear();
-        for &t in &visible {
-            w.alive[t as usize] = false;
-            orphans.append(&mut w.outside[t as usize]);
+        st.is_visible.resize(self.tris.len(), false);
+        Some(())
+    }
+
+    /// Removes the visible triangles and hands their outside points (but `p`) to a new
+    /// triangle they are outside of; a point that is not, but still sees a new triangle,
+    /// goes to any live triangle it is outside of (rare; full scan), else becomes marginal.
+    /// Points that see no new triangle are inside the hull. Clears the visible flags.
+    #[inline(always)]
+    fn reassign_orphans(&mut self, pts: &[[f64; 3]], p: u32, st: &mut Step, marginal: &mut [bool]) {
+        st.orphans.clear();
+        for &t in &st.visible {
+            self.alive[t as usize] = false;
+            st.orphans.append(&mut self.outside[t as usize]);
         }
-        for &q in &orphans {
+        for &q in &st.orphans {
             if q == p {
                 continue;
             }
-            if let Some(&t) = new_tris.iter().find(|&&t| w.outside_of(pts, t as usize, q)) {
-                w.outside[t as usize].push(q);
-            } else if new_tris.iter().any(|&t| w.sees(pts, t as usize, q)) {
+            if let Some(&t) = st
+                .new_tris
+                .iter()
+                .find(|&&t| self.outside_of(pts, t as usize, q))
+            {
+                self.outside[t as usize].push(q);
+            } else if st.new_tris.iter().any(|&t| self.sees(pts, t as usize, q)) {
                 // Outside the new hull but not by more than the tolerance above the new
                 // triangles: it may still be high above an older one (rare; full scan).
-                if let Some(t) = (0..w.tris.len()).find(|&t| w.alive[t] && w.outside_of(pts, t, q))
+                if let Some(t) =
+                    (0..self.tris.len()).find(|&t| self.alive[t] && self.outside_of(pts, t, q))
                 {
-                    w.outside[t].push(q);
+                    self.outside[t].push(q);
                 } else {
                     marginal[q as usize] = true;
                 }
             }
         }
-        for &t in &visible {
-            is_visible[t as usize] = false;
-        }
-        // Triangles before the cursor are dead or empty for good (outside sets only go to new
-        // triangles, which are appended), so the cursor moves back only after the sweep.
-    }
-    // Compact the live triangles.
-    let mut index = vec![NONE; w.tris.len()];
-    let mut out = Vec::new();
-    for (t, tri) in w.tris.iter().enumerate() {
-        if w.alive[t] {
-            index[t] = out.len() as u32;
-            out.push(tri.clone());
+        for &t in &st.visible {
+            st.is_visible[t as usize] = false;
         }
     }
-    for tri in &mut out {
-        for nb in &mut tri.nb {
-            *nb = index[*nb as usize];
-            if *nb == NONE {
-                return None;
+
+    /// The live triangles, renumbered (neighbours too), and the marginal points. `None` when a
+    /// live triangle has a dead neighbour.
+    fn compact(&self, marginal: &[bool]) -> Option<(Vec<Tri>, Vec<u32>)> {
+        let mut index = vec![NONE; self.tris.len()];
+        let mut out = Vec::new();
+        for (t, tri) in self.tris.iter().enumerate() {
+            if self.alive[t] {
+                index[t] = out.len() as u32;
+                out.push(tri.clone());
             }
         }
+        for tri in &mut out {
+            for nb in &mut tri.nb {
+                *nb = index[*nb as usize];
+                if *nb == NONE {
+                    return None;
+                }
+            }
+        }
+        let marginal = (0..marginal.len() as u32)
+            .filter(|&q| marginal[q as usize])
+            .collect();
+        Some((out, marginal))
     }
-    let marginal = (0..n).filter(|&q| marginal[q as usize]).collect();
-    Some((out, marginal))
 }
 
 #[cfg(test)]
