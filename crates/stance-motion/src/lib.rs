@@ -89,6 +89,8 @@
 //!   refined until no limit is exceeded between grid points by more than
 //!   `max_violation_fraction` (default 1e-3).
 
+#![warn(unnameable_types)]
+
 pub mod binding;
 pub mod error;
 pub mod input;
@@ -129,6 +131,21 @@ pub mod trajectory;
 
 #[cfg(test)]
 mod internal_tests;
+
+/// What the private stages produce, as [`MotionRun`] and [`plan::MotionPlan`] carry it: the
+/// whole-body path of each segment (IK samples and their path terms, the placed contacts), the
+/// references it tracked, the rows of eq. 14 and of the actuator limits, and the retiming. The
+/// stages themselves are private; these types are read-only views for callers that need more
+/// than [`result::MotionResult`] (the simulator, the viewer, tests).
+pub mod intermediate {
+    pub use crate::chain::{
+        FailureStatus, LandingBound, Refinement, RetimeFailure, Retimed, RetimingMode, SegmentSolve,
+    };
+    pub use crate::ik_stage::{IkSample, PlacedContact, SegmentPath};
+    pub use crate::limit_rows::{LimitsPlan, SegmentContacts};
+    pub use crate::references::{ComReference, CornerKernel, LinkLeg, LinkPlan, SegmentReferences};
+    pub use crate::rows::{LiftedSide, PointRows, SegmentRows, SideRows};
+}
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -5,6 +5,8 @@ use stance_contact::FrictionModel;
 
 use super::chain::{LandingBound, Refinement, RetimeFailure, RetimingMode};
 use super::environment::OnSurface;
+/// The per-move report of the via-points (computed by the private via-points check).
+pub use super::via_points::{LinkReached, MoveInfo, ViaPointMiss};
 
 /// The outcome of a motion: a value, never an error.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

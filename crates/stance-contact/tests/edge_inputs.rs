@@ -1,5 +1,6 @@
-//! Regression tests for problems found in the user review of issue 3 (contact stability),
-//! each named after its problem.
+//! Inputs at the edges of contact stability, each test named after its case: frictionless
+//! contacts cannot pull, scene arrays of the wrong length, a polygon corner where many rows meet,
+//! huge friction, a stance far from the world origin, gravity of any magnitude.
 
 use stance_contact::{
     supporting_forces, w_gi_static, Approximation, Contact, ForcesOutcome, FrictionModel, Scene,
