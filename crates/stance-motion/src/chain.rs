@@ -569,43 +569,7 @@ pub fn retime_chained(
     let mass = plan.robot.model.total_mass();
     let weight = mass * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     let margin = plan.spec.planning.margin * weight;
-    // speed bounds at the boundaries: landings (chained) or rest (rest to rest)
-    let mut boundary_x_max = vec![f64::INFINITY; nseg];
-    let mut landings = Vec::new();
-    for k in 1..nseg {
-        if mode == RetimingMode::RestToRest {
-            boundary_x_max[k] = 0.0;
-            continue;
-        }
-        let end = &paths[k - 1].samples[paths[k - 1].samples.len() - 1];
-        for c in &paths[k].contacts {
-            if plan.segments[k - 1]
-                .stance
-                .iter()
-                .any(|&(x, _)| x == c.surface)
-            {
-                continue;
-            }
-            let frame = plan.robot.surfaces[c.surface].frame;
-            let (v, w) = frame_path_velocity(plan, ik_ws, &end.q, &end.q_s, frame)?;
-            let mut x_max = f64::INFINITY;
-            if v.norm() > 0.0 {
-                x_max = x_max.min((crate::tol::LANDING_SPEED / v.norm()).powi(2));
-            }
-            if w.norm() > 0.0 {
-                x_max = x_max.min((crate::tol::LANDING_ANGULAR_SPEED / w.norm()).powi(2));
-            }
-            boundary_x_max[k] = boundary_x_max[k].min(x_max);
-            landings.push(LandingBound {
-                segment: k + 1,
-                segment_name: plan.segments[k].name.clone(),
-                surface: plan.robot.surfaces[c.surface].name.clone(),
-                path_speed: v.norm(),
-                path_angular_speed: w.norm(),
-                max_sd: x_max.is_finite().then(|| x_max.sqrt()),
-            });
-        }
-    }
+    let (boundary_x_max, landings) = boundary_bounds(plan, paths, mode, ik_ws)?;
     let opts = SolveOptions::new(plan.spec.retiming.discretization);
     let segment_names: Vec<String> = plan.segments.iter().map(|s| s.name.clone()).collect();
     let joints = &Names {
@@ -652,31 +616,7 @@ pub fn retime_chained(
                 .try_for_each(|(r, path)| r.ensure_sample_rows(plan, path))?;
             sample_rows_ready = true;
         }
-        let values = sample_row_values(paths, rows, &l.s_offset, p);
-        let lifted_bad = lifted_samples_failing(plan, paths, rows, &l.s_offset, p)?;
-        let mut added = 0;
-        for k in 0..nseg {
-            let mut bad: Vec<usize> = values[k]
-                .iter()
-                .enumerate()
-                .filter(|&(j, v)| {
-                    (v.contact > -0.5 * margin || v.limit > 0.0)
-                        && rows[k].grid.binary_search(&j).is_err()
-                })
-                .map(|(j, _)| j)
-                .collect();
-            bad.extend(lifted_bad[k].iter().copied());
-            bad.sort_unstable();
-            bad.dedup();
-            if bad.is_empty() {
-                continue;
-            }
-            added += bad.len();
-            let mut grid = rows[k].grid.clone();
-            grid.extend(bad);
-            grid.sort_unstable();
-            rows[k].set_grid(grid);
-        }
+        let added = add_failing_samples(plan, paths, rows, &l.s_offset, p, margin)?;
         if added == 0 {
             break;
         }
@@ -701,30 +641,7 @@ pub fn retime_chained(
     refine.elapsed = t_refine.elapsed();
     // per-segment re-solves of a chained profile, for their T_TOPP
     if let (RetimingMode::Chained, Some(p)) = (mode, &profile) {
-        let sd = p.sd();
-        for k in 0..nseg {
-            let (a, b) = (l.seg_start[k], l.seg_start[k + 1]);
-            let duration = p.times()[b] - p.times()[a];
-            let kk = segment_constraints(&l, k)?;
-            let o = opts.with_start(sd[a]).with_end(sd[b]);
-            let t2 = Instant::now();
-            // (cuts found here are valid but not kept: the motion's profile is solved)
-            let again = match LiftedOracle::new(rows, &l.seg_start) {
-                Some(mut oracle) => {
-                    oracle.offset = a;
-                    ws.solve_separated(&kk, &o, &mut oracle)?
-                }
-                None => ws.solve(&kk, &o)?,
-            };
-            let t = t2.elapsed();
-            let d = again.duration().unwrap_or(f64::INFINITY);
-            segments.push(SegmentSolve {
-                duration,
-                sd: [sd[a], sd[b]],
-                t_topp: t,
-                resolve_mismatch: (d - duration).abs() / duration.max(f64::MIN_POSITIVE),
-            });
-        }
+        resolve_segments(&l, rows, p, &opts, &mut ws, &mut segments)?;
     }
     let _ = t0;
     let feasible = (0..l.constraints.num_points())
@@ -749,6 +666,135 @@ pub fn retime_chained(
         controllable,
         feasible,
     })
+}
+
+/// Speed bounds at the segment boundaries, as `x = s'^2` before each segment (infinite before
+/// the first): zero in rest-to-rest mode; chained, the landings' bounds (module doc, "No
+/// impacts"): a contact of segment `k` that segment `k - 1` does not have lands at the end of
+/// `k - 1`, where its frame moves at `(v, w) = J q_s` per unit path, so
+/// `x <= min((v_max / |v|)^2, (w_max / |w|)^2)`. Returns the bounds and the landings.
+fn boundary_bounds(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    mode: RetimingMode,
+    ik_ws: &mut IkStageWorkspace,
+) -> Result<(Vec<f64>, Vec<LandingBound>), StanceError> {
+    let nseg = paths.len();
+    let mut boundary_x_max = vec![f64::INFINITY; nseg];
+    let mut landings = Vec::new();
+    for k in 1..nseg {
+        if mode == RetimingMode::RestToRest {
+            boundary_x_max[k] = 0.0;
+            continue;
+        }
+        let end = &paths[k - 1].samples[paths[k - 1].samples.len() - 1];
+        for c in &paths[k].contacts {
+            if plan.segments[k - 1]
+                .stance
+                .iter()
+                .any(|&(x, _)| x == c.surface)
+            {
+                continue;
+            }
+            let frame = plan.robot.surfaces[c.surface].frame;
+            let (v, w) = frame_path_velocity(plan, ik_ws, &end.q, &end.q_s, frame)?;
+            let mut x_max = f64::INFINITY;
+            if v.norm() > 0.0 {
+                x_max = x_max.min((crate::tol::LANDING_SPEED / v.norm()).powi(2));
+            }
+            if w.norm() > 0.0 {
+                x_max = x_max.min((crate::tol::LANDING_ANGULAR_SPEED / w.norm()).powi(2));
+            }
+            boundary_x_max[k] = boundary_x_max[k].min(x_max);
+            landings.push(LandingBound {
+                segment: k + 1,
+                segment_name: plan.segments[k].name.clone(),
+                surface: plan.robot.surfaces[c.surface].name.clone(),
+                path_speed: v.norm(),
+                path_angular_speed: w.norm(),
+                max_sd: x_max.is_finite().then(|| x_max.sqrt()),
+            });
+        }
+    }
+    Ok((boundary_x_max, landings))
+}
+
+/// One round of the refinement's grid update: the IK samples off the grid where a contact row
+/// exceeds `-margin / 2` or a limit row exceeds zero under the profile `p`
+/// ([`sample_row_values`]), or whose lifted torque rows admit no contact forces
+/// ([`lifted_samples_failing`]), join their segment's grid. Returns how many were added.
+fn add_failing_samples(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &mut [SegmentRows],
+    s_offset: &[f64],
+    p: &Profile,
+    margin: f64,
+) -> Result<usize, StanceError> {
+    let values = sample_row_values(paths, rows, s_offset, p);
+    let lifted_bad = lifted_samples_failing(plan, paths, rows, s_offset, p)?;
+    let mut added = 0;
+    for k in 0..paths.len() {
+        let mut bad: Vec<usize> = values[k]
+            .iter()
+            .enumerate()
+            .filter(|&(j, v)| {
+                (v.contact > -0.5 * margin || v.limit > 0.0)
+                    && rows[k].grid.binary_search(&j).is_err()
+            })
+            .map(|(j, _)| j)
+            .collect();
+        bad.extend(lifted_bad[k].iter().copied());
+        bad.sort_unstable();
+        bad.dedup();
+        if bad.is_empty() {
+            continue;
+        }
+        added += bad.len();
+        let mut grid = rows[k].grid.clone();
+        grid.extend(bad);
+        grid.sort_unstable();
+        rows[k].set_grid(grid);
+    }
+    Ok(added)
+}
+
+/// The per-segment re-solves of a chained profile `p` (module doc): each segment alone with
+/// the profile's speeds at its ends, timed for its `T_TOPP`, with the relative difference of
+/// its duration from the profile's on that segment; appended to `segments`.
+fn resolve_segments(
+    l: &Layout,
+    rows: &mut [SegmentRows],
+    p: &Profile,
+    opts: &SolveOptions,
+    ws: &mut Workspace,
+    segments: &mut Vec<SegmentSolve>,
+) -> Result<(), StanceError> {
+    let sd = p.sd();
+    for k in 0..l.seg_start.len() - 1 {
+        let (a, b) = (l.seg_start[k], l.seg_start[k + 1]);
+        let duration = p.times()[b] - p.times()[a];
+        let kk = segment_constraints(l, k)?;
+        let o = opts.with_start(sd[a]).with_end(sd[b]);
+        let t2 = Instant::now();
+        // (cuts found here are valid but not kept: the motion's profile is solved)
+        let again = match LiftedOracle::new(rows, &l.seg_start) {
+            Some(mut oracle) => {
+                oracle.offset = a;
+                ws.solve_separated(&kk, &o, &mut oracle)?
+            }
+            None => ws.solve(&kk, &o)?,
+        };
+        let t = t2.elapsed();
+        let d = again.duration().unwrap_or(f64::INFINITY);
+        segments.push(SegmentSolve {
+            duration,
+            sd: [sd[a], sd[b]],
+            t_topp: t,
+            resolve_mismatch: (d - duration).abs() / duration.max(f64::MIN_POSITIVE),
+        });
+    }
+    Ok(())
 }
 
 /// What the refinement between grid points did.

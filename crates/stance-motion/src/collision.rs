@@ -486,6 +486,12 @@ pub struct CollisionCheck {
     pub touches: Vec<TouchInfo>,
 }
 
+/// A measured pair at a sample: (body, solid, signed distance).
+type MeasuredPair = (usize, usize, f64);
+
+/// A body's closest approach: (sample, solid, signed distance).
+type Closest = (usize, usize, f64);
+
 /// The collision check at every sample (module doc), in parallel.
 pub fn check_collisions(
     plan: &MotionPlan,
@@ -493,28 +499,58 @@ pub fn check_collisions(
     paths: &[SegmentPath],
     samples: &[TrajectorySample],
 ) -> Result<CollisionCheck, StanceError> {
-    let m = &plan.robot.model;
-    let nb = model.bodies.len();
-    let ns = model.solids.len();
-    // body `b` is a contact surface held on solid `s` in segment `k`
-    let held_on = |k: usize, b: usize, s: usize| match model.bodies[b].kind {
+    let per_sample = measured_pairs(plan, model, paths, samples)?;
+    let longest = longest_touches(model, paths, samples, &per_sample);
+    let (best, hits, max_penetration) = closest_and_hits(plan, model, samples, &per_sample);
+    let touches = touch_infos(plan, model, samples, &longest);
+    let clearances = clearance_infos(plan, model, samples, &best);
+    let mut collisions: Vec<CollisionInfo> = hits.into_iter().flatten().collect();
+    collisions.sort_by(|a, b| b.depth.total_cmp(&a.depth));
+    Ok(CollisionCheck {
+        clearances,
+        collisions,
+        max_penetration,
+        touches,
+    })
+}
+
+/// Whether body `b` is a contact surface held on solid `s` in segment `k` (a pair the check
+/// leaves out, module doc).
+fn held_on(model: &CollisionModel, paths: &[SegmentPath], k: usize, b: usize, s: usize) -> bool {
+    match model.bodies[b].kind {
         BodyKind::Surface { surface } => paths[k]
             .contacts
             .iter()
             .any(|c| c.surface == surface && c.environment == s),
         BodyKind::Bone { .. } => false,
-    };
-    // per sample: every measured pair (body, solid, distance)
-    let per_sample: Vec<Vec<(usize, usize, f64)>> = samples
+    }
+}
+
+/// The segment `k` as the reports name it: its number (from 1) and its name.
+fn segment_of(plan: &MotionPlan, k: usize) -> (usize, String) {
+    (k + 1, plan.segments[k].name.clone())
+}
+
+/// Per sample, in parallel (one kinematics workspace per thread): every pair (body, solid)
+/// within [`crate::tol::CLEARANCE_RANGE`] and its signed distance, the held contacts left out.
+fn measured_pairs(
+    plan: &MotionPlan,
+    model: &CollisionModel,
+    paths: &[SegmentPath],
+    samples: &[TrajectorySample],
+) -> Result<Vec<Vec<MeasuredPair>>, StanceError> {
+    let m = &plan.robot.model;
+    let nb = model.bodies.len();
+    samples
         .par_iter()
         .map_init(
             || Data::new(m),
-            |data, smp| -> Result<Vec<(usize, usize, f64)>, StanceError> {
+            |data, smp| -> Result<Vec<MeasuredPair>, StanceError> {
                 forward_kinematics(m, data, &smp.q).map_err(StanceError::Robot)?;
                 let mut out = Vec::new();
                 for b in 0..nb {
                     model.distances(data, b, crate::tol::CLEARANCE_RANGE, |s, d| {
-                        if !held_on(smp.segment, b, s) {
+                        if !held_on(model, paths, smp.segment, b, s) {
                             out.push((b, s, d.distance));
                         }
                     });
@@ -522,11 +558,21 @@ pub fn check_collisions(
                 Ok(out)
             },
         )
-        .collect::<Result<_, _>>()?;
-    let seg = |k: usize| (k + 1, plan.segments[k].name.clone());
-    let mut best: Vec<Option<(usize, usize, f64)>> = vec![None; nb]; // (sample, solid, d)
-    let mut hits: Vec<Option<CollisionInfo>> = vec![None; nb * ns];
-    let mut max_penetration = 0.0f64;
+        .collect()
+}
+
+/// Per pair (index `body * solids + solid`): its longest touch, as its first sample and its
+/// duration (from that sample to the first sample after it, or to the last sample for a
+/// touch still open there). A touch is a run of samples where the pair's signed distance is at
+/// most [`crate::tol::TOUCH_DISTANCE`]; one that ends in the contact being held is its
+/// landing, early, and does not count.
+fn longest_touches(
+    model: &CollisionModel,
+    paths: &[SegmentPath],
+    samples: &[TrajectorySample],
+    per_sample: &[Vec<MeasuredPair>],
+) -> Vec<Option<(usize, f64)>> {
+    let (nb, ns) = (model.bodies.len(), model.solids.len());
     // per pair: the sample where the current touch started, and the longest touch so far
     let mut open: Vec<Option<usize>> = vec![None; nb * ns];
     let mut longest: Vec<Option<(usize, f64)>> = vec![None; nb * ns];
@@ -543,7 +589,9 @@ pub fn check_collisions(
             match (open[k], touching[k]) {
                 (None, true) => open[k] = Some(i),
                 // a touch that ends in the contact being held is its landing, early
-                (Some(_), false) if held_on(smp.segment, k / ns, k % ns) => open[k] = None,
+                (Some(_), false) if held_on(model, paths, smp.segment, k / ns, k % ns) => {
+                    open[k] = None
+                }
                 (Some(start), false) => {
                     let duration = smp.t - samples[start].t;
                     if longest[k].is_none_or(|(_, l)| duration > l) {
@@ -554,13 +602,43 @@ pub fn check_collisions(
                 _ => {}
             }
         }
+    }
+    if let Some(last) = samples.last() {
+        for k in 0..nb * ns {
+            if let Some(start) = open[k] {
+                let duration = last.t - samples[start].t;
+                if longest[k].is_none_or(|(_, l)| duration > l) {
+                    longest[k] = Some((start, duration));
+                }
+            }
+        }
+    }
+    longest
+}
+
+/// Per body, its closest approach (sample, solid, signed distance); per pair (index
+/// `body * solids + solid`), its collision (signed distance below
+/// `-`[`crate::tol::COLLISION_PENETRATION`] at some sample); and the deepest penetration of
+/// any measured pair (0 without contact).
+fn closest_and_hits(
+    plan: &MotionPlan,
+    model: &CollisionModel,
+    samples: &[TrajectorySample],
+    per_sample: &[Vec<MeasuredPair>],
+) -> (Vec<Option<Closest>>, Vec<Option<CollisionInfo>>, f64) {
+    let (nb, ns) = (model.bodies.len(), model.solids.len());
+    let mut best: Vec<Option<Closest>> = vec![None; nb];
+    let mut hits: Vec<Option<CollisionInfo>> = vec![None; nb * ns];
+    let mut max_penetration = 0.0f64;
+    for (i, pairs) in per_sample.iter().enumerate() {
+        let smp = &samples[i];
         for &(b, s, d) in pairs {
             if best[b].is_none_or(|(_, _, x)| d < x) {
                 best[b] = Some((i, s, d));
             }
             max_penetration = max_penetration.max(-d);
             if d < -crate::tol::COLLISION_PENETRATION {
-                let (segment, segment_name) = seg(smp.segment);
+                let (segment, segment_name) = segment_of(plan, smp.segment);
                 let h = hits[b * ns + s].get_or_insert_with(|| CollisionInfo {
                     body: model.bodies[b].name.clone(),
                     surface: plan.environment[s].name.clone(),
@@ -581,16 +659,18 @@ pub fn check_collisions(
             }
         }
     }
-    if let Some(last) = samples.last() {
-        for k in 0..nb * ns {
-            if let Some(start) = open[k] {
-                let duration = last.t - samples[start].t;
-                if longest[k].is_none_or(|(_, l)| duration > l) {
-                    longest[k] = Some((start, duration));
-                }
-            }
-        }
-    }
+    (best, hits, max_penetration)
+}
+
+/// The longest touch of each pair that lasts at least [`crate::tol::UNPLANNED_TOUCH_TIME`]
+/// (from [`longest_touches`]), longest first.
+fn touch_infos(
+    plan: &MotionPlan,
+    model: &CollisionModel,
+    samples: &[TrajectorySample],
+    longest: &[Option<(usize, f64)>],
+) -> Vec<TouchInfo> {
+    let ns = model.solids.len();
     let mut touches: Vec<TouchInfo> = longest
         .iter()
         .enumerate()
@@ -599,7 +679,7 @@ pub fn check_collisions(
             if duration < crate::tol::UNPLANNED_TOUCH_TIME {
                 return None;
             }
-            let (segment, segment_name) = seg(samples[start].segment);
+            let (segment, segment_name) = segment_of(plan, samples[start].segment);
             Some(TouchInfo {
                 body: model.bodies[k / ns].name.clone(),
                 surface: plan.environment[k % ns].name.clone(),
@@ -611,12 +691,22 @@ pub fn check_collisions(
         })
         .collect();
     touches.sort_by(|a, b| b.duration.total_cmp(&a.duration));
+    touches
+}
+
+/// Each body's closest approach (from [`closest_and_hits`]) as its clearance, smallest first.
+fn clearance_infos(
+    plan: &MotionPlan,
+    model: &CollisionModel,
+    samples: &[TrajectorySample],
+    best: &[Option<Closest>],
+) -> Vec<ClearanceInfo> {
     let mut clearances: Vec<ClearanceInfo> = best
         .iter()
         .enumerate()
         .filter_map(|(b, x)| {
             x.map(|(i, s, d)| {
-                let (segment, segment_name) = seg(samples[i].segment);
+                let (segment, segment_name) = segment_of(plan, samples[i].segment);
                 ClearanceInfo {
                     body: model.bodies[b].name.clone(),
                     surface: plan.environment[s].name.clone(),
@@ -629,12 +719,5 @@ pub fn check_collisions(
         })
         .collect();
     clearances.sort_by(|a, b| a.distance.total_cmp(&b.distance));
-    let mut collisions: Vec<CollisionInfo> = hits.into_iter().flatten().collect();
-    collisions.sort_by(|a, b| b.depth.total_cmp(&a.depth));
-    Ok(CollisionCheck {
-        clearances,
-        collisions,
-        max_penetration,
-        touches,
-    })
+    clearances
 }

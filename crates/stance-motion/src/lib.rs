@@ -216,14 +216,7 @@ pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, Stanc
 /// that status, not an error.
 pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
     let t_start = Instant::now();
-    if let Some(mu) = options.check_friction {
-        if !(mu.is_finite() && mu > 0.0) {
-            return Err(StanceError::BadMotion(format!(
-                "check friction (--check-friction) {mu}: give the friction coefficient of the \
-                 force check, > 0 (the simulator's: 0.9)"
-            )));
-        }
-    }
+    check_friction_option(options)?;
     let mut plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
     if options.no_limits {
         // the file's limits stay in plan.actuator_limits: checked, not enforced
@@ -244,15 +237,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     let mut t_rows_wall = std::time::Duration::ZERO;
     if failure.is_none() {
         let t_rows = Instant::now();
-        // the segments' rows in parallel (their inverse dynamics dominate with limits)
-        use rayon::prelude::*;
-        rows = paths
-            .par_iter()
-            .enumerate()
-            .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
-                segment_rows(&plan, k, path, substeps, cone_ws)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        rows = all_segment_rows(&plan, &paths, substeps)?;
         t_rows_wall = t_rows.elapsed();
         let r = retime_chained(&plan, &paths, &mut rows, mode, &mut ik_ws)?;
         failure = r.failure.clone();
@@ -266,43 +251,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     let moves = via_points::moves_reached(&plan, &paths)?;
     let profile = retimed.as_ref().and_then(|r| r.profile.clone());
     if let (Some(r), Some(p)) = (&retimed, &profile) {
-        let k = options.time_scale.unwrap_or(1.0);
-        if !(k.is_finite() && k > 0.0) {
-            return Err(StanceError::BadMotion(format!(
-                "time scale {k}; give a finite factor > 0"
-            )));
-        }
-        // played k times faster
-        let scale = |samples: &mut Vec<TrajectorySample>| {
-            if k != 1.0 {
-                for smp in samples {
-                    smp.t /= k;
-                    smp.v.iter_mut().for_each(|x| *x *= k);
-                    smp.a.iter_mut().for_each(|x| *x *= k * k);
-                }
-            }
-        };
-        samples = trajectory::output(&plan, &paths, r, p, plan.spec.retiming.dt)?;
-        scale(&mut samples);
-        if !options.skip_checks {
-            // the checks at their own step, every check_dt (module doc of `trajectory`)
-            let mut at = trajectory::uniform(&plan, &paths, r, p, plan.spec.retiming.check_dt)?;
-            scale(&mut at);
-            checks = Some(checks_info(
-                &plan,
-                &paths,
-                &rows,
-                r,
-                &at,
-                options,
-                plan.actuator_limits.as_ref(),
-            )?);
-            if let Some(c) = checks.as_mut() {
-                [c.max_via_point_error, c.max_via_point_rotation_deg] =
-                    via_points::largest_errors(&moves);
-                c.via_points_missed = via_points::missed(&plan, &moves);
-            }
-        }
+        (samples, checks) = trajectory_and_checks(&plan, &paths, &rows, r, p, &moves, options)?;
     }
 
     // the result
@@ -320,13 +269,6 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         times.as_deref(),
         moves,
     );
-    let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
-    let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
-    let t_abc: f64 = rows.iter().map(|r| ms(r.t_abc)).sum::<f64>()
-        + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble));
-    let t_topp = retimed.as_ref().map_or(0.0, |r| ms(r.t_topp));
-    let t_lifted = retimed.as_ref().map_or(0.0, |r| ms(r.t_lifted));
-    let t_first = retimed.as_ref().map_or(0.0, |r| ms(r.t_first));
     let result = MotionResult {
         name: plan.name.clone(),
         status,
@@ -343,37 +285,15 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         failure,
         landings: retimed.as_ref().map_or(Vec::new(), |r| r.landings.clone()),
         refinement: retimed.as_ref().map(|r| r.refinement),
-        phase: retimed.as_ref().map(|r| PhaseInfo {
-            s: r.constraints.grid().to_vec(),
-            segment_starts: r.seg_start.clone(),
-            sd: profile.as_ref().map_or(Vec::new(), |p| p.sd()),
-            sdd: profile.as_ref().map_or(Vec::new(), |p| p.u().to_vec()),
-            t: profile.as_ref().map_or(Vec::new(), |p| p.times().to_vec()),
-            controllable_sets: r.controllable.clone(),
-            feasible_sets: r.feasible.clone(),
-        }),
+        phase: retimed.as_ref().map(|r| phase_info(r, profile.as_ref())),
         checks,
-        trajectory: (!samples.is_empty()).then(|| TrajectoryInfo {
-            t: samples.iter().map(|s| s.t).collect(),
-            segment: samples.iter().map(|s| s.segment + 1).collect(),
-            q: samples.iter().map(|s| s.q.clone()).collect(),
-            v: samples.iter().map(|s| s.v.clone()).collect(),
-            a: samples.iter().map(|s| s.a.clone()).collect(),
-            joint_names: m.joint_names()[1..].to_vec(),
-        }),
-        timings: Timings {
-            t_plan_ms: ms(t_plan),
-            t_ik_ms: t_ik,
-            t_u_ms: t_u,
-            t_abc_ms: t_abc,
-            t_topp_ms: t_topp,
-            t_refine_ms: retimed.as_ref().map_or(0.0, |r| ms(r.refinement.elapsed)),
-            t_lifted_ms: t_lifted,
-            t_u_abc_topp_ms: ms(t_rows_wall)
-                + retimed.as_ref().map_or(0.0, |r| ms(r.t_assemble))
-                + t_first,
-            t_pipeline_ms: ms(t_pipeline),
-        },
+        trajectory: (!samples.is_empty()).then(|| trajectory_info(m, &samples)),
+        timings: timings(
+            &paths,
+            &rows,
+            retimed.as_ref(),
+            [t_plan, t_rows_wall, t_pipeline],
+        ),
     };
     Ok(MotionRun {
         plan,
@@ -383,6 +303,146 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         samples,
         result,
     })
+}
+
+/// Checks [`RunOptions::check_friction`]: a finite friction coefficient `> 0` when given.
+fn check_friction_option(options: &RunOptions) -> Result<(), StanceError> {
+    if let Some(mu) = options.check_friction {
+        if !(mu.is_finite() && mu > 0.0) {
+            return Err(StanceError::BadMotion(format!(
+                "check friction (--check-friction) {mu}: give the friction coefficient of the \
+                 force check, > 0 (the simulator's: 0.9)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Stage 3: every segment's `U_stance` and rows, in parallel (their inverse dynamics dominate
+/// with limits), each thread with its own cone workspace.
+fn all_segment_rows(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    substeps: usize,
+) -> Result<Vec<SegmentRows>, StanceError> {
+    use rayon::prelude::*;
+    paths
+        .par_iter()
+        .enumerate()
+        .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
+            segment_rows(plan, k, path, substeps, cone_ws)
+        })
+        .collect::<Result<Vec<_>, _>>()
+}
+
+/// Stages 5 and 6: the trajectory at the output step and, unless skipped, the checks at their
+/// own step (module doc of `trajectory`), both played `k = time_scale` times faster
+/// (`t / k`, `v k`, `a k^2`), with the via-points' errors from `moves`.
+fn trajectory_and_checks(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    r: &Retimed,
+    p: &stance_topp::Profile,
+    moves: &[Vec<via_points::MoveInfo>],
+    options: &RunOptions,
+) -> Result<(Vec<TrajectorySample>, Option<ChecksInfo>), StanceError> {
+    let k = options.time_scale.unwrap_or(1.0);
+    if !(k.is_finite() && k > 0.0) {
+        return Err(StanceError::BadMotion(format!(
+            "time scale {k}; give a finite factor > 0"
+        )));
+    }
+    // played k times faster
+    let scale = |samples: &mut Vec<TrajectorySample>| {
+        if k != 1.0 {
+            for smp in samples {
+                smp.t /= k;
+                smp.v.iter_mut().for_each(|x| *x *= k);
+                smp.a.iter_mut().for_each(|x| *x *= k * k);
+            }
+        }
+    };
+    let mut samples = trajectory::output(plan, paths, r, p, plan.spec.retiming.dt)?;
+    scale(&mut samples);
+    let mut checks = None;
+    if !options.skip_checks {
+        // the checks at their own step, every check_dt (module doc of `trajectory`)
+        let mut at = trajectory::uniform(plan, paths, r, p, plan.spec.retiming.check_dt)?;
+        scale(&mut at);
+        checks = Some(checks_info(
+            plan,
+            paths,
+            rows,
+            r,
+            &at,
+            options,
+            plan.actuator_limits.as_ref(),
+        )?);
+        if let Some(c) = checks.as_mut() {
+            [c.max_via_point_error, c.max_via_point_rotation_deg] =
+                via_points::largest_errors(moves);
+            c.via_points_missed = via_points::missed(plan, moves);
+        }
+    }
+    Ok((samples, checks))
+}
+
+/// The result's phase plane: the global grid, the segments' starts on it, the profile's
+/// `s'`, `s''` and times (empty without a profile), and the controllable and feasible sets.
+fn phase_info(r: &Retimed, profile: Option<&stance_topp::Profile>) -> PhaseInfo {
+    PhaseInfo {
+        s: r.constraints.grid().to_vec(),
+        segment_starts: r.seg_start.clone(),
+        sd: profile.map_or(Vec::new(), |p| p.sd()),
+        sdd: profile.map_or(Vec::new(), |p| p.u().to_vec()),
+        t: profile.map_or(Vec::new(), |p| p.times().to_vec()),
+        controllable_sets: r.controllable.clone(),
+        feasible_sets: r.feasible.clone(),
+    }
+}
+
+/// The result's trajectory: the samples' times, segments (from 1), `q`, `v`, `a`, and the
+/// joints' names (the universe left out).
+fn trajectory_info(m: &stance_robot::Model, samples: &[TrajectorySample]) -> TrajectoryInfo {
+    TrajectoryInfo {
+        t: samples.iter().map(|s| s.t).collect(),
+        segment: samples.iter().map(|s| s.segment + 1).collect(),
+        q: samples.iter().map(|s| s.q.clone()).collect(),
+        v: samples.iter().map(|s| s.v.clone()).collect(),
+        a: samples.iter().map(|s| s.a.clone()).collect(),
+        joint_names: m.joint_names()[1..].to_vec(),
+    }
+}
+
+/// The result's timings (ms): the stages' own times summed over the segments, the retiming's,
+/// and the wall times `[t_plan, t_rows_wall, t_pipeline]` that [`run_full`] measured (planning;
+/// the segments' rows in parallel; everything up to the retiming's end). `t_u_abc_topp_ms` is
+/// the rows' wall time, the global layout and the first solve.
+fn timings(
+    paths: &[SegmentPath],
+    rows: &[SegmentRows],
+    retimed: Option<&Retimed>,
+    [t_plan, t_rows_wall, t_pipeline]: [std::time::Duration; 3],
+) -> Timings {
+    let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
+    let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
+    let t_abc: f64 =
+        rows.iter().map(|r| ms(r.t_abc)).sum::<f64>() + retimed.map_or(0.0, |r| ms(r.t_assemble));
+    let t_topp = retimed.map_or(0.0, |r| ms(r.t_topp));
+    let t_lifted = retimed.map_or(0.0, |r| ms(r.t_lifted));
+    let t_first = retimed.map_or(0.0, |r| ms(r.t_first));
+    Timings {
+        t_plan_ms: ms(t_plan),
+        t_ik_ms: t_ik,
+        t_u_ms: t_u,
+        t_abc_ms: t_abc,
+        t_topp_ms: t_topp,
+        t_refine_ms: retimed.map_or(0.0, |r| ms(r.refinement.elapsed)),
+        t_lifted_ms: t_lifted,
+        t_u_abc_topp_ms: ms(t_rows_wall) + retimed.map_or(0.0, |r| ms(r.t_assemble)) + t_first,
+        t_pipeline_ms: ms(t_pipeline),
+    }
 }
 
 /// Stage 1: the IK along every segment, chained (each starts where the previous one ended),

@@ -236,12 +236,47 @@ pub fn sample_limit_rows(
     ws: &mut LimitWorkspace,
     sides: [SideLimits<'_>; 2],
 ) -> Result<[Option<Lifted>; 2], StanceError> {
-    let n = lp.velocity_index.len();
-    let tags = &lp.kinematic_tags;
     let [(rows_r, origins_r), (rows_l, origins_l)] = sides;
     let mut out: [(&mut Vec<Row>, &mut Vec<RowOrigin>); 2] =
         [(rows_r, origins_r), (rows_l, origins_l)];
-    // velocity and acceleration
+    kinematic_rows(lp, sample, q_ss_sides, q_s_ends, ws, &mut out);
+    let Some(contacts) = contacts.filter(|_| lp.any_torque()) else {
+        return Ok([None, None]);
+    };
+    inverse_dynamics_and_jacobians(plan, contacts, sample, q_ss_sides, ws)?;
+    let tp = &ws.data.torque_path;
+    let terms = TorqueTerms {
+        tau_a: &tp.tau_a,
+        tau_b: [&tp.tau_b, &ws.data.tau_b_other],
+        tau_c: &tp.tau_c,
+        jac: &ws.jac,
+    };
+    let chain = terms.chain_joints(lp);
+    off_chain_torque_rows(lp, &chain, &terms, &mut out);
+    if chain.is_empty() {
+        return Ok([None, None]);
+    }
+    let w1 = ContactOneWrench::new(&terms)?;
+    if contacts.frames.len() == 1 {
+        one_contact_torque_rows(lp, &chain, &terms, &w1, &mut out);
+        return Ok([None, None]);
+    }
+    Ok(lifted_torque_rows(plan, lp, contacts, &chain, &terms, &w1))
+}
+
+/// The velocity and acceleration rows of both sides ([`JointLimits::fill_rows_on_step`] on the
+/// actuated coordinates' `q_s`, each side's `q_ss` and `q_s` at its step's other end), with
+/// their origins; a side's velocity rows are tagged with the coordinate that is tightest.
+#[inline]
+fn kinematic_rows(
+    lp: &LimitsPlan,
+    sample: &IkSample,
+    q_ss_sides: [&[f64]; 2],
+    q_s_ends: [&[f64]; 2],
+    ws: &mut LimitWorkspace,
+    out: &mut [SideLimits<'_>; 2],
+) {
+    let tags = &lp.kinematic_tags;
     ws.qs.clear();
     ws.qs
         .extend(lp.velocity_index.iter().map(|&i| sample.q_s[i]));
@@ -266,10 +301,19 @@ pub fn sample_limit_rows(
             origins.push(RowOrigin::Limit(t));
         }
     }
-    let Some(contacts) = contacts.filter(|_| lp.any_torque()) else {
-        return Ok([None, None]);
-    };
-    // torques: the inverse dynamics along the path (both sides) and the contact Jacobians
+}
+
+/// The inverse dynamics along the path at the sample, both sides
+/// ([`torque_path_terms_two`], into `ws.data`), and each contact's frame Jacobian
+/// ([`contact_jacobian`], into `ws.jac`).
+#[inline]
+fn inverse_dynamics_and_jacobians(
+    plan: &MotionPlan,
+    contacts: &SegmentContacts,
+    sample: &IkSample,
+    q_ss_sides: [&[f64]; 2],
+    ws: &mut LimitWorkspace,
+) -> Result<(), StanceError> {
     let m = &plan.robot.model;
     torque_path_terms_two(
         m,
@@ -286,83 +330,171 @@ pub fn sample_limit_rows(
     for (c, &f) in contacts.frames.iter().enumerate() {
         contact_jacobian(m, &ws.data, f, &contacts.poses[c], &mut ws.jac[c])?;
     }
-    let jac = &ws.jac;
-    let on_chain = |iv: usize| jac.iter().any(|j| j.column(iv).iter().any(|&x| x != 0.0));
-    let chain: Vec<usize> = (0..n)
-        .filter(|&c| lp.torque[c].is_finite() && on_chain(lp.velocity_index[c]))
-        .collect();
-    let tp = &ws.data.torque_path;
-    let tau_b = [&tp.tau_b[..], &ws.data.tau_b_other[..]];
-    let push_abs =
-        |rows: &mut Vec<Row>, origins: &mut Vec<RowOrigin>, c: usize, abc: [f64; 3], t: f64| {
-            let (a, b, cc) = (abc[0] / t, abc[1] / t, abc[2] / t);
-            rows.push(Row { a, b, c: cc - 1.0 });
-            rows.push(Row {
-                a: -a,
-                b: -b,
-                c: -cc - 1.0,
-            });
-            for upper in [true, false] {
-                origins.push(RowOrigin::Limit(LimitTag {
-                    kind: LimitKind::Torque,
-                    coordinate: c,
-                    upper,
-                }));
-            }
+    Ok(())
+}
+
+/// A sample's torque terms as its torque rows read them: `r(u, x) = tau_a u + tau_b x + tau_c`
+/// (`tau_b` per side) and the contacts' Jacobians `J_k`.
+struct TorqueTerms<'a> {
+    tau_a: &'a [f64],
+    tau_b: [&'a [f64]; 2],
+    tau_c: &'a [f64],
+    jac: &'a [Matrix6xX<f64>],
+}
+
+impl TorqueTerms<'_> {
+    /// The coordinates with a torque limit on the chain from the base to some contact (a
+    /// nonzero column in some `J_k`).
+    fn chain_joints(&self, lp: &LimitsPlan) -> Vec<usize> {
+        let on_chain = |iv: usize| {
+            self.jac
+                .iter()
+                .any(|j| j.column(iv).iter().any(|&x| x != 0.0))
         };
-    // joints off every contact chain: tau_j = r_j(u, x)
+        (0..lp.velocity_index.len())
+            .filter(|&c| lp.torque[c].is_finite() && on_chain(lp.velocity_index[c]))
+            .collect()
+    }
+}
+
+/// Column `iv` of a contact Jacobian.
+#[inline]
+fn column6(j: &Matrix6xX<f64>, iv: usize) -> Vector6<f64> {
+    Vector6::from_iterator(j.column(iv).iter().copied())
+}
+
+/// Appends the two rows of `|tau| <= t` for coordinate `c`, with
+/// `tau = abc[0] u + abc[1] x + abc[2]`: `(tau / t) - 1 <= 0` and `(-tau / t) - 1 <= 0`, the
+/// upper limit first.
+#[inline]
+fn push_torque_limit(
+    rows: &mut Vec<Row>,
+    origins: &mut Vec<RowOrigin>,
+    c: usize,
+    abc: [f64; 3],
+    t: f64,
+) {
+    let (a, b, cc) = (abc[0] / t, abc[1] / t, abc[2] / t);
+    rows.push(Row { a, b, c: cc - 1.0 });
+    rows.push(Row {
+        a: -a,
+        b: -b,
+        c: -cc - 1.0,
+    });
+    for upper in [true, false] {
+        origins.push(RowOrigin::Limit(LimitTag {
+            kind: LimitKind::Torque,
+            coordinate: c,
+            upper,
+        }));
+    }
+}
+
+/// The torque rows of the limited joints off every contact chain, both sides:
+/// `tau_j = r_j(u, x)`.
+#[inline]
+fn off_chain_torque_rows(
+    lp: &LimitsPlan,
+    chain: &[usize],
+    terms: &TorqueTerms<'_>,
+    out: &mut [SideLimits<'_>; 2],
+) {
     for (side, (rows, origins)) in out.iter_mut().enumerate() {
-        for c in 0..n {
+        for c in 0..lp.velocity_index.len() {
             let t = lp.torque[c];
             let iv = lp.velocity_index[c];
             if t.is_finite() && !chain.contains(&c) {
-                push_abs(
+                push_torque_limit(
                     rows,
                     origins,
                     c,
-                    [tp.tau_a[iv], tau_b[side][iv], tp.tau_c[iv]],
+                    [terms.tau_a[iv], terms.tau_b[side][iv], terms.tau_c[iv]],
                     t,
                 );
             }
         }
     }
-    if chain.is_empty() {
-        return Ok([None, None]);
+}
+
+/// Contact 1's wrench from the six base rows (module doc):
+/// `w_1 = M1 (r_b - sum_k J_k,b^T w_k)` with `M1 = J_1,b^-T`; its terms in `u`
+/// (`wa = M1 tau_a,b`), in `x` per side (`wb`) and constant (`wc`).
+struct ContactOneWrench {
+    m1: Matrix6<f64>,
+    wa: Vector6<f64>,
+    wb: [Vector6<f64>; 2],
+    wc: Vector6<f64>,
+}
+
+impl ContactOneWrench {
+    /// From the sample's terms.
+    ///
+    /// # Errors
+    ///
+    /// [`StanceError::BadMotion`] when `J_1,b` is singular (no floating base).
+    #[inline]
+    fn new(terms: &TorqueTerms<'_>) -> Result<Self, StanceError> {
+        let j1b = terms.jac[0].fixed_view::<6, 6>(0, 0).into_owned();
+        let Some(m1) = j1b.transpose().try_inverse() else {
+            return Err(StanceError::BadMotion(
+                "a contact frame's Jacobian has a singular base block (the robot has no \
+                 free-flyer base?): torque limits with contacts need a floating base"
+                    .into(),
+            ));
+        };
+        let base = |v: &[f64]| Vector6::from_iterator(v[..6].iter().copied());
+        let (wa, wc) = (m1 * base(terms.tau_a), m1 * base(terms.tau_c));
+        let wb = [m1 * base(terms.tau_b[0]), m1 * base(terms.tau_b[1])];
+        Ok(Self { m1, wa, wb, wc })
     }
-    // w_1 = M1 (r_b - sum_k J_k,b^T w_k), M1 = J_1,b^-T
-    let j1b = jac[0].fixed_view::<6, 6>(0, 0).into_owned();
-    let Some(m1) = j1b.transpose().try_inverse() else {
-        return Err(StanceError::BadMotion(
-            "a contact frame's Jacobian has a singular base block (the robot has no free-flyer \
-             base?): torque limits with contacts need a floating base"
-                .into(),
-        ));
-    };
-    let base = |v: &[f64]| Vector6::from_iterator(v[..6].iter().copied());
-    let col = |j: &Matrix6xX<f64>, iv: usize| Vector6::from_iterator(j.column(iv).iter().copied());
-    let (wa, wc) = (m1 * base(&tp.tau_a), m1 * base(&tp.tau_c));
-    let wb = [m1 * base(tau_b[0]), m1 * base(tau_b[1])];
-    if k == 1 {
-        for (side, (rows, origins)) in out.iter_mut().enumerate() {
-            for &c in &chain {
-                let iv = lp.velocity_index[c];
-                let j = col(&jac[0], iv);
-                push_abs(
-                    rows,
-                    origins,
-                    c,
-                    [
-                        tp.tau_a[iv] - j.dot(&wa),
-                        tau_b[side][iv] - j.dot(&wb[side]),
-                        tp.tau_c[iv] - j.dot(&wc),
-                    ],
-                    lp.torque[c],
-                );
-            }
+}
+
+/// With one contact, the chain joints' torque rows, both sides: its wrench is `w_1` of the base
+/// rows, so `tau_j = r_j - J_1j . w_1` is linear in `(u, x)`.
+#[inline]
+fn one_contact_torque_rows(
+    lp: &LimitsPlan,
+    chain: &[usize],
+    terms: &TorqueTerms<'_>,
+    w1: &ContactOneWrench,
+    out: &mut [SideLimits<'_>; 2],
+) {
+    for (side, (rows, origins)) in out.iter_mut().enumerate() {
+        for &c in chain {
+            let iv = lp.velocity_index[c];
+            let j = column6(&terms.jac[0], iv);
+            push_torque_limit(
+                rows,
+                origins,
+                c,
+                [
+                    terms.tau_a[iv] - j.dot(&w1.wa),
+                    terms.tau_b[side][iv] - j.dot(&w1.wb[side]),
+                    terms.tau_c[iv] - j.dot(&w1.wc),
+                ],
+                lp.torque[c],
+            );
         }
-        return Ok([None, None]);
     }
-    // K >= 2: lifted rows in (u, x, y), y_k = w_{k+1} / W
+}
+
+/// With `K >= 2` contacts, each side's lifted rows in `(u, x, y)`, `y_k = w_{k+1} / W` with
+/// the weight `W = m |g|` (1 without gravity) (module doc): contact 1's cone `h . w_1 <= 0`
+/// with `w_1 = wa u + wb x + wc - sum_q N_q y_q`, `N_q = M1 J_{q+1},b^T W`; the other cones
+/// `W h . y_k <= 0`; and each chain joint's `|r_j - J_1j . w_1 - sum_k J_{k+1}j . W y_k| <= T_j`,
+/// scaled by `1 / T_j`.
+fn lifted_torque_rows(
+    plan: &MotionPlan,
+    lp: &LimitsPlan,
+    contacts: &SegmentContacts,
+    chain: &[usize],
+    terms: &TorqueTerms<'_>,
+    w1: &ContactOneWrench,
+) -> [Option<Lifted>; 2] {
+    let m = &plan.robot.model;
+    let k = contacts.frames.len();
+    let jac = terms.jac;
+    let (m1, wa, wb, wc) = (w1.m1, w1.wa, w1.wb, w1.wc);
     let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     let weight = if weight > 0.0 { weight } else { 1.0 };
     let ky = 6 * (k - 1);
@@ -399,16 +531,16 @@ pub fn sample_limit_rows(
             }
         }
         // chain torques: tau_j = r_j - J_1j . w_1 - sum_k J_kj . W y_k
-        for &c in &chain {
+        for &c in chain {
             let iv = lp.velocity_index[c];
             let t = lp.torque[c];
-            let j1 = col(&jac[0], iv);
-            let a = tp.tau_a[iv] - j1.dot(&wa);
-            let b = tau_b[side][iv] - j1.dot(&wb[side]);
-            let cc = tp.tau_c[iv] - j1.dot(&wc);
+            let j1 = column6(&jac[0], iv);
+            let a = terms.tau_a[iv] - j1.dot(&wa);
+            let b = terms.tau_b[side][iv] - j1.dot(&wb[side]);
+            let cc = terms.tau_c[iv] - j1.dot(&wc);
             for (q, nq) in nk.iter().enumerate() {
                 // + J_1j . N_q y_q - W J_qj . y_q
-                let g = nq.transpose() * j1 - col(&jac[q + 1], iv) * weight;
+                let g = nq.transpose() * j1 - column6(&jac[q + 1], iv) * weight;
                 for i in 0..6 {
                     d[6 * q + i] = g[i] / t;
                 }
@@ -428,7 +560,7 @@ pub fn sample_limit_rows(
         }
         *slot = Some((lifted, lifted_origin));
     }
-    Ok(result)
+    result
 }
 
 /// The Jacobian (6 x nv, linear rows first) of the frame rigidly attached to the robot surface

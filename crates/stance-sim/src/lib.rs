@@ -54,6 +54,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use stance_robot::JointKind;
 
+use stance_motion::trajectory::TrajectorySample;
 use stance_motion::StanceError;
 use stance_motion::{run_full, spec::MotionSpec, MotionRun, RunOptions};
 
@@ -235,6 +236,22 @@ struct Thresholds {
     settle: f64,
 }
 
+impl Thresholds {
+    /// The measurements' thresholds of [`crate::tol`], for the harness.
+    fn from_tol() -> Self {
+        Self {
+            load: crate::tol::SIM_LOAD,
+            separation: crate::tol::SIM_SEPARATION,
+            loss_time: crate::tol::SIM_LOSS_TIME,
+            transition: crate::tol::SIM_TRANSITION,
+            max_slip: crate::tol::SIM_MAX_SLIP,
+            fall_height: crate::tol::SIM_FALL_HEIGHT,
+            fall_tilt: crate::tol::SIM_FALL_TILT,
+            settle: crate::tol::SIM_SETTLE,
+        }
+    }
+}
+
 /// A fresh folder in the system's temporary folder (one per call: simulations may run in
 /// parallel in one process).
 fn unique_temp_dir(prefix: &str) -> PathBuf {
@@ -328,6 +345,53 @@ pub fn simulate(
     spec: MotionSpec,
     options: &SimOptions,
 ) -> Result<(MotionRun, SimReport), StanceError> {
+    let run = retimed_run(spec, options)?;
+    let plan = &run.plan;
+    let m = &plan.robot.model;
+    let k = options.time_scale.unwrap_or(1.0);
+    check_duration(run.result.duration.unwrap_or(0.0), k)?;
+    let [first, last] = segment_range(options.segments, run.paths.len())?;
+    let xml = mjcf::mjcf(plan, &options.mjcf)?;
+    let owned: Vec<TrajectorySample> = run
+        .samples
+        .iter()
+        .filter(|s| s.segment >= first && s.segment <= last)
+        .cloned()
+        .collect();
+    let forces = stance_motion::checks::supporting_forces_at(plan, &run.rows, &owned)?;
+    let t0 = owned.first().map_or(0.0, |s| s.t);
+    let reference = harness_reference(m, &owned, &forces, t0)?;
+    let segments = harness_segments(&run, k, t0, [first, last]);
+    let input = HarnessInput {
+        mjcf: String::new(),
+        timestep: options.mjcf.timestep,
+        kp: options.mjcf.kp,
+        kv: options.mjcf.kv,
+        armature: options.mjcf.armature,
+        mass: m.total_mass(),
+        gravity: plan.gravity,
+        time_scale: k,
+        actuated: m.joints[2..].iter().map(|j| j.name.clone()).collect(),
+        surfaces: plan
+            .robot
+            .surfaces
+            .iter()
+            .map(|s| mjcf::surface_geom(&s.name))
+            .collect(),
+        segments,
+        reference,
+        thresholds: Thresholds::from_tol(),
+        disturbance: options.disturbance.clone(),
+    };
+    let mut report = run_harness(&xml, input, options.keep.as_deref())?;
+    report.friction = options.mjcf.friction;
+    set_contact_frictions(&mut report, &run, options.mjcf.friction)?;
+    Ok((run, report))
+}
+
+/// The motion retimed at the simulation's time step (the checks skipped: the simulation is
+/// the check), or why there is no trajectory to simulate.
+fn retimed_run(spec: MotionSpec, options: &SimOptions) -> Result<MotionRun, StanceError> {
     let mut spec = spec;
     spec.retiming.dt = options.mjcf.timestep;
     let run = run_full(
@@ -350,10 +414,13 @@ pub fn simulate(
             "the motion could not be retimed ({why}); nothing to simulate"
         )));
     }
-    let plan = &run.plan;
-    let m = &plan.robot.model;
-    let k = options.time_scale.unwrap_or(1.0);
-    let total = run.result.duration.unwrap_or(0.0);
+    Ok(run)
+}
+
+/// Checks that the motion, lasting `total` seconds played at time scale `k`, fits in
+/// [`crate::tol::SIM_MAX_DURATION`]; if not, the message gives the least time scale that fits
+/// (`k total / max`, rounded up to the thousandth).
+fn check_duration(total: f64, k: f64) -> Result<(), StanceError> {
     if total > crate::tol::SIM_MAX_DURATION {
         return Err(StanceError::BadMotion(format!(
             "the motion played at time scale {k} lasts {total:.1} s; the simulator plays at most \
@@ -363,25 +430,33 @@ pub fn simulate(
             (k * total / crate::tol::SIM_MAX_DURATION * 1e3).ceil() / 1e3
         )));
     }
-    let [first, last] = options.segments.unwrap_or([0, run.paths.len() - 1]);
-    if first > last || last >= run.paths.len() {
+    Ok(())
+}
+
+/// The segments to simulate, `[first, last]` (0-based): those of [`SimOptions::segments`],
+/// checked against the motion's `count`, or all.
+fn segment_range(segments: Option<[usize; 2]>, count: usize) -> Result<[usize; 2], StanceError> {
+    let [first, last] = segments.unwrap_or([0, count - 1]);
+    if first > last || last >= count {
         return Err(StanceError::BadMotion(format!(
             "segments {}..{}: the motion has {} segments (give FIRST..LAST from 1)",
             first + 1,
             last + 1,
-            run.paths.len()
+            count
         )));
     }
-    let xml = mjcf::mjcf(plan, &options.mjcf)?;
-    let samples: Vec<&stance_motion::trajectory::TrajectorySample> = run
-        .samples
-        .iter()
-        .filter(|s| s.segment >= first && s.segment <= last)
-        .collect();
-    let owned: Vec<stance_motion::trajectory::TrajectorySample> =
-        samples.iter().map(|s| (*s).clone()).collect();
-    let forces = stance_motion::checks::supporting_forces_at(plan, &run.rows, &owned)?;
-    let t0 = owned.first().map_or(0.0, |s| s.t);
+    Ok([first, last])
+}
+
+/// The reference for the harness at every sample: time from `t0`, segment, MuJoCo's
+/// `qpos`, `qvel`, `qacc` ([`mujoco_qpos`], [`mujoco_velocities`]), the CoM, and the planned
+/// contacts' supporting forces at their points (world axes).
+fn harness_reference(
+    m: &stance_robot::Model,
+    samples: &[TrajectorySample],
+    forces: &[stance_contact::SupportingForces],
+    t0: f64,
+) -> Result<HarnessReference, StanceError> {
     let mut reference = HarnessReference {
         t: Vec::new(),
         segment: Vec::new(),
@@ -392,7 +467,7 @@ pub fn simulate(
         forces: Vec::new(),
     };
     let mut data = stance_robot::Data::new(m);
-    for (smp, f) in owned.iter().zip(&forces) {
+    for (smp, f) in samples.iter().zip(forces) {
         let (qvel, qacc) = mujoco_velocities(m, &smp.q, &smp.v, &smp.a);
         reference.t.push(smp.t - t0);
         reference.segment.push(smp.segment);
@@ -412,13 +487,26 @@ pub fn simulate(
                 .collect(),
         );
     }
+    Ok(reference)
+}
+
+/// The simulated segments `[first, last]` for the harness: their numbers, their times played
+/// at time scale `k` from `t0`, and their stances as (robot surface, its geom, the environment
+/// surface's geom).
+fn harness_segments(
+    run: &MotionRun,
+    k: f64,
+    t0: f64,
+    [first, last]: [usize; 2],
+) -> Vec<HarnessSegment> {
+    let plan = &run.plan;
     let times = run.result.segments.iter().map(|s| {
         (
             s.t_start.unwrap_or(0.0) / k - t0,
             s.t_end.unwrap_or(0.0) / k - t0,
         )
     });
-    let segments = times
+    times
         .zip(&run.paths)
         .enumerate()
         .filter(|(i, _)| *i >= first && *i <= last)
@@ -439,39 +527,17 @@ pub fn simulate(
                 })
                 .collect(),
         })
-        .collect();
-    let input = HarnessInput {
-        mjcf: String::new(),
-        timestep: options.mjcf.timestep,
-        kp: options.mjcf.kp,
-        kv: options.mjcf.kv,
-        armature: options.mjcf.armature,
-        mass: m.total_mass(),
-        gravity: plan.gravity,
-        time_scale: k,
-        actuated: m.joints[2..].iter().map(|j| j.name.clone()).collect(),
-        surfaces: plan
-            .robot
-            .surfaces
-            .iter()
-            .map(|s| mjcf::surface_geom(&s.name))
-            .collect(),
-        segments,
-        reference,
-        thresholds: Thresholds {
-            load: crate::tol::SIM_LOAD,
-            separation: crate::tol::SIM_SEPARATION,
-            loss_time: crate::tol::SIM_LOSS_TIME,
-            transition: crate::tol::SIM_TRANSITION,
-            max_slip: crate::tol::SIM_MAX_SLIP,
-            fall_height: crate::tol::SIM_FALL_HEIGHT,
-            fall_tilt: crate::tol::SIM_FALL_TILT,
-            settle: crate::tol::SIM_SETTLE,
-        },
-        disturbance: options.disturbance.clone(),
-    };
-    let mut report = run_harness(&xml, input, options.keep.as_deref())?;
-    report.friction = options.mjcf.friction;
+        .collect()
+}
+
+/// Sets each reported contact's friction coefficients: the one its plan used (its segment's
+/// planned stance) and the simulator's (`friction` given for every surface, else its
+/// environment surface's). A contact the plan does not have is an error.
+fn set_contact_frictions(
+    report: &mut SimReport,
+    run: &MotionRun,
+    friction: Option<f64>,
+) -> Result<(), StanceError> {
     for c in &mut report.contacts {
         let planned = run.rows.get(c.segment.wrapping_sub(1)).and_then(|r| {
             r.stance
@@ -480,7 +546,11 @@ pub fn simulate(
                 .find(|x| x.name() == c.surface)
                 .map(|x| x.friction())
         });
-        let surface = plan.environment.iter().find(|e| e.name == c.environment);
+        let surface = run
+            .plan
+            .environment
+            .iter()
+            .find(|e| e.name == c.environment);
         let (Some(planned), Some(surface)) = (planned, surface) else {
             return Err(StanceError::BadMotion(format!(
                 "the simulator reported a contact the plan does not have: {} on {} in \
@@ -489,9 +559,9 @@ pub fn simulate(
             )));
         };
         c.planned_friction = planned;
-        c.friction = options.mjcf.friction.unwrap_or(surface.friction);
+        c.friction = friction.unwrap_or(surface.friction);
     }
-    Ok((run, report))
+    Ok(())
 }
 
 /// What MuJoCo compiled from a model: body masses and principal inertias, joint ranges, and the
