@@ -564,7 +564,6 @@ pub fn retime_chained(
     mode: RetimingMode,
     ik_ws: &mut IkStageWorkspace,
 ) -> Result<Retimed, StanceError> {
-    let t0 = Instant::now();
     let nseg = paths.len();
     let mass = plan.robot.model.total_mass();
     let weight = mass * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
@@ -643,7 +642,6 @@ pub fn retime_chained(
     if let (RetimingMode::Chained, Some(p)) = (mode, &profile) {
         resolve_segments(&l, rows, p, &opts, &mut ws, &mut segments)?;
     }
-    let _ = t0;
     let feasible = (0..l.constraints.num_points())
         .map(|i| crate::retime::feasible_set(&l.constraints, i, &opts.tol))
         .collect();
