@@ -240,3 +240,45 @@ fn bad_input_exits_2_with_one_line() {
     assert!(err.contains("malformed URDF"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Joint velocities beyond the supported range are refused naming `--v` and the range (they
+/// wrote `null`s, exit 0); within it every number of the answer is finite.
+#[test]
+fn joint_velocities_out_of_range_are_refused_naming_the_option() {
+    let urdf = root().join("models/small_humanoid.urdf");
+    let q = format!(
+        "--q={}",
+        (0..29)
+            .map(|i| if i == 6 || i == 24 { "1" } else { "0" })
+            .collect::<Vec<_>>()
+            .join(",")
+    );
+    let v = |x: f64| format!("--v={}", vec![format!("{x:e}"); 27].join(","));
+    for (x, ok) in [
+        (1.0, true),
+        (1e100, true),
+        (1e150, true),
+        (1e151, false),
+        (1e300, false),
+    ] {
+        let args: Vec<String> = vec![
+            "robot".into(),
+            "centroidal".into(),
+            "--urdf".into(),
+            urdf.display().to_string(),
+            q.clone(),
+            v(x),
+        ];
+        let (code, stdout, stderr) = stance(&args);
+        if ok {
+            assert_eq!(code, 0, "{x:e}: {stderr}");
+            assert!(!stdout.contains("null"), "{x:e}: {stdout}");
+        } else {
+            assert_eq!(code, 2, "{x:e}: {stdout}");
+            assert!(
+                stderr.contains("--v") && stderr.contains("1e150"),
+                "{stderr}"
+            );
+        }
+    }
+}

@@ -20,6 +20,10 @@
 //! value between grid points ([`stance_topp::between`]) is a violation in newtons, reported also
 //! as a fraction of the weight `m |g|`; optionally the grid is refined until it is below a bound.
 //!
+//! The problem is solved in units where the mass and the gravity are of order one and the
+//! answer mapped back (`retime/units.rs`): durations scale with the gravity and do not depend on
+//! the mass, as physics says, over the whole range of doubles.
+//!
 //! The three timings of the paper's Tables I and II are reported: `t_u` (the GIWC face form),
 //! `t_abc` (the rows) and `t_topp` (the solve).
 
@@ -33,6 +37,8 @@ use stance_topp::path::{AngularTerms, CubicSpline, PathCurve, Polyline, SplineEn
 use stance_topp::{CanonicalConstraints, Profile, Solution, SolveOptions, Tolerances, Workspace};
 
 use crate::name_or::NameOr;
+
+mod units;
 use crate::StanceError;
 
 /// Where the scene of a motion comes from: a built-in example by name
@@ -379,6 +385,17 @@ pub(crate) fn feasible_set(
 pub fn retime(spec: &ComMotionSpec) -> Result<Retiming, StanceError> {
     validate(spec)?;
     let scene = spec.scene.scene()?;
+    let units = units::Units::of(scene.mass, scene.gravity);
+    if units.is_identity() {
+        return retime_in_units(spec, scene);
+    }
+    let normalized = units.normalize(spec, &scene)?;
+    let scene = normalized.scene.scene()?;
+    Ok(units.restore(retime_in_units(&normalized, scene)?))
+}
+
+/// [`retime`] in the units of `scene` (module [`units`]: mass and gravity of order one).
+fn retime_in_units(spec: &ComMotionSpec, scene: Scene) -> Result<Retiming, StanceError> {
     let curve = spec.path.curve()?;
     let grid = uniform_grid(curve.domain(), spec.grid_points - 1);
 

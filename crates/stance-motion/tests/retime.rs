@@ -428,3 +428,68 @@ fn retiming_is_invariant_to_knots_and_mass() {
         );
     }
 }
+
+/// Physics across the range of doubles: a duration scales as `1 / sqrt(|g|)` and does not depend
+/// on the mass (the rows are a cone in the wrench: dividing it by the mass changes nothing; a
+/// change of time units multiplies it by `1 / tau^2`). Checked from 1e-300 to 1e300 for both,
+/// with angular-momentum terms (which scale with the mass) and a dt; exactly (bit for bit) where
+/// the ratio is a power of four for gravity or a power of two for the mass, to 1e-9 elsewhere.
+/// Before the retiming worked in normalized units, a gravity of 1e-10 answered 20 % off and a
+/// mass of 1e-300 kg a duration 2,700 times too short, with nothing flagged.
+#[test]
+fn durations_scale_with_gravity_and_not_with_mass_across_the_double_range() {
+    let base = |mass: f64, g: f64| {
+        let mut scene = examples::by_name("double-support").unwrap();
+        scene.mass = mass;
+        scene.gravity = [0.0, 0.0, -g];
+        let mut s = spec(
+            "double-support",
+            vec![[0.0, 0.08, 0.8], [0.03, 0.0, 0.78], [0.0, -0.08, 0.8]],
+            Discretization::Interpolation,
+        );
+        s.scene = SceneRef::Inline(Box::new(scene));
+        // L' = l1 s'' + l2 s'^2 of a body of this mass (terms proportional to it)
+        s.angular_momentum = serde_json::from_value(serde_json::json!({
+            "l1": [[0.0, 0.2 * mass, 0.0], [0.1 * mass, 0.0, 0.0], [0.0, -0.2 * mass, 0.0]],
+            "l2": [[0.0, 0.0, 0.1 * mass], [0.0, 0.0, 0.0], [0.0, 0.0, -0.1 * mass]],
+        }))
+        .unwrap();
+        s.dt = Some(0.05 / g.sqrt());
+        s
+    };
+    let reference = retime(&base(39.0, 9.81)).unwrap();
+    let d0 = reference.duration.unwrap();
+    for k in [-300, -200, -100, -30, -10, -1, 1, 10, 30, 100, 200, 300] {
+        let g = 9.81 * 10f64.powi(k);
+        let r = retime(&base(39.0, g)).unwrap();
+        assert_eq!(r.status, "optimal", "g = {g:e}");
+        let d = r.duration.unwrap() * (g / 9.81).sqrt();
+        assert!((d - d0).abs() <= 1e-9 * d0, "g = {g:e}: {d} vs {d0}");
+        // the samples and the speeds in the same units
+        let last = r.samples.last().unwrap();
+        assert!(
+            (last[0] * (g / 9.81).sqrt() - d0).abs() <= 1e-9 * d0,
+            "{last:?}"
+        );
+        let top = r.sd.iter().fold(0.0f64, |m, x| m.max(*x)) / (g / 9.81).sqrt();
+        let top0 = reference.sd.iter().fold(0.0f64, |m, x| m.max(*x));
+        assert!(
+            (top - top0).abs() <= 1e-8 * top0,
+            "g = {g:e}: {top} vs {top0}"
+        );
+        let m = 39.0 * 10f64.powi(k);
+        let r = retime(&base(m, 9.81)).unwrap();
+        let d = r.duration.unwrap();
+        assert!((d - d0).abs() <= 1e-9 * d0, "m = {m:e}: {d} vs {d0}");
+    }
+    // powers of four (gravity) and two (mass): the same problem in normalized units
+    let g = 9.81 * 4f64.powi(-400);
+    let r = retime(&base(39.0, g)).unwrap();
+    assert_eq!(r.duration.unwrap(), d0 * 2f64.powi(400));
+    let r = retime(&base(39.0 * 2f64.powi(-900), 9.81)).unwrap();
+    assert_eq!(r.duration.unwrap(), d0);
+    assert_eq!(
+        r.between.unwrap().fraction_of_weight,
+        reference.between.unwrap().fraction_of_weight
+    );
+}

@@ -93,10 +93,31 @@ fn centroidal(args: CentroidalArgs) -> Result<()> {
         Some(text) => parse_list("v", text)?,
         None => vec![0.0; model.nv],
     };
+    // dA_g/dt v is quadratic in v: beyond this it overflows (and wrote `null`s, exit 0).
+    const MAX_SPEED: f64 = 1e150;
+    if let Some(x) = v.iter().find(|x| x.abs() > MAX_SPEED) {
+        bail!(
+            "--v: {x:e} is beyond the supported range of joint velocities, |v| <= {MAX_SPEED:e} \
+             (dA_g/dt v, quadratic in v, would overflow); give velocities in that range"
+        );
+    }
     let mut data = Data::new(&model);
     let dh = args
         .common
         .repeated(|| centroidal_map_dot_v(&model, &mut data, &q, &v))?;
     let out = CentroidalReport::new(&model, &data, dh.as_slice());
+    let finite = |xs: &[f64]| xs.iter().all(|x| x.is_finite());
+    if !(finite(&out.com)
+        && finite(&out.centroidal_map_dot_v)
+        && out.com_jacobian.iter().all(|r| finite(r))
+        && out.centroidal_map.iter().all(|r| finite(r)))
+    {
+        bail!(
+            "--q, --v: the centroidal quantities overflow at this configuration and velocity \
+             (largest |q| {:e}, |v| {:e}); give positions and velocities of physical size",
+            q.iter().fold(0.0f64, |m, x| m.max(x.abs())),
+            v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+        );
+    }
     write_output(&args.common, &out)
 }
