@@ -25,6 +25,8 @@ Each run is classified as
            (exit 0) where the input should have been refused (silently accepted);
 - panic:   exit code 101 or a Rust panic message;
 - crash:   killed by a signal;
+- known:   a case of the open findings (`KNOWN`, each with what it shows) that still fails;
+- fixed:   a case of the open findings that passes now (take it off `KNOWN`);
 - slow:    over the work bound: still running after the time bound (20 s wall, `--time-bound`;
            the case is killed then), or an allocation over the memory bound (3 GB of data).
            Measured on the project's 2-core machine: the slowest passing case (one MuJoCo run
@@ -32,8 +34,8 @@ Each run is classified as
            (which `cargo test` builds; opt-level 1, dependencies at 2), the largest uses 0.7 GB,
            and the whole sweep takes 100 s and 130 s.
 
-With --check the script exits 1 when any case is wrong, panics, crashes or is slow (CI runs it
-that way); unclear messages are counted and listed, not failed (the cargo test fails on them).
+With --check the script exits 1 when any case is wrong, panics, crashes, is slow or is fixed
+(CI runs it that way); unclear messages are counted and listed, not failed (the cargo test fails on them).
 Python standard library only (3.8+).
 """
 
@@ -860,8 +862,12 @@ def motion_cases():
     cases.append(motion_case("acceleration_per_joint", mutate(SWAY, ["limits", "acceleration"],
                                                               {"default": 1e300, "r_knee": 1e299}),
                              ["--no-checks"], oracle=motion_vs(SWAY_REF)))
-    # Gravity, without actuator limits: rows c ~ |g|, so the duration goes as 1 / sqrt(|g|).
-    for g in [1e-3, 1.0, 9.81 * 4, 1e3]:
+    # Gravity, without actuator limits: rows c ~ |g|, so the duration goes as 1 / sqrt(|g|),
+    # within the supported range of whole-body motions (0.01 to 1000 m/s^2), refused outside.
+    for g in [1e-3, 0.0, 1e4]:
+        cases.append(motion_case(f"gravity_out_of_range_{g:g}", mutate(SWAY, ["gravity"], [0.0, 0.0, -g]),
+                                 ["--no-limits"], expect="error", keywords=[("gravity", "0.01 to 1000")]))
+    for g in [1e-2, 1.0, 9.81 * 4, 1e3]:
         spec = mutate(SWAY, ["gravity"], [0.0, 0.0, -g])
         cases.append(motion_case(f"gravity_{g:g}", spec, ["--no-limits", "--no-checks"],
                                  oracle=motion_vs(SWAY_FREE, factor=math.sqrt(9.81 / g), rel=1e-6)))
@@ -906,7 +912,7 @@ def motion_cases():
                           None if abs(number(out["duration"]) - 5.565) < 1e-3
                           else f"duration {out['duration']}, the README's table says 5.565 s")))
     cases.append(Case("motion", "box_climbing_grid_bad", ["motion", "box-climbing", "--grid", "1"],
-                      expect="error", keywords=["retiming.grid"]))
+                      expect="error", keywords=[("--grid", "2..=10000")]))
     return cases
 
 
@@ -1166,8 +1172,8 @@ def motion_error_cases():
                                  expect="error", keywords=[kw]))
     # Options on the command line.
     for name, args, kw in [
-        ("grid_0", ["--grid", "0"], [("retiming.grid", "2 to 10000")]),
-        ("grid_10001", ["--grid", "10001"], [("retiming.grid", "2 to 10000")]),
+        ("grid_0", ["--grid", "0"], [("--grid", "2..=10000")]),
+        ("grid_10001", ["--grid", "10001"], [("--grid", "2..=10000")]),
         ("grid_negative", ["--grid", "-1"], ["--grid"]),
         ("grid_float", ["--grid", "1e3"], [("--grid", "1e3")]),
         ("dt_zero", ["--dt", "0"], [("dt", "0.0001")]),
@@ -1458,7 +1464,7 @@ def setup_cases():
 
     def says(folder, exists):
         def check(out, run):
-            want = f"{folder() if callable(folder) else folder} ({'exists' if exists else 'missing: run `stance setup`'})"
+            want = f"{folder() if callable(folder) else folder} ({'ready' if exists else 'missing: run `stance setup`'})"
             if out.strip() != want or out.count("\n") != 1:
                 return f"printed {out!r}, expected {want!r}"
             return None
@@ -2554,7 +2560,44 @@ def run_case(case, runner, tmp, bound):
     return "ok", "", dt
 
 
-OUTCOMES = ("ok", "unclear", "wrong", "panic", "crash", "slow")
+OUTCOMES = ("ok", "unclear", "wrong", "panic", "crash", "slow", "known", "fixed")
+
+# Open findings: cases that fail today, each with the finding it shows (issue 30's list of what
+# is left). They are reported as `known` and do not fail --check; one that passes is reported
+# as `fixed`, which fails --check until it is taken off this list (so the list stays true).
+KNOWN = {
+    "topp/closed_form_1": "stance topp with |s''| <= 4.9e-8 and s'^2 <= 1.7e-4 over a path of 3460 "
+                          "answers 395,344 s, below the 530,410 s minimum: the solver's thresholds "
+                          "are absolute in time units (the path is normalized, time is not)",
+    "topp/closed_form_9": "stance topp with |s''| <= 2.9e7 over a path of 1.03e-3 hits the speed box "
+                          "and answers 1.45e-4 s instead of 1.6e-5 s (same cause)",
+    "topp/bad_discretization_number": "a number for `discretization` gets serde's 'expected value' "
+                                      "without the variants",
+    "bounded/cone_circle_20000": "span-to-face of 20,000 generators takes 4 min (no generator limit)",
+    "bounded/motion_friction_cone_64": "a 64-sided friction cone in small-sway takes 40 s and 7 GB "
+                                       "(the GIWC of two 64-sided feet has 10,988 facets)",
+    "motion/moved_0_-1e+06": "the standing-posture search's residual is absolute (1e-10 m): a scene "
+                             "1000 km from the origin fails it at 1.2e-10",
+    "motion/grid_10": "with 10 grid intervals, 18 samples of the force check (t = 0.821-0.838 s) "
+                      "have no supporting forces though the retiming is optimal",
+    "motion/bad_com_xy_far": "a CoM 5 m off the feet: the message suggests changing com_height",
+    "motion/bad_segment_robot_surface_unknown": "an unknown robot surface in a segment's stance: "
+                                                "the message names no segment",
+    "motion/bad_link_surface_unknown": "an unknown robot surface in a link move: the message names "
+                                       "no segment",
+    "motion/bad_com_by_and_to": "a com move with both by and to: 'wanted exactly 1 element'",
+    "motion/bad_com_empty": "a com move with neither by nor to: 'wanted exactly 1 element'",
+    "view/bad_result_q_short": "a result JSON with short q rows: the message names no file",
+    "joints/knots_3_-2": "retime-joints: the grid refinement between grid points depends on the "
+                         "knots' unit (13 points added at knots x3; 1e-5 relative in the duration)",
+    "joints/knots_1000_1000": "same, knots x1000 (7,658 points added)",
+    "joints/knots_1e+06_0": "same, knots x1e6 (16,145 points added, not converged)",
+    "joints/bad_knots_decreasing": "retime-joints: bad knots are reported as 'the path grid s[1]'",
+    "joints/bad_knots_nan": "same, NaN knots",
+    "joints/bad_knots_repeated": "same, repeated knots",
+    "joints/bad_urdf_not_urdf": "retime-joints: a file that is not a URDF: the message names no path",
+    "joints/bad_all_locked": "retime-joints: every joint locked gives 'total mass is -0 kg'",
+}
 
 
 def all_cases():
@@ -2587,6 +2630,12 @@ def main():
     t_start = time.time()
     for c in cases:
         outcome, detail, dt = run_case(c, runner, tmp, bound)
+        key = f"{c.group}/{c.name}"
+        if key in KNOWN:
+            if outcome == "ok":
+                outcome, detail = "fixed", f"passes now: take it off KNOWN ({KNOWN[key]})"
+            else:
+                outcome, detail = "known", f"{detail} [open finding: {KNOWN[key]}]"
         counts[outcome] += 1
         by_group.setdefault(c.group, {k: 0 for k in counts})[outcome] += 1
         report.append({"group": c.group, "case": c.name, "outcome": outcome, "detail": detail,
@@ -2605,7 +2654,8 @@ def main():
     if args.report:
         with open(args.report, "w") as f:
             json.dump({"counts": counts, "by_group": by_group, "cases": report}, f, indent=1)
-    if args.check and (counts["wrong"] or counts["panic"] or counts["crash"] or counts["slow"]):
+    if args.check and (counts["wrong"] or counts["panic"] or counts["crash"] or counts["slow"]
+                       or counts["fixed"]):
         sys.exit(1)
 
 

@@ -41,7 +41,7 @@ unset STANCE_VENV XDG_DATA_HOME
 mkdir -p "$HOME"
 "$stance" setup --check | grep -q "missing" || { echo "a fresh HOME should have no virtualenv"; exit 1; }
 PIP_CACHE_DIR="$pip_cache" "$stance" setup
-"$stance" setup --check | grep -q "exists"
+"$stance" setup --check | grep -q "(ready)"
 [ -x "$HOME/.local/share/stance/.venv/bin/python" ] || { echo "no per-user virtualenv"; exit 1; }
 check_simulate
 check_view

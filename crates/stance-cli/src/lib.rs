@@ -84,6 +84,15 @@ where
         Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             Args::Usage(format!("error: {}", missing_command(&e.to_string())))
         }
+        // A negative number given as its own word (`--grid -1`) reads as an unknown option, and
+        // clap's tip (`-- -1`) would make it a positional argument: say what works.
+        Err(e) if negative_number_argument(&e).is_some() => {
+            let arg = negative_number_argument(&e).unwrap_or_default();
+            Args::Usage(format!(
+                "error: '{arg}' reads as an option: for an option's value join them with '=' \
+                 (OPTION={arg}); for a file, write ./{arg}"
+            ))
+        }
         // Usage errors: one line (clap's message without its usage and --help hint lines).
         Err(e) => {
             let text = e.to_string();
@@ -137,6 +146,20 @@ pub fn main() -> ExitCode {
             eprintln!("{line}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// The argument of an "unexpected argument" error when it is a negative number.
+fn negative_number_argument(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if e.kind() != ErrorKind::UnknownArgument {
+        return None;
+    }
+    match e.get(ContextKind::InvalidArg) {
+        Some(ContextValue::String(a)) if a.starts_with('-') && a.parse::<f64>().is_ok() => {
+            Some(a.clone())
+        }
+        _ => None,
     }
 }
 

@@ -126,7 +126,10 @@ fn bad_motion_input_is_one_line_and_exit_code_2() {
         (vec!["motion", "moonwalk"], "built-in motion"),
         (vec!["motion", bad.to_str().unwrap()], "missing field"),
         (vec!["motion", "small-sway", "--dt", "0"], "retiming.dt"),
-        (vec!["motion", "small-sway", "--grid", "1"], "retiming.grid"),
+        (
+            vec!["motion", "small-sway", "--grid", "1"],
+            "--grid <N>': 1 is not in 2..=10000",
+        ),
         (
             vec!["motion", "small-sway", "--time-scale", "-1"],
             "time scale",
@@ -219,4 +222,31 @@ fn simulate_reports_the_contract_fields() {
     assert!(String::from_utf8(out.stderr)
         .unwrap()
         .contains("FIRST..LAST"));
+}
+
+/// The parser's advice works: a negative number after a numeric option is read as its value (and
+/// refused with the range), and a negative number where none is expected gets advice that works
+/// (clap's own tip, `-- -1`, turned it into a positional argument).
+#[test]
+fn negative_numbers_get_advice_that_works() {
+    for (args, needle) in [
+        (vec!["motion", "small-sway", "--grid", "-1"], "2..=10000"),
+        (vec!["motion", "small-sway", "--grid", "1"], "2..=10000"),
+        (vec!["motion", "small-sway", "--dt", "-1"], "retiming.dt"),
+        (vec!["cone", "span-to-face", "-5"], "OPTION=-5"),
+    ] {
+        let out = stance().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("'-- "), "{args:?}: {err}");
+    }
+    // the advice, followed, gets past the parser
+    let out = stance()
+        .args(["cone", "span-to-face", "./-5"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("./-5") && err.contains("read"), "{err}");
 }

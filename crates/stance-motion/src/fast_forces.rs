@@ -208,12 +208,6 @@ mod doc_examples {
     //! The examples that were in the docs of this private module.
 
     #[test]
-    fn new_example() {
-        let f = crate::fast_forces::FastForces::new();
-        let _ = f;
-    }
-
-    #[test]
     fn wrenches_example() {
         use crate::fast_forces::FastForces;
         use stance_contact::{examples, w_gi_static};

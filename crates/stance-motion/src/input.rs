@@ -20,10 +20,19 @@ use crate::StanceError;
 /// assert!(stance_motion::input::from_json_str::<FrictionModel>(r#"{"sides": 4}"#).is_ok());
 /// assert!(stance_motion::input::from_json_str::<FrictionModel>("[4]").is_err());
 /// ```
-pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, serde_json::Error> {
+pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, String> {
     let mut de = serde_json::Deserializer::from_str(text);
-    let v = T::deserialize(Strict(&mut de))?;
-    de.end()?;
+    // The key an error is about, from the root (`contacts[0].position`): serde_json's own
+    // message gives only a line and column, which in a file written on one line is no help.
+    let v = serde_path_to_error::deserialize(Strict(&mut de)).map_err(|e| {
+        let path = e.path().to_string();
+        if path == "." || path == "?" {
+            e.into_inner().to_string()
+        } else {
+            format!("key `{path}`: {}", e.into_inner())
+        }
+    })?;
+    de.end().map_err(|e| e.to_string())?;
     Ok(v)
 }
 

@@ -52,7 +52,7 @@ pub const TABLES: [PaperTable; 2] = [
 ];
 
 /// The heading of the comparison.
-pub const HEADER: &str = "\n6. Whole-body motions across stances on JVRC-1 (IK -> U_stance -> \
+pub const HEADER: &str = "Whole-body motions across stances on JVRC-1 (IK -> U_stance -> \
 eq. 14 -> chained TOPP, force check at every 10 ms sample;\n   paper: HRP-4, unpruned cdd rows, \
 2015 CPU, every segment rest to rest; ours: irredundant rows, this machine, chained)\n";
 

@@ -176,6 +176,15 @@ impl MotionPlan {
         if let Some(g) = spec.gravity.iter().find(|g| !g.is_finite()) {
             return Err(bad(format!("gravity has a non-finite entry {g}")));
         }
+        let [lo, hi] = crate::tol::MOTION_GRAVITY_RANGE;
+        let g = spec.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(lo..=hi).contains(&g) {
+            return Err(bad(format!(
+                "gravity {:?} has magnitude {g:e} m/s^2; whole-body motions support {lo} to \
+                 {hi} m/s^2",
+                spec.gravity
+            )));
+        }
         let environment = environment(&spec)?;
         check_options(&spec)?;
         let names = Names {

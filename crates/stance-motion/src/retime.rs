@@ -387,15 +387,20 @@ pub fn retime(spec: &ComMotionSpec) -> Result<Retiming, StanceError> {
     let scene = spec.scene.scene()?;
     let units = units::Units::of(scene.mass, scene.gravity);
     if units.is_identity() {
-        return retime_in_units(spec, scene);
+        return retime_in_units(spec, scene, 1.0);
     }
     let normalized = units.normalize(spec, &scene)?;
     let scene = normalized.scene.scene()?;
-    Ok(units.restore(retime_in_units(&normalized, scene)?))
+    Ok(units.restore(retime_in_units(&normalized, scene, units.time_unit())?))
 }
 
-/// [`retime`] in the units of `scene` (module [`units`]: mass and gravity of order one).
-fn retime_in_units(spec: &ComMotionSpec, scene: Scene) -> Result<Retiming, StanceError> {
+/// [`retime`] in the units of `scene` (module [`units`]: mass and gravity of order one), whose
+/// unit of time is `time_unit` seconds of the caller's (`spec.dt` is in the caller's seconds).
+fn retime_in_units(
+    spec: &ComMotionSpec,
+    scene: Scene,
+    time_unit: f64,
+) -> Result<Retiming, StanceError> {
     let curve = spec.path.curve()?;
     let grid = uniform_grid(curve.domain(), spec.grid_points - 1);
 
@@ -447,7 +452,7 @@ fn retime_in_units(spec: &ComMotionSpec, scene: Scene) -> Result<Retiming, Stanc
         .map(|i| feasible_set(&k_final, i, &opts.tol))
         .collect();
     let (between, sd, sdd, t, samples) = match &sol.profile {
-        Some(p) => profile_output(p, &rows, spec, weight)?,
+        Some(p) => profile_output(p, &rows, spec, weight, time_unit)?,
         None => (None, Vec::new(), Vec::new(), Vec::new(), Vec::new()),
     };
     Ok(Retiming {
@@ -605,6 +610,17 @@ fn refine(
     Ok((rows.on_grid(rep.grid)?, rep.solution, Some(refinement)))
 }
 
+/// The error of a `dt` that gives too many samples over `duration` (both in the caller's
+/// seconds).
+fn too_many_samples(dt: f64, duration: f64) -> StanceError {
+    let n = stance_topp::tol::MAX_RESAMPLE_POINTS;
+    StanceError::BadMotion(format!(
+        "dt: dt = {dt} s over a duration of {duration} s gives more than {n} samples; give dt >= \
+         {:e} s",
+        duration / (n as f64 - 2.0)
+    ))
+}
+
 /// The output of a profile: violation between grid points, `s'`, `s''`, times, and the
 /// trajectory resampled at `dt` when asked (a stalled profile, of infinite duration, has none).
 #[allow(clippy::type_complexity)]
@@ -613,12 +629,14 @@ fn profile_output(
     rows: &PathRows<ComPath>,
     spec: &ComMotionSpec,
     weight: f64,
+    time_unit: f64,
 ) -> Result<(Option<Between>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<[f64; 4]>), StanceError> {
     let (rep, _) = check_between(p, rows, spec.samples_per_interval, weight);
     let samples = match spec.dt {
+        // (in the profile's units of time; an error in the caller's)
         Some(dt) if p.duration().is_finite() => p
-            .resample(dt)
-            .map_err(|e| StanceError::BadMotion(format!("dt: {e}")))?
+            .resample(dt / time_unit)
+            .map_err(|_| too_many_samples(dt, p.duration() * time_unit))?
             .iter()
             .map(|q| [q.t, q.s, q.sd, q.sdd])
             .collect(),

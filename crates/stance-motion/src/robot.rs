@@ -94,9 +94,12 @@ impl MotionRobot {
         match robot {
             RobotRef::Named(n) if n == "small-humanoid" => small_humanoid(),
             RobotRef::Named(n) if n == "jvrc1" => jvrc1(),
-            RobotRef::Named(n) => Err(StanceError::BadMotion(format!(
-                "unknown robot {n:?}: use \"jvrc1\", \"small-humanoid\" or a map with a urdf"
-            ))),
+            RobotRef::Named(n) => Err(StanceError::unknown_name(
+                n,
+                "robot",
+                &["jvrc1", "small-humanoid", "a map with a urdf"],
+                false,
+            )),
             RobotRef::Urdf(spec) => from_spec(spec, base_dir),
         }
     }
@@ -150,14 +153,7 @@ fn small_humanoid() -> Result<MotionRobot, StanceError> {
 }
 
 fn jvrc1() -> Result<MotionRobot, StanceError> {
-    let root = crate::venv::root();
-    let urdf = stance_robot::jvrc1::locate_urdf(root.as_deref()).map_err(|why| {
-        StanceError::NotInstalled(format!(
-            "the robot jvrc1 needs JVRC-1's URDF from PyPI (jvrc-description 1.1.1): {why}; {}, \
-             or set STANCE_JVRC1_URDF to the URDF file",
-            crate::venv::how_to_install()
-        ))
-    })?;
+    let urdf = crate::venv::jvrc1_urdf()?;
     let options = stance_robot::jvrc1::urdf_options();
     let model = Model::from_urdf_file(&urdf, &options).map_err(StanceError::Robot)?;
     let mut surfaces = Vec::new();

@@ -79,6 +79,14 @@ pub const MIN_MOVE_DURATION: f64 = 1e-3;
 /// Longest move (path units). Default 1e4.
 pub const MAX_MOVE_DURATION: f64 = 1e4;
 
+/// Range of the gravity's magnitude (m/s^2) of a whole-body motion. Default 0.01 to 1000: a
+/// small moon to a hundred times the Earth's. Reason: the whole-body pipeline's thresholds
+/// (IK residuals, landing speeds, the solver's speed box) are absolute in seconds, so unlike
+/// the CoM retiming (solved in normalized units) it is not claimed across the range of doubles;
+/// outside this range a motion is refused with it rather than answered wrongly. Zero gravity
+/// is outside too (contact stability then has no weight to hold).
+pub const MOTION_GRAVITY_RANGE: [f64; 2] = [1e-2, 1e3];
+
 /// Rounds of the refinement between grid points of a motion's retiming (IK samples where the
 /// rows do not hold become grid points, and the motion is solved again). Default 8: each round
 /// adds only the violating samples; the built-in motions converge in 2 to 4.

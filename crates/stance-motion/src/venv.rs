@@ -4,7 +4,7 @@
 //!
 //! One rule, wherever the binary is installed and whatever the working directory:
 //!
-//! 1. `$STANCE_VENV` when it is set (the project's own builds set it to the source tree's
+//! 1. `$STANCE_VENV` when it is set and not empty (the project's own builds set it to the source tree's
 //!    `.venv` through `.cargo/config.toml`, so `cargo run` and `cargo test` use the virtualenv
 //!    that `scripts/setup-venv.sh` makes);
 //! 2. else `.venv` in the per-user data directory of the platform (on Linux
@@ -26,30 +26,44 @@ pub fn data_dir() -> Option<PathBuf> {
     directories::ProjectDirs::from("", "", "stance").map(|d| d.data_dir().to_path_buf())
 }
 
-/// The virtualenv's folder: `$STANCE_VENV`, else `.venv` in [`data_dir`].
+/// The virtualenv's folder: `$STANCE_VENV` when set and not empty (made absolute against the
+/// working folder), else `.venv` in [`data_dir`].
 ///
 /// # Errors
 ///
 /// Neither is available (no `STANCE_VENV` and no home directory).
 pub fn dir() -> Result<PathBuf, StanceError> {
-    if let Some(v) = std::env::var_os("STANCE_VENV") {
-        return Ok(PathBuf::from(v));
+    match std::env::var_os("STANCE_VENV") {
+        Some(v) if !v.is_empty() => std::path::absolute(PathBuf::from(&v)).map_err(|e| {
+            StanceError::NotInstalled(format!(
+                "STANCE_VENV={}: {e}; set it to a folder",
+                PathBuf::from(&v).display()
+            ))
+        }),
+        _ => data_dir().map(|d| d.join(".venv")).ok_or_else(|| {
+            StanceError::NotInstalled(
+                "no home directory for stance's virtualenv: set STANCE_VENV to a folder".into(),
+            )
+        }),
     }
-    data_dir().map(|d| d.join(".venv")).ok_or_else(|| {
-        StanceError::NotInstalled(
-            "no home directory for stance's virtualenv: set STANCE_VENV to a folder".into(),
-        )
-    })
 }
 
-/// The folder that contains the virtualenv as `.venv` (what [`stance_robot::jvrc1::locate_urdf`]
-/// calls the project root), or `None` when `$STANCE_VENV` names it (which that function reads
-/// itself).
-pub fn root() -> Option<PathBuf> {
-    match std::env::var_os("STANCE_VENV") {
-        Some(_) => None,
-        None => data_dir(),
-    }
+/// JVRC-1's URDF from the PyPI package `jvrc-description` in the virtualenv ([`dir`]), or
+/// `$STANCE_JVRC1_URDF` when set.
+///
+/// # Errors
+///
+/// Not installed: the reason and what to run.
+pub fn jvrc1_urdf() -> Result<PathBuf, StanceError> {
+    let venv = dir()?;
+    stance_robot::jvrc1::locate_urdf_in_venv(&venv).map_err(|why| {
+        StanceError::NotInstalled(format!(
+            "the robot jvrc1 needs JVRC-1's URDF from PyPI ({}): {why}; {}, or set \
+             STANCE_JVRC1_URDF to the URDF file",
+            REQUIREMENTS[0],
+            how_to_install()
+        ))
+    })
 }
 
 /// The virtualenv's Python interpreter (which may not exist yet).
@@ -58,6 +72,30 @@ pub fn python(venv: &Path) -> PathBuf {
         venv.join("Scripts").join("python.exe")
     } else {
         venv.join("bin").join("python")
+    }
+}
+
+/// Whether the virtualenv at `venv` has what [`setup`] installs (its Python imports MuJoCo and
+/// JVRC-1's description): `Err` with what is missing.
+pub fn check(venv: &Path) -> Result<(), String> {
+    let py = python(venv);
+    if !py.is_file() {
+        return Err("missing".into());
+    }
+    match std::process::Command::new(&py)
+        .args(["-c", "import mujoco, jvrc_description"])
+        .output()
+    {
+        Ok(o) if o.status.success() => Ok(()),
+        Ok(o) => Err(format!(
+            "incomplete ({})",
+            String::from_utf8_lossy(&o.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .trim()
+        )),
+        Err(e) => Err(format!("its Python does not run ({e})")),
     }
 }
 
@@ -100,6 +138,26 @@ pub fn setup(python_cmd: &str) -> Result<PathBuf, StanceError> {
         }
     };
     let py = python(&venv);
+    // A virtualenv made without pip (Debian's python3 without python3-venv leaves one) is
+    // made again.
+    let has_pip = || {
+        std::process::Command::new(&py)
+            .args(["-m", "pip", "--version"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if py.is_file() && !has_pip() {
+        eprintln!(
+            "stance setup: the virtualenv {} has no pip: making it again",
+            venv.display()
+        );
+        run(
+            std::process::Command::new(python_cmd)
+                .args(["-m", "venv", "--clear"])
+                .arg(&venv),
+            &format!("`{python_cmd} -m venv --clear {}`", venv.display()),
+        )?;
+    }
     if !py.is_file() {
         if let Some(parent) = venv.parent() {
             std::fs::create_dir_all(parent).map_err(|e| {
@@ -136,4 +194,19 @@ pub fn setup(python_cmd: &str) -> Result<PathBuf, StanceError> {
         ),
     )?;
     Ok(venv)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The pins `stance setup` installs are the ones the project tests with.
+    #[test]
+    fn the_requirements_are_the_tested_ones() {
+        let tested = include_str!("../../../bench/peers/requirements-tests.txt");
+        let pins: Vec<&str> = tested
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .collect();
+        assert_eq!(pins, super::REQUIREMENTS);
+    }
 }

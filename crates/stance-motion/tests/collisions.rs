@@ -1,4 +1,4 @@
-//! Collisions with the environment (module `motion::collision`): the small humanoid steps down
+//! Collisions with the environment (module `stance_motion::collision`): the small humanoid steps down
 //! from a 10 cm platform. A landing whose path dives through the platform's edge (a hard task the
 //! IK cannot bend) is reported as a collision naming the body, the surface, the time and the
 //! segment; a free move towards the same edge is routed around it by the IK's clearance rows.

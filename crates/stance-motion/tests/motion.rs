@@ -331,6 +331,14 @@ fn bad_motion_files_get_errors_that_say_what_to_fix() {
         (format!("{BASE}{seg}[ik]\nsubsteps = 0\n"), "ik.substeps"),
         (format!("{BASE}{seg}[ik]\ngian = 3\n"), "unknown field"),
         (
+            format!("gravity = [0.0, 0.0, -1e-5]\n{BASE}{seg}"),
+            "whole-body motions support 0.01 to 1000 m/s^2",
+        ),
+        (
+            format!("gravity = [0.0, 0.0, 0.0]\n{BASE}{seg}"),
+            "whole-body motions support 0.01 to 1000 m/s^2",
+        ),
+        (
             format!("{BASE}[[segments]]\nstance = {{ LF = \"roof\" }}\nmoves = [{{}}]\n"),
             "\"roof\", which does not exist",
         ),

@@ -486,8 +486,42 @@ fn durations_scale_with_gravity_and_not_with_mass_across_the_double_range() {
     let g = 9.81 * 4f64.powi(-400);
     let r = retime(&base(39.0, g)).unwrap();
     assert_eq!(r.duration.unwrap(), d0 * 2f64.powi(400));
+    // every field in the scene's units: times x tau, speeds / tau, accelerations and
+    // x = s'^2 / tau^2, newtons / tau^2 (tau = 2^400)
+    let (tau, tau2) = (2f64.powi(400), 2f64.powi(400) * 2f64.powi(400));
+    let same = |a: &[f64], b: &[f64], f: &dyn Fn(f64) -> f64, what: &str| {
+        assert_eq!(a.len(), b.len(), "{what}");
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(*x, f(*y), "{what}");
+        }
+    };
+    same(&r.t, &reference.t, &|x| x * tau, "t");
+    same(&r.sd, &reference.sd, &|x| x / tau, "sd");
+    same(&r.sdd, &reference.sdd, &|x| x / tau2, "sdd");
+    for (sets, sets0) in [
+        (&r.controllable_sets, &reference.controllable_sets),
+        (&r.feasible_sets, &reference.feasible_sets),
+    ] {
+        let flat = |v: &Vec<Option<[f64; 2]>>| -> Vec<f64> {
+            v.iter().flatten().flatten().copied().collect()
+        };
+        same(&flat(sets), &flat(sets0), &|x| x / tau2, "x sets");
+    }
+    assert_eq!(r.samples.len(), reference.samples.len());
+    for (a, b) in r.samples.iter().zip(&reference.samples) {
+        assert_eq!(*a, [b[0] * tau, b[1], b[2] / tau, b[3] / tau2]);
+    }
+    assert_eq!(
+        r.between.unwrap().max_violation_newtons,
+        reference.between.unwrap().max_violation_newtons / tau2
+    );
     let r = retime(&base(39.0 * 2f64.powi(-900), 9.81)).unwrap();
     assert_eq!(r.duration.unwrap(), d0);
+    assert_eq!(r.sd, reference.sd);
+    assert_eq!(
+        r.between.unwrap().max_violation_newtons,
+        reference.between.unwrap().max_violation_newtons * 2f64.powi(-900)
+    );
     assert_eq!(
         r.between.unwrap().fraction_of_weight,
         reference.between.unwrap().fraction_of_weight

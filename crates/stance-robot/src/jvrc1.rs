@@ -69,10 +69,9 @@ pub fn urdf_options() -> crate::UrdfOptions {
 }
 
 /// Finds the JVRC-1 URDF of the PyPI package `jvrc-description`: the file named by the
-/// environment variable `STANCE_JVRC1_URDF` if set, else the package's file in the site-packages
-/// of the project virtualenv (`$STANCE_VENV`, else `<project_root>/.venv`), else the answer of
-/// that virtualenv's Python to "where is `jvrc_description`". `None` (with the reason) when neither is available: install it with
-/// `scripts/setup-venv.sh`.
+/// environment variable `STANCE_JVRC1_URDF` if set, else the package's file in the virtualenv
+/// `$STANCE_VENV` if set, else `<project_root>/.venv` ([`locate_urdf_in_venv`]). The reason when
+/// it is not found (the caller says how to install it).
 ///
 /// ```
 /// // Without a virtualenv the answer says why.
@@ -83,6 +82,20 @@ pub fn urdf_options() -> crate::UrdfOptions {
 /// ```
 pub fn locate_urdf(project_root: Option<&std::path::Path>) -> Result<std::path::PathBuf, String> {
     use std::path::PathBuf;
+    let venv = match (std::env::var_os("STANCE_VENV"), project_root) {
+        (Some(v), _) if !v.is_empty() => PathBuf::from(v),
+        (_, Some(root)) => root.join(".venv"),
+        (_, None) if std::env::var_os("STANCE_JVRC1_URDF").is_some() => PathBuf::new(),
+        (_, None) => return Err("neither STANCE_VENV nor a project root is given".into()),
+    };
+    locate_urdf_in_venv(&venv)
+}
+
+/// [`locate_urdf`] in the virtualenv `venv`: `STANCE_JVRC1_URDF` if set, else the package's file
+/// in the virtualenv's site-packages, else the answer of its Python to "where is
+/// `jvrc_description`".
+pub fn locate_urdf_in_venv(venv: &std::path::Path) -> Result<std::path::PathBuf, String> {
+    use std::path::PathBuf;
     if let Some(p) = std::env::var_os("STANCE_JVRC1_URDF") {
         let p = PathBuf::from(p);
         return if p.is_file() {
@@ -91,11 +104,6 @@ pub fn locate_urdf(project_root: Option<&std::path::Path>) -> Result<std::path::
             Err(format!("STANCE_JVRC1_URDF={} is not a file", p.display()))
         };
     }
-    let venv = match (std::env::var_os("STANCE_VENV"), project_root) {
-        (Some(v), _) => PathBuf::from(v),
-        (None, Some(root)) => root.join(".venv"),
-        (None, None) => return Err("neither STANCE_VENV nor a project root is given".into()),
-    };
     // The package's file in the virtualenv's site-packages, found without starting Python
     // (which costs tens of milliseconds).
     let lib = if cfg!(windows) {
@@ -121,10 +129,7 @@ pub fn locate_urdf(project_root: Option<&std::path::Path>) -> Result<std::path::
         venv.join("bin").join("python")
     };
     if !python.is_file() {
-        return Err(format!(
-            "no Python virtualenv at {} (run scripts/setup-venv.sh, or set STANCE_VENV)",
-            venv.display()
-        ));
+        return Err(format!("no Python virtualenv at {}", venv.display()));
     }
     let out = std::process::Command::new(&python)
         .args(["-c", "import jvrc_description as j; print(j.urdf_path)"])
@@ -132,7 +137,7 @@ pub fn locate_urdf(project_root: Option<&std::path::Path>) -> Result<std::path::
         .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
     if !out.status.success() {
         return Err(format!(
-            "the virtualenv at {} has no jvrc_description (run scripts/setup-venv.sh)",
+            "the virtualenv at {} has no jvrc_description",
             venv.display()
         ));
     }

@@ -7,8 +7,9 @@
 //!
 //! The project writes the MuJoCo model from its own data ([`mjcf`]) and the reference
 //! trajectory at the simulation's time step (the motion retimed by [`stance_motion`], sampled at
-//! 1 ms), then runs the harness `crates/stance-sim/stance_mujoco.py` with the Python of the project
-//! virtualenv, where `scripts/setup-venv.sh` installs MuJoCo from PyPI (`mujoco`). MuJoCo is
+//! 1 ms), then runs the harness (`stance_mujoco.py`, embedded in the binary and written beside
+//! its input at each run) with the Python of stance's virtualenv
+//! ([`stance_motion::venv`]), where `stance setup` installs MuJoCo from PyPI (`mujoco`). MuJoCo is
 //! driven through its official Python bindings rather than a Rust crate linked against the
 //! shared library inside a wheel: the bindings come with every wheel and version, while a
 //! Rust binding must match the library's exact version and ABI (a mismatch crashes, where a
@@ -252,12 +253,36 @@ impl Thresholds {
     }
 }
 
-/// A fresh folder in the system's temporary folder (one per call: simulations may run in
-/// parallel in one process).
-fn unique_temp_dir(prefix: &str) -> PathBuf {
+/// A fresh folder in the system's temporary folder, created here and nowhere else (one per
+/// call: simulations may run in parallel in one process; a folder that exists already, perhaps
+/// another user's, is never reused, since the harness is written into it and run).
+fn unique_temp_dir(prefix: &str) -> Result<PathBuf, StanceError> {
     static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    std::env::temp_dir().join(format!("{prefix}-{}-{n}", std::process::id()))
+    let mut last = None;
+    for _ in 0..100 {
+        let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("{prefix}-{}-{n}", std::process::id()));
+        let mut builder = std::fs::DirBuilder::new();
+        #[cfg(unix)]
+        std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
+        match builder.create(&dir) {
+            Ok(()) => return Ok(dir),
+            Err(e) => last = Some((dir, e)),
+        }
+    }
+    let (dir, e) = last.expect("tried at least once");
+    Err(StanceError::BadMotion(format!(
+        "cannot create a temporary folder such as {}: {e}",
+        dir.display()
+    )))
+}
+
+/// The virtualenv's Python in isolated mode (`-I`: the harness's folder is not put on the
+/// module path, and no user environment variable or site folder changes what it imports).
+fn python_command(python: &Path) -> std::process::Command {
+    let mut c = std::process::Command::new(python);
+    c.arg("-I");
+    c
 }
 
 /// The MuJoCo harness, embedded in the binary and written beside its input files at each run
@@ -421,10 +446,20 @@ fn retimed_run(spec: MotionSpec, options: &SimOptions) -> Result<MotionRun, Stan
 /// [`crate::tol::SIM_MAX_DURATION`]; if not, the message gives the least time scale that fits
 /// (`k total / max`, rounded up to the thousandth).
 fn check_duration(total: f64, k: f64) -> Result<(), StanceError> {
+    // (1e-300 in Rust's plain notation has 300 digits)
+    let num = |x: f64| {
+        if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
+            format!("{x:e}")
+        } else {
+            format!("{x}")
+        }
+    };
     if total > crate::tol::SIM_MAX_DURATION {
         return Err(StanceError::BadMotion(format!(
-            "the motion played at time scale {k} lasts {total:.1} s; the simulator plays at most \
+            "the motion played at time scale {} lasts {} s; the simulator plays at most \
              {} s: give a time scale of at least {:.3}",
+            num(k),
+            num((total * 10.0).round() / 10.0),
             crate::tol::SIM_MAX_DURATION,
             // rounded up, so that the scale given back fits
             (k * total / crate::tol::SIM_MAX_DURATION * 1e3).ceil() / 1e3
@@ -622,9 +657,8 @@ pub fn describe(
     q: &[f64],
 ) -> Result<ModelDescription, StanceError> {
     let python = venv_python()?;
-    let dir = unique_temp_dir("stance-describe");
+    let dir = unique_temp_dir("stance-describe")?;
     let io = |e: std::io::Error| StanceError::BadMotion(format!("{}: {e}", dir.display()));
-    std::fs::create_dir_all(&dir).map_err(io)?;
     let (xml_path, q_path, out_path) = (
         dir.join("model.xml"),
         dir.join("qpos.json"),
@@ -638,7 +672,7 @@ pub fn describe(
             .map_err(|e| StanceError::BadMotion(e.to_string()))?,
     )
     .map_err(io)?;
-    let out = std::process::Command::new(&python)
+    let out = python_command(&python)
         .arg(&harness)
         .arg("--describe")
         .args([&xml_path, &q_path, &out_path])
@@ -666,11 +700,13 @@ fn run_harness(
     let python = venv_python()?;
     let io = |e: std::io::Error, what: &str| StanceError::BadMotion(format!("{what}: {e}"));
     let dir = match keep {
-        Some(d) => d.to_path_buf(),
-        None => unique_temp_dir("stance-sim"),
+        Some(d) => {
+            std::fs::create_dir_all(d)
+                .map_err(|e| io(e, &format!("cannot create {}", d.display())))?;
+            d.to_path_buf()
+        }
+        None => unique_temp_dir("stance-sim")?,
     };
-    std::fs::create_dir_all(&dir)
-        .map_err(|e| io(e, &format!("cannot create {}", dir.display())))?;
     let model = dir.join("model.xml");
     std::fs::write(&model, xml).map_err(|e| io(e, &format!("cannot write {}", model.display())))?;
     input.mjcf = model.display().to_string();
@@ -681,7 +717,7 @@ fn run_harness(
         .map_err(|e| StanceError::BadMotion(format!("cannot serialize the harness input: {e}")))?;
     std::fs::write(&input_path, text)
         .map_err(|e| io(e, &format!("cannot write {}", input_path.display())))?;
-    let out = std::process::Command::new(&python)
+    let out = python_command(&python)
         .arg(&harness)
         .arg(&input_path)
         .arg(&report_path)

@@ -11,14 +11,13 @@ use stance_robot::{forward_kinematics, frame_placement, Data};
 use stance_sim::{describe, mjcf, simulate, Disturbance, SimOptions};
 
 fn available(test: &str, needs_jvrc1: bool) -> bool {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let venv = std::env::var_os("STANCE_VENV")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| root.join(".venv"));
-    let ok = std::process::Command::new(venv.join("bin").join("python"))
-        .args(["-c", "import mujoco"])
-        .output()
-        .is_ok_and(|o| o.status.success());
+    use stance_motion::venv;
+    let ok = venv::dir().is_ok_and(|d| {
+        std::process::Command::new(venv::python(&d))
+            .args(["-c", "import mujoco"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    });
     if !ok {
         eprintln!(
             "SKIPPED {test}: no MuJoCo in the project virtualenv (run scripts/setup-venv.sh)"
@@ -26,7 +25,7 @@ fn available(test: &str, needs_jvrc1: bool) -> bool {
         return false;
     }
     if needs_jvrc1 {
-        if let Err(why) = stance_robot::jvrc1::locate_urdf(Some(&root)) {
+        if let Err(why) = venv::jvrc1_urdf() {
             eprintln!("SKIPPED {test}: {why}");
             return false;
         }

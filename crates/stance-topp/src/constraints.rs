@@ -110,7 +110,7 @@ pub(crate) fn exponent(x: f64) -> i32 {
 
 /// `x 2^k`, in steps that neither overflow nor flush to zero before the end (exact unless the
 /// result itself overflows or is subnormal).
-pub(crate) fn ldexp(mut x: f64, mut k: i32) -> f64 {
+pub fn ldexp(mut x: f64, mut k: i32) -> f64 {
     const STEP: i32 = 1000;
     while k > STEP {
         x *= 2f64.powi(STEP);

@@ -143,7 +143,7 @@ pub mod profile;
 pub mod solver;
 pub mod tol;
 
-pub use constraints::{CanonicalConstraints, Row};
+pub use constraints::{ldexp, CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
 pub use solver::{

@@ -107,12 +107,18 @@ pub fn source_kind(source: &str) -> Result<SourceKind, StanceError> {
     if stance_contact::examples::by_name(source).is_some() {
         return Ok(SourceKind::Scene);
     }
-    let mut known: Vec<&str> = stance_motion::experiments::NAMES.to_vec();
-    for n in stance_contact::examples::NAMES {
-        if !known.contains(&n) {
-            known.push(n);
-        }
-    }
+    // each name with what it is (box-climbing is both: its motion shows the scene too)
+    let labelled: Vec<String> = stance_motion::experiments::NAMES
+        .iter()
+        .map(|n| format!("{n} (motion)"))
+        .chain(
+            stance_contact::examples::NAMES
+                .iter()
+                .filter(|n| !stance_motion::experiments::NAMES.contains(n))
+                .map(|n| format!("{n} (scene)")),
+        )
+        .collect();
+    let known: Vec<&str> = labelled.iter().map(String::as_str).collect();
     Err(StanceError::unknown_name(
         source,
         "motion or scene",

@@ -10,15 +10,16 @@
 //!   equilibrium, supporting contact forces.
 //! - [`stance_topp`]: time-optimal path parameterization on `a u + b x + c <= 0`.
 //! - [`stance_robot`]: robot model from URDF, kinematics and centroidal momentum.
-//! - [`stance_motion`], whose modules are re-exported here:
-//! - [`retime`]: the paper's Section V for one stance: a stance and a CoM path become the rows of
-//!   eq. (14) through `U_stance` (computed once), solved by reachability analysis, with the
-//!   violation of contact stability between grid points measured (and optionally refined away).
-//! - [`motion`]: whole-body motions across stances: a humanoid's path made by the
-//!   acceleration-level IK, `U_stance` per stance, eq. 14 with the real body's angular momentum,
-//!   one chained retiming of all segments, the trajectory and its independent force check; the
-//!   paper's stair- and box-climbing experiments on JVRC-1 by name.
-//! - [`joints`]: fixed-base robots' joint paths retimed under actuator limits.
+//! - [`motion`] (the `stance-motion` crate): whole-body motions across stances: a humanoid's
+//!   path made by the acceleration-level IK, `U_stance` per stance, eq. 14 with the real body's
+//!   angular momentum, one chained retiming of all segments, the trajectory and its independent
+//!   force check; the paper's stair- and box-climbing experiments on JVRC-1 by name. Its modules
+//!   for the other retimings are also re-exported here:
+//!   - [`retime`]: the paper's Section V for one stance: a stance and a CoM path become the rows
+//!     of eq. (14) through `U_stance` (computed once), solved by reachability analysis, with the
+//!     violation of contact stability between grid points measured (and optionally refined
+//!     away);
+//!   - [`joints`]: fixed-base robots' joint paths retimed under actuator limits.
 //!
 //! The physics validation in MuJoCo (`stance-sim`) and the offline 3-D page (`stance-view`) are
 //! crates of their own, used by the command line.
@@ -41,17 +42,16 @@
 //! # Limitations
 //!
 //! Each layer states its own: [`polycone`], [`stance_contact`], [`stance_topp`],
-//! [`stance_robot`] and [`stance_motion`] (retiming, whole-body motions, actuator limits,
+//! [`stance_robot`] and [`motion`] (retiming, whole-body motions, actuator limits,
 //! collisions). The simulator (`stance-sim`) and the 3-D page (`stance-view`) are separate crates
-//! that only the command line and the Python package depend on.
+//! that only the command line depends on.
 
 pub use polycone;
 pub use stance_contact;
 pub use stance_robot;
 pub use stance_topp;
 
-pub use stance_motion;
-/// Whole-body motions across stances ([`stance_motion`]).
+/// Whole-body motions across stances, and the retimings (the `stance-motion` crate).
 pub use stance_motion as motion;
 pub use stance_motion::{binding, error, input, joints, limits, retime, tol, StanceError};
 

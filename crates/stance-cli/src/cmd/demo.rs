@@ -290,19 +290,19 @@ fn robot_section(o: &mut String) -> Result<()> {
 /// JVRC-1's URDF, installed from PyPI (as `stance setup` does) when missing.
 fn ensure_jvrc1() -> Result<()> {
     use stance::motion::venv;
-    use stance::stance_robot::jvrc1::locate_urdf;
-    if locate_urdf(venv::root().as_deref()).is_ok() {
+    if venv::jvrc1_urdf().is_ok() {
         return Ok(());
     }
     eprintln!(
-        "stance demo: JVRC-1's URDF is not installed; installing it as `stance setup` does \
-         (PyPI jvrc-description 1.1.1 into {}) ...",
+        "stance demo: JVRC-1's URDF is not installed; installing {} into {} from PyPI, as \
+         `stance setup` does ...",
+        venv::REQUIREMENTS.join(" and "),
         venv::dir()?.display()
     );
     venv::setup("python3").context("cannot install JVRC-1's description")?;
-    locate_urdf(venv::root().as_deref())
+    venv::jvrc1_urdf()
         .map(|_| ())
-        .map_err(|why| anyhow::anyhow!("JVRC-1 is still not available after the setup: {why}"))
+        .context("JVRC-1 is still not available after the setup")
 }
 
 /// Section 6: the paper's whole-body experiments on JVRC-1, beside Tables I and II
@@ -310,6 +310,7 @@ fn ensure_jvrc1() -> Result<()> {
 fn motions(o: &mut String, out: &std::path::Path) -> Result<()> {
     use stance::motion::{experiments, paper, run, RunOptions};
     ensure_jvrc1()?;
+    o.push_str("\n6. ");
     o.push_str(paper::HEADER);
     for table in &paper::TABLES {
         let spec = experiments::by_name(table.motion)?;

@@ -35,9 +35,10 @@ pub struct MotionArgs {
     /// Time step of the independent checks (s; 0.001)
     #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub check_dt: Option<f64>,
-    /// Retiming grid intervals per segment.
-    #[arg(long, value_name = "N")]
-    pub grid: Option<usize>,
+    /// Retiming grid intervals per segment (2 to 10000).
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(i64).range(2..=stance::tol::MAX_MOTION_GRID as i64))]
+    pub grid: Option<i64>,
     /// Draw phase-plane plots (motion.svg and segment-K.svg) into this folder.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
@@ -86,7 +87,7 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         spec.retiming.check_dt = dt;
     }
     if let Some(g) = args.grid {
-        spec.retiming.grid = g;
+        spec.retiming.grid = g as usize;
     }
     plan::check_retiming(&spec.retiming)?;
     let options = RunOptions {

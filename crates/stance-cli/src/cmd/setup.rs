@@ -21,16 +21,10 @@ pub fn run(a: SetupArgs) -> Result<()> {
     use stance::motion::venv;
     let dir = venv::dir()?;
     if a.check {
-        let ready = venv::python(&dir).is_file();
-        println!(
-            "{} ({})",
-            dir.display(),
-            if ready {
-                "exists"
-            } else {
-                "missing: run `stance setup`"
-            }
-        );
+        match venv::check(&dir) {
+            Ok(()) => println!("{} (ready)", dir.display()),
+            Err(why) => println!("{} ({why}: run `stance setup`)", dir.display()),
+        }
         return Ok(());
     }
     let dir = venv::setup(&a.python)?;

@@ -21,7 +21,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub time_scale: Option<f64>,
     /// Simulate only segments FIRST..LAST (1-based, inclusive), e.g. 1..1.
-    #[arg(long, value_name = "FIRST..LAST")]
+    #[arg(long, value_name = "FIRST..LAST", allow_hyphen_values = true)]
     pub segments: Option<String>,
     /// Keep the MuJoCo model and the harness's input in this folder.
     #[arg(long, value_name = "DIR")]

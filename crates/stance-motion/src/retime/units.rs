@@ -20,18 +20,13 @@
 //! a duration 20 % off and a mass of 1e-300 kg one 2,700 times too short, with nothing flagged.
 //! A zero gravity keeps its units of time (there is no time scale to take from it).
 
+use stance_topp::ldexp as times_pow2;
+
 use super::{ComMotionSpec, Retiming, SceneRef};
 use crate::StanceError;
 
 /// The gravity the problems are solved at, in magnitude (m/s^2).
 const REFERENCE_GRAVITY: f64 = 9.81;
-
-/// `x * 2^e`, exact when the result is a normal number (in two steps: `2^e` alone may not be
-/// representable).
-fn times_pow2(x: f64, e: i32) -> f64 {
-    let (e1, e2) = (e / 2, e - e / 2);
-    x * 2f64.powi(e1) * 2f64.powi(e2)
-}
 
 /// The change of units of one retiming: mass divided by `2^mass_exp`, time multiplied by
 /// `2^time_exp` (`tau`).
@@ -68,13 +63,19 @@ impl Units {
         Units { mass_exp, time_exp }
     }
 
+    /// `tau`: seconds of the caller per unit of time of the new units.
+    pub(super) fn time_unit(self) -> f64 {
+        times_pow2(1.0, self.time_exp)
+    }
+
     /// Whether the change of units is the identity.
     pub(super) fn is_identity(&self) -> bool {
         self.mass_exp == 0 && self.time_exp == 0
     }
 
     /// The problem in the new units: mass `m / 2^i`, gravity `g tau^2`, angular terms
-    /// `l / 2^i`, boundary speeds `s' tau`, output step `dt / tau`.
+    /// `l / 2^i`, boundary speeds `s' tau` (`dt` stays in the caller's seconds: the resampling
+    /// divides it by [`Self::time_unit`], so that its errors speak the caller's units).
     ///
     /// # Errors
     ///
@@ -105,9 +106,6 @@ impl Units {
                     times_pow2(1e150, -j)
                 )));
             }
-        }
-        if let Some(dt) = spec.dt {
-            out.dt = Some(times_pow2(dt, -j));
         }
         if let Some(l) = &mut out.angular_momentum {
             for v in l.l1.iter_mut().chain(l.l2.iter_mut()) {
@@ -167,5 +165,7 @@ mod tests {
         assert!(u.time_exp > 530 && u.mass_exp == 1024, "{u:?}");
         assert!(Units::of(1.0, [0.0; 3]).is_identity());
         assert_eq!(times_pow2(3.0, 1100), 3.0 * 2f64.powi(550) * 2f64.powi(550));
+        // exponents beyond what one power of two holds, as restore's i - 2j can be
+        assert_eq!(times_pow2(times_pow2(1e300, -2000), 2000), 1e300);
     }
 }
