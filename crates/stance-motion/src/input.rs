@@ -24,12 +24,29 @@ pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, String> {
     let mut de = serde_json::Deserializer::from_str(text);
     // The key an error is about, from the root (`contacts[0].position`): serde_json's own
     // message gives only a line and column, which in a file written on one line is no help.
+    // (An unknown field's message names it: then the path is its parent's.)
     let v = serde_path_to_error::deserialize(Strict(&mut de)).map_err(|e| {
-        let path = e.path().to_string();
-        if path == "." || path == "?" {
-            e.into_inner().to_string()
+        let inner = e.inner().to_string();
+        let segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
+        let keep = if inner.starts_with("unknown field") {
+            segments.len().saturating_sub(1)
         } else {
-            format!("key `{path}`: {}", e.into_inner())
+            segments.len()
+        };
+        let path = segments[..keep].iter().filter(|s| s.as_str() != "?").fold(
+            String::new(),
+            |mut p, s| {
+                if !(p.is_empty() || s.starts_with('[')) {
+                    p.push('.');
+                }
+                p.push_str(s);
+                p
+            },
+        );
+        if path.is_empty() {
+            inner
+        } else {
+            format!("key `{path}`: {inner}")
         }
     })?;
     de.end().map_err(|e| e.to_string())?;
