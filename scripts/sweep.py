@@ -1090,7 +1090,9 @@ def motion_error_cases():
         ("segment_robot_surface_unknown", SEG + [2, "stance"], {"LF": "floor", "XF": "floor"},
          [("segment 3", "back to both feet", "XF")]),
         ("segment_stance_number", SEG + [0, "stance"], {"LF": 1}, [("LF", "invalid type")]),
-        ("segment_no_moves", SEG + [1, "moves"], [], [("segment 2", "step forward with the right foot", "moves")]),
+        # a segment without moves is a planned CoM shift (the footholds planner): the right
+        # foot leaves the floor there without landing, which the next segment names
+        ("segment_no_moves", SEG + [1, "moves"], [], [("segment 3", "back to both feet", "land it there")]),
         ("segment_w_link_negative", SEG + [0, "w_link"], -1.0, [("segment 1", "shift onto the left foot", "w_link")]),
         ("segment_gain_zero", SEG + [2, "gain"], 0.0, [("segment 3", "back to both feet", "gain")]),
         ("segment_name_number", SEG + [0, "name"], 42, [("name", "string")]),
@@ -2578,7 +2580,8 @@ KNOWN = {
                                        "(the GIWC of two 64-sided feet has 10,988 facets)",
     "motion/moved_0_-1e+06": "the standing-posture search's residual is absolute (1e-10 m): a scene "
                              "1000 km from the origin fails it at 1.2e-10",
-    "motion/grid_10": "with 10 grid intervals, 18 samples of the force check (t = 0.821-0.838 s) "
+    "motion/grid_10": "with 10 grid intervals, 8 samples of the force check (18 before the midpoint "
+                      "refinement) "
                       "have no supporting forces though the retiming is optimal",
     "motion/bad_com_xy_far": "a CoM 5 m off the feet: the message suggests changing com_height",
     "motion/bad_segment_robot_surface_unknown": "an unknown robot surface in a segment's stance: "

@@ -604,6 +604,7 @@ pub fn retime_chained(
     // lifted torque rows admit no contact forces, become grid points.
     let t_refine = Instant::now();
     let mut sample_rows_ready = false;
+    let mut midpoints = crate::midpoints::Midpoints::default();
     while let Some(p) = &profile {
         if refine.rounds >= crate::tol::MAX_REFINE_ROUNDS {
             break;
@@ -615,7 +616,18 @@ pub fn retime_chained(
                 .try_for_each(|(r, path)| r.ensure_sample_rows(plan, path))?;
             sample_rows_ready = true;
         }
-        let added = add_failing_samples(plan, paths, rows, &l.s_offset, p, margin)?;
+        let values = sample_row_values(paths, rows, &l.s_offset, p);
+        let added = add_failing_samples(plan, paths, rows, &l.s_offset, p, margin, &values)?
+            + crate::midpoints::add_failing_midpoints(
+                plan,
+                paths,
+                rows,
+                &l.s_offset,
+                p,
+                margin,
+                &values,
+                &mut midpoints,
+            )?;
         if added == 0 {
             break;
         }
@@ -728,8 +740,8 @@ fn add_failing_samples(
     s_offset: &[f64],
     p: &Profile,
     margin: f64,
+    values: &[Vec<SampleValues>],
 ) -> Result<usize, StanceError> {
-    let values = sample_row_values(paths, rows, s_offset, p);
     let lifted_bad = lifted_samples_failing(plan, paths, rows, s_offset, p)?;
     let mut added = 0;
     for k in 0..paths.len() {

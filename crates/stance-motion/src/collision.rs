@@ -383,6 +383,38 @@ impl CollisionModel {
         }
     }
 
+    /// The signed distance of robot surface `surface`'s box (module doc) placed with its
+    /// surface frame at `world_from_surface`, to solid `solid`, when within `range` (m): where
+    /// a link would be, without the robot's kinematics (the footholds planner's swing paths).
+    ///
+    /// ```
+    /// use stance_motion::{experiments, plan::MotionPlan};
+    /// let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+    /// let lf = plan.robot.surfaces.iter().position(|s| s.name == "LF").unwrap();
+    /// let above = stance_robot::Pose::from_xyz_rpy([0.0, 0.1, 0.05], [0.0; 3]);
+    /// let d = plan.collision.surface_distance(lf, &above, 0, 0.1).unwrap();
+    /// assert!((d.distance - 0.05).abs() < 1e-9);
+    /// ```
+    pub fn surface_distance(
+        &self,
+        surface: usize,
+        world_from_surface: &Pose,
+        solid: usize,
+        range: f64,
+    ) -> Option<PairDistance> {
+        let body = self
+            .bodies
+            .iter()
+            .position(|b| b.kind == BodyKind::Surface { surface })?;
+        let shape_pose = world_from_surface.compose(&Pose {
+            rotation: Matrix3::identity(),
+            translation: Vector3::new(0.0, 0.0, 0.5 * SURFACE_THICKNESS),
+        });
+        let pose = ppose(&shape_pose);
+        let aabb = self.bodies[body].shape.compute_aabb(&pose).loosened(range);
+        self.pair(&pose, &aabb, body, solid, range)
+    }
+
     /// Body `body`'s pose and its bounding box grown by `range`.
     fn placed(&self, data: &Data, body: usize, range: f64) -> (PPose, Aabb) {
         let b = &self.bodies[body];

@@ -61,10 +61,11 @@
 //!   rounded over `2 com_blend` path units (it leaves the straight lines between them near each
 //!   corner); free links move along straight lines with minimum-jerk timing and stop at every
 //!   via-point. The IK is integrated with `q_ss` constant per step: the retiming enforces the
-//!   rows on both sides of every grid point and refines the grid at IK samples where they fail,
-//!   so the rows hold at every IK sample, but between IK samples only as the independent force
-//!   check measures (no sample of the built-in motions fails it at 1 ms; the
-//!   gallery's slope fails it at 15 samples of 2,329, by 1.8e-5 of the weight). The
+//!   rows on both sides of every grid point, refines the grid at IK samples where they fail and
+//!   at the midpoints of IK steps where the model's exact rows there fail (`midpoints`, for the
+//!   steps whose ends are within 1e-3 of the weight of a bound), so the rows hold at every IK
+//!   sample and step midpoint; elsewhere between IK samples only as the independent force check
+//!   measures (no sample of the built-in or gallery motions fails it at 1 ms). The
 //!   greedy profile is time-optimal as the grid is refined, not exactly on the grid (measured:
 //!   0.23 % longer than a one-shot LP's on `small-sway`). Path speeds are unbounded where the
 //!   whole body is at rest in path terms (the start, via-points where nothing else moves):
@@ -110,6 +111,7 @@ mod chain;
 mod fast_forces;
 mod ik_stage;
 mod limit_rows;
+mod midpoints;
 mod references;
 mod rows;
 mod separation;
@@ -122,6 +124,7 @@ pub mod checks;
 pub mod collision;
 pub mod environment;
 pub mod experiments;
+pub mod footholds;
 pub mod limit_checks;
 pub mod plan;
 pub mod result;
@@ -178,6 +181,9 @@ pub struct RunOptions {
     /// Retime under contact stability alone (`--no-limits`): the file's actuator limits are
     /// still checked and reported, not enforced.
     pub no_limits: bool,
+    /// Where long work reports progress (the footholds planner's search), e.g. a function
+    /// printing to standard error.
+    pub progress: Option<fn(&str)>,
 }
 
 /// Everything the pipeline computed, for callers that need more than the result (the tests,
@@ -217,6 +223,12 @@ pub fn run(spec: MotionSpec, options: &RunOptions) -> Result<MotionResult, Stanc
 pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, StanceError> {
     let t_start = Instant::now();
     check_friction_option(options)?;
+    let (spec, planning) = if footholds::needs_planning(&spec) {
+        let planned = footholds::plan(&spec, options)?;
+        (planned.spec, Some(planned.info))
+    } else {
+        (spec, None)
+    };
     let mut plan = MotionPlan::new(spec, options.base_dir.as_deref())?;
     if options.no_limits {
         // the file's limits stay in plan.actuator_limits: checked, not enforced
@@ -294,6 +306,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
             retimed.as_ref(),
             [t_plan, t_rows_wall, t_pipeline],
         ),
+        planning,
     };
     Ok(MotionRun {
         plan,

@@ -301,6 +301,27 @@ fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
     p.friction_cone
         .validate()
         .map_err(|e| bad(format!("planning.friction_cone: {e}")))?;
+    finite_in(
+        "planning.swing.clearance",
+        p.swing.clearance,
+        crate::tol::MIN_SWING_CLEARANCE,
+        crate::tol::MAX_CLEARANCE,
+        &format!(
+            "give the clearance of a swinging link in metres, in [{}, {}] (default 0.05)",
+            crate::tol::MIN_SWING_CLEARANCE,
+            crate::tol::MAX_CLEARANCE
+        ),
+    )?;
+    if let Some(a) = p.switch_margin {
+        finite_in(
+            "planning.switch_margin",
+            a,
+            f64::MIN_POSITIVE,
+            1.0,
+            "give a fraction in (0, 1] of the largest static margin at each stance switch, or \
+             leave it out for the planner to search it",
+        )?;
+    }
     let ik = &spec.ik;
     for (what, x) in [
         ("ik.w_com", ik.w_com),
@@ -404,7 +425,10 @@ fn segment(
         stance.push((r, e));
     }
     if s.moves.is_empty() {
-        return Err(bad(format!("{what} has no moves; give at least one")));
+        return Err(bad(format!(
+            "{what} has no moves; give at least one (the footholds planner plans a segment \
+             without moves when the motion is run)"
+        )));
     }
     let mut moves = Vec::new();
     for (i, m) in s.moves.iter().enumerate() {

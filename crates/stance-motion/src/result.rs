@@ -306,6 +306,9 @@ pub struct MotionResult {
     pub trajectory: Option<TrajectoryInfo>,
     /// Stage timings.
     pub timings: Timings,
+    /// What the footholds planner chose (`null` when every segment is written by hand).
+    #[serde(default)]
+    pub planning: Option<crate::footholds::PlanningInfo>,
 }
 
 /// The actuator limits checked at every sample ([`super::limit_checks`]).

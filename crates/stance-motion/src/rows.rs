@@ -342,13 +342,29 @@ pub fn stance_of(
     friction: Option<f64>,
     model: stance_contact::FrictionModel,
 ) -> Result<Stance, StanceError> {
-    let contacts = path
+    let contacts: Vec<_> = path
         .contacts
         .iter()
-        .map(|c| {
-            let surf = &plan.robot.surfaces[c.surface];
-            let env = &plan.environment[c.environment];
-            let r = &c.pose.rotation;
+        .map(|c| (c.surface, c.environment, c.pose))
+        .collect();
+    stance_from(plan, &contacts, k, friction, model)
+}
+
+/// Contacts `(robot surface, environment surface, pose)` as a stance: polygons scaled by `k`,
+/// friction `friction` (else each environment surface's), friction model `model`.
+pub fn stance_from(
+    plan: &MotionPlan,
+    contacts: &[(usize, usize, stance_robot::Pose)],
+    k: f64,
+    friction: Option<f64>,
+    model: stance_contact::FrictionModel,
+) -> Result<Stance, StanceError> {
+    let contacts = contacts
+        .iter()
+        .map(|(surface, environment, pose)| {
+            let surf = &plan.robot.surfaces[*surface];
+            let env = &plan.environment[*environment];
+            let r = &pose.rotation;
             let rotation = [
                 [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
                 [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
@@ -356,7 +372,7 @@ pub fn stance_of(
             ];
             Contact::new(
                 &surf.name,
-                c.pose.translation.into(),
+                pose.translation.into(),
                 rotation,
                 surf.shape.scaled(k),
                 friction.unwrap_or(env.friction),

@@ -221,6 +221,41 @@ pub struct PlanningSpec {
     /// every row of eq. 14 must hold with `a u + b x + c <= -margin m |g|`.
     #[serde(default)]
     pub margin: f64,
+    /// The footholds planner's margin fraction at the stance switches, in (0, 1] (default:
+    /// searched by the retimed duration; [`crate::footholds`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub switch_margin: Option<f64>,
+    /// The footholds planner's swing paths ([`crate::footholds`]).
+    #[serde(default, skip_serializing_if = "SwingSpec::is_default")]
+    pub swing: SwingSpec,
+}
+
+/// Options of the footholds planner's swing paths (key `planning.swing`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwingSpec {
+    /// Clearance (m) of a swinging link's contact box over every environment solid, and its
+    /// lift-off and approach along the surfaces' normals (0.05).
+    #[serde(default = "swing_clearance")]
+    pub clearance: f64,
+}
+
+impl Default for SwingSpec {
+    fn default() -> Self {
+        Self {
+            clearance: swing_clearance(),
+        }
+    }
+}
+
+impl SwingSpec {
+    fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+fn swing_clearance() -> f64 {
+    0.05
 }
 
 /// The default friction cone of motion files: 8 sides inscribed in Coulomb's cone.
@@ -244,6 +279,8 @@ impl Default for PlanningSpec {
             area_scale: 1.0,
             friction_cone: coulomb_cone(),
             margin: 0.0,
+            switch_margin: None,
+            swing: SwingSpec::default(),
         }
     }
 }
@@ -346,7 +383,9 @@ pub struct SegmentSpec {
     /// Robot surface -> environment surface, for every contact held during the segment.
     #[serde(deserialize_with = "unique_keys")]
     pub stance: BTreeMap<String, String>,
-    /// The moves, one after the other.
+    /// The moves, one after the other. None (or one move of landings only, without `com`):
+    /// the footholds planner plans them ([`crate::footholds`]).
+    #[serde(default)]
     pub moves: Vec<MoveSpec>,
     /// Free-link weight for this segment (default: the `ik` one).
     #[serde(default)]

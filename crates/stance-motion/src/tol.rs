@@ -182,3 +182,50 @@ pub const TRAJECTORY_TRAPEZOID: f64 = 1e-4;
 /// Most halvings of an output interval that still disagrees once its switching instants are in
 /// ([`TRAJECTORY_TRAPEZOID`]). Default 12: a 10 ms step halved down to 2.4 us.
 pub const TRAJECTORY_REFINE_DEPTH: usize = 12;
+
+/// Sampling step (m) of the footholds planner's swing traverse when it measures the clearance
+/// of the link's contact box (module `footholds::swing`). Default 1 cm.
+pub const SWING_SAMPLE: f64 = 0.01;
+
+/// How much less than the swing clearance a traverse may keep (m): the start and end of the
+/// traverse are exactly the clearance away from their surfaces. Default 0.1 mm.
+pub const SWING_CLEARANCE_SLACK: f64 = 1e-4;
+
+/// The least raise (m) of a swing traverse per trial. Default 5 mm.
+pub const SWING_RAISE_STEP: f64 = 5e-3;
+
+/// The highest raise (m) of a swing traverse before the planner gives up. Default 1 m.
+pub const MAX_SWING_HEIGHT: f64 = 1.0;
+
+/// A surface normal within this distance of the world's `z` axis is vertical for the swing
+/// planner (legs along it merge). Default 1e-9.
+pub const SWING_VERTICAL: f64 = 1e-9;
+
+/// The widest gap (m) between the static-equilibrium regions of two consecutive stances that
+/// the footholds planner hands to the chained retiming to cross with momentum; wider gaps are
+/// refused before any computation. Default 0.3 m (the box climbing's is 0.04 m).
+pub const MAX_CROSSING_GAP: f64 = 0.3;
+
+/// The smallest `planning.swing.clearance` (m): a swing must leave its surface. Default 1 mm.
+pub const MIN_SWING_CLEARANCE: f64 = 1e-3;
+
+/// The margin fractions the footholds planner tries at the stance switches: each switch's CoM
+/// is the point closest to the feet with at least this fraction of the largest static margin
+/// the two stances share (module `footholds`). The search starts from the middle one.
+pub const SWITCH_MARGIN_FRACTIONS: [f64; 5] = [0.25, 0.4, 0.55, 0.7, 0.85];
+
+/// Grid intervals per segment of the footholds planner's search (the file's grid when
+/// coarser). Default 40: half the pipeline's time of the default 100, the same ranking on the
+/// motions tried.
+pub const PLANNER_GRID: usize = 40;
+
+/// The footholds planner reports its evaluations (`RunOptions::progress`) once it has run for
+/// this long (s). Default 1 s.
+pub const PLANNER_PROGRESS_AFTER: f64 = 1.0;
+
+/// The refinement evaluates the contact rows at the midpoint of an IK step when a contact row
+/// at either end of the step is within this fraction of the weight `m |g|` of its bound
+/// (module `midpoints`). Default 1e-3: a step farther from its bounds cannot reach them within
+/// the step (the rows between samples differ from the samples' by 1e-5 of the weight where
+/// measured).
+pub const MIDPOINT_WATCH: f64 = 1e-3;

@@ -57,7 +57,8 @@ const DIVE: &str = r#"
 [[segments]]
 name = "right foot down the edge"
 stance = { LF = "platform" }
-moves = [{ links = [{ surface = "RF", onto = "floor", at = [0.32, -0.1] }] }]
+# a CoM that stays: the straight landing as written, not a planned swing
+moves = [{ com = { by = [0.0, 0.0, 0.0] }, links = [{ surface = "RF", onto = "floor", at = [0.32, -0.1] }] }]
 "#;
 
 /// The foot lifted, then moved (a free task) towards a point in front of the platform along a

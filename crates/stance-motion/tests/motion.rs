@@ -347,10 +347,6 @@ fn bad_motion_files_get_errors_that_say_what_to_fix() {
             "no surface \"TAIL\"",
         ),
         (
-            format!("{BASE}[[segments]]\nstance = {{ LF = \"floor\" }}\nmoves = []\n"),
-            "no moves",
-        ),
-        (
             format!(
                 "{BASE}[[segments]]\nstance = {{ LF = \"floor\" }}\nmoves = [{{ links = [{{ surface = \"RF\" }}] }}]\n"
             ),

@@ -49,6 +49,7 @@ pub fn motion<'py>(
         time_scale,
         check_friction,
         no_limits: !limits,
+        progress: None,
     };
     let out = py.detach(|| run(spec, &options)).map_err(errors::facade)?;
     let d = json::to_python(py, &out)?;

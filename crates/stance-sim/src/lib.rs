@@ -427,6 +427,7 @@ fn retimed_run(spec: MotionSpec, options: &SimOptions) -> Result<MotionRun, Stan
             time_scale: options.time_scale,
             check_friction: None,
             no_limits: options.no_limits,
+            progress: None,
         },
     )?;
     if run.samples.is_empty() {

@@ -31,7 +31,8 @@ moves = [{ com = { by = [0.0, 0.1, -0.03] } }]
 [[segments]]
 name = "right foot down"
 stance = { LF = "platform" }
-moves = [{ links = [{ surface = "RF", onto = "floor", at = [0.32, -0.1] }] }]
+# a CoM that stays: the straight landing as written, not a planned swing
+moves = [{ com = { by = [0.0, 0.0, 0.0] }, links = [{ surface = "RF", onto = "floor", at = [0.32, -0.1] }] }]
 [[segments]]
 name = "CoM between the feet"
 stance = { LF = "platform", RF = "floor" }

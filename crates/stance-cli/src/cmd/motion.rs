@@ -22,7 +22,8 @@ use super::plot::{phase_plane, PhasePlane};
 
 #[derive(clap::Args)]
 pub struct MotionArgs {
-    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway.
+    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway,
+    /// stair-climbing-footholds, box-climbing-footholds, staircase-walk.
     pub motion: String,
     /// Retime every segment from rest to rest (the paper's way) instead of the whole motion as
     /// one problem.
@@ -63,6 +64,11 @@ pub struct MotionArgs {
     /// Print the per-segment table to standard error.
     #[arg(long)]
     pub table: bool,
+    /// Write the complete motion file that the footholds planner made of the segments it
+    /// plans (CoM via-points, swing paths) to OUT (TOML; JSON for a .json name): `stance
+    /// motion OUT` retimes it to the same result, and it can be edited.
+    #[arg(long, value_name = "OUT")]
+    pub write_plan: Option<PathBuf>,
     /// Do not warn about URDF elements the model does not use (extensions).
     #[arg(long)]
     pub quiet_urdf: bool,
@@ -96,7 +102,11 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         time_scale: args.time_scale,
         check_friction: args.check_friction,
         no_limits: args.no_limits,
+        progress: Some(|line| eprintln!("{line}")),
     };
+    if let Some(out) = &args.write_plan {
+        spec = write_plan(&spec, &options, out)?;
+    }
     let out = args.common.repeated(|| run(spec.clone(), &options))?;
     if let Some(dir) = &args.plot {
         plots(dir, &out, &args.plot_format)?;
@@ -114,6 +124,37 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         );
     }
     write_output(&args.common, &out)
+}
+
+/// Plans `spec` and writes the complete motion file to `out` (a relative URDF path is made
+/// relative to `out`'s folder, or absolute).
+fn write_plan(spec: &MotionSpec, options: &RunOptions, out: &Path) -> Result<MotionSpec> {
+    let base_dir = options.base_dir.as_deref();
+    let planned = stance::motion::footholds::plan(spec, options)?.spec;
+    let mut written = planned.clone();
+    if let stance::motion::spec::RobotRef::Urdf(r) = &mut written.robot {
+        let urdf = Path::new(&r.urdf);
+        if urdf.is_relative() {
+            let from = base_dir.unwrap_or(Path::new(".")).join(urdf);
+            let from = std::fs::canonicalize(&from).unwrap_or(from);
+            let to_dir = out.parent().filter(|p| !p.as_os_str().is_empty());
+            let to_dir = to_dir.map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+            let to_dir = std::fs::canonicalize(&to_dir).unwrap_or(to_dir);
+            r.urdf = from
+                .strip_prefix(&to_dir)
+                .map_or_else(|_| from.display().to_string(), |p| p.display().to_string());
+        }
+    }
+    let text = if out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        serde_json::to_string_pretty(&written)?
+    } else {
+        toml::to_string(&written).context("writing the plan as TOML")?
+    };
+    std::fs::write(out, text).with_context(|| format!("writing the plan to {}", out.display()))?;
+    Ok(planned)
 }
 
 /// The phase planes of the whole motion and of each segment, as `ext` files (`svg`, `png`).

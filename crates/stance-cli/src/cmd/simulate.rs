@@ -15,7 +15,8 @@ use super::io::{write_output, Common};
 
 #[derive(clap::Args)]
 pub struct SimulateArgs {
-    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway.
+    /// Motion file (JSON or TOML), or a built-in motion: stair-climbing, box-climbing, small-sway,
+    /// stair-climbing-footholds, box-climbing-footholds, staircase-walk.
     pub motion: String,
     /// Play the retimed motion K times faster (K < 1: slower).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]

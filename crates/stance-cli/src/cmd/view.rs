@@ -12,8 +12,8 @@ use super::contact::parse_vec3;
 #[derive(clap::Args)]
 pub struct ViewArgs {
     /// A scene or motion file (JSON/TOML), the JSON output of `stance motion`, or a built-in
-    /// name: motions stair-climbing, box-climbing, small-sway; scenes single-support,
-    /// double-support, stairs (box-climbing names the motion: use --scene for the scene).
+    /// name: motions stair-climbing, box-climbing, small-sway, stair-climbing-footholds,
+    /// box-climbing-footholds, staircase-walk; scenes single-support, double-support, stairs (box-climbing names the motion: use --scene for the scene).
     pub source: String,
     /// Read the source as a scene.
     #[arg(long, conflicts_with = "motion")]
