@@ -334,3 +334,30 @@ fn the_staircase_walk_is_optimal_and_passes_every_check() {
         .collect();
     assert_eq!(landed, ["RF", "LF", "RF", "LF", "RF", "LF"]);
 }
+
+/// The gallery's footholds-only motions, written for the planner and not tuned for it.
+#[test]
+fn the_gallery_footholds_motions_are_optimal_and_pass_every_check() {
+    if !jvrc1_available("the_gallery_footholds_motions_are_optimal_and_pass_every_check") {
+        return;
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../gallery");
+    for name in [
+        "footholds-walk",
+        "footholds-step-up",
+        "footholds-slope",
+        "footholds-hand-step",
+    ] {
+        let spec: MotionSpec =
+            stance_motion::input::read_file(&root.join(format!("{name}.toml"))).unwrap();
+        assert!(footholds::planned_segments(&spec).iter().all(|p| *p));
+        let r = run(spec, &RunOptions::default()).unwrap();
+        assert_passes(&r);
+        eprintln!(
+            "{name}: {:.3} s, planned in {:.0} ms (switch margin {})",
+            r.duration.unwrap(),
+            r.planning.as_ref().unwrap().millis,
+            r.planning.as_ref().unwrap().switch_margin
+        );
+    }
+}

@@ -2,8 +2,8 @@
 //! contacts' rectangles, a standing robot's weight, measurements that see a pushed foot slip,
 //! and short simulations. They need MuJoCo in the project virtualenv (`scripts/setup-venv.sh`
 //! installs it; `.ci/run` runs it first) and skip, saying why, without it. The paper's
-//! experiments and the gallery's motions with and without actuator limits run in the ignored
-//! tests at the end (about a minute and a half).
+//! experiments, the gallery's motions with and without actuator limits and the footholds
+//! planner's plans run in the ignored tests at the end (about three minutes).
 
 use stance_motion::plan::MotionPlan;
 use stance_motion::{experiments, spec::MotionSpec};
@@ -377,8 +377,53 @@ fn the_gallery_holds_with_its_limits_and_fails_without() {
     }
 }
 
+/// Motions written as footholds only, planned by the footholds planner: the paper's two
+/// experiments, the staircase walk, and the gallery's walk, step up, slope and hand-supported
+/// step: each holds as retimed and fails 1.5 times faster. About a minute.
+#[test]
+#[ignore = "about a minute of simulation; run with --ignored"]
+fn footholds_plans_hold_as_retimed_and_fail_faster() {
+    if !available("footholds_plans", true) {
+        return;
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../gallery");
+    let built_in = [
+        "stair-climbing-footholds",
+        "box-climbing-footholds",
+        "staircase-walk",
+    ];
+    let gallery = [
+        "footholds-walk",
+        "footholds-step-up",
+        "footholds-slope",
+        "footholds-hand-step",
+    ];
+    let specs = built_in
+        .iter()
+        .map(|n| (n.to_string(), spec(n)))
+        .chain(gallery.iter().map(|n| {
+            let s: MotionSpec =
+                stance_motion::input::read_file(&root.join(format!("{n}.toml"))).unwrap();
+            (n.to_string(), s)
+        }));
+    for (name, s) in specs {
+        for (k, hold) in [(1.0, true), (1.5, false)] {
+            let (_, r) = simulate(
+                s.clone(),
+                &SimOptions {
+                    time_scale: Some(k),
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            eprintln!("{name} x{k}: {}", r.reason);
+            assert_eq!(r.held, hold, "{name} x{k}: {}", r.reason);
+        }
+    }
+}
+
 /// Talos (example-robot-data, a robot the pipeline was not tuned for) steps aside and steps up
-/// a 10 cm platform: each holds as retimed and fails 1.5 times faster. (Its squat still holds
+/// a 10 cm platform, by hand-written moves and from footholds only: each holds as retimed and fails 1.5 times faster. (Its squat still holds
 /// at x1.5: bench/simulation.md.) Skipped without example-robot-data in the virtualenv.
 #[test]
 #[ignore = "about 15 s of simulation; run with --ignored"]
@@ -398,8 +443,10 @@ fn talos_steps_hold_as_retimed_and_fail_faster() {
     for (name, k, hold) in [
         ("step", 1.0, true),
         ("step-up", 1.0, true),
+        ("footholds-step-up", 1.0, true),
         ("step", 1.5, false),
         ("step-up", 1.5, false),
+        ("footholds-step-up", 1.5, false),
     ] {
         let mut spec: MotionSpec = stance_motion::input::read_file(
             &root.join("gallery").join(format!("talos-{name}.toml")),

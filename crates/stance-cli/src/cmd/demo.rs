@@ -4,7 +4,8 @@
 //! GIWC face form `U_stance` (once per stance, certified), the static-equilibrium polygon, a
 //! retiming of a CoM motion under contact stability (GIWC -> TOPP) with its violation between
 //! grid points; for box climbing the robust static-equilibrium polyhedron and a batch of one
-//! million robust CoM tests; and the centroidal quantities of the project's small humanoid.
+//! million robust CoM tests; and the centroidal quantities of the project's small humanoid;
+//! then the paper's whole-body experiments on JVRC-1, written by hand and as footholds only.
 //! Plots (static-equilibrium polygons, the robust region, phase planes) go to `--out DIR` (default `stance-demo`).
 
 use std::fmt::Write as _;
@@ -327,5 +328,73 @@ fn motions(o: &mut String, out: &std::path::Path) -> Result<()> {
         super::motion::plots(&out.join(table.motion), &r, "svg")?;
         o.push_str(&table.compare(&r, &r2r));
     }
+    footholds(o)
+}
+
+/// The paper's experiments written by hand and as footholds only, side by side.
+fn footholds(o: &mut String) -> Result<()> {
+    use stance::motion::{experiments, run, RunOptions};
+    writeln!(
+        o,
+        "\n7. The footholds planner: the same experiments written as stances and landings only \
+         (CoM via-points and swings planned)\n   {:<16} {:>12} {:>12} {:>12} {:>14}  checks (hand / \
+         planned)",
+        "motion", "hand-tuned s", "planned s", "planning ms", "plan+pipe ms"
+    )?;
+    for name in ["stair-climbing", "box-climbing"] {
+        let hand = run(experiments::by_name(name)?, &RunOptions::default())?;
+        let planned = run(
+            experiments::by_name(&format!("{name}-footholds"))?,
+            &RunOptions::default(),
+        )?;
+        // what fails, or "pass"
+        let checks = |r: &stance::motion::result::MotionResult| {
+            let Some(c) = r.checks.as_ref() else {
+                return "-".to_string();
+            };
+            let mut fails = Vec::new();
+            if c.samples_without_forces > 0 {
+                fails.push(format!(
+                    "{} samples without forces",
+                    c.samples_without_forces
+                ));
+            }
+            if !c.collisions.is_empty() {
+                fails.push(format!("{} collisions", c.collisions.len()));
+            }
+            if let Some(m) = c
+                .via_points_missed
+                .iter()
+                .map(|m| m.distance)
+                .reduce(f64::max)
+            {
+                fails.push(format!("via-point missed by {:.1} mm", m * 1e3));
+            }
+            if fails.is_empty() {
+                "pass".into()
+            } else {
+                fails.join(", ")
+            }
+        };
+        let secs = |r: &stance::motion::result::MotionResult| {
+            r.duration.map_or("-".into(), |d| format!("{d:.2}"))
+        };
+        writeln!(
+            o,
+            "   {:<16} {:>12} {:>12} {:>12.0} {:>14.0}  {} / {}",
+            name,
+            secs(&hand),
+            secs(&planned),
+            planned.planning.as_ref().map_or(0.0, |p| p.millis),
+            planned.timings.t_pipeline_ms,
+            checks(&hand),
+            checks(&planned)
+        )?;
+    }
+    writeln!(
+        o,
+        "   (box-climbing-footholds also lands the left foot on the box, where the paper stops with \
+         it lifted towards it)"
+    )?;
     Ok(())
 }
