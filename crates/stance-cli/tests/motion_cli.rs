@@ -250,3 +250,61 @@ fn negative_numbers_get_advice_that_works() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("./-5") && err.contains("read"), "{err}");
 }
+
+/// `--write-plan` writes the complete motion file the footholds planner made, in TOML (or
+/// JSON for a .json name, its URDF path kept valid from the plan's folder), and the written
+/// file retimes to the same duration without planning again.
+#[test]
+fn write_plan_writes_a_file_that_retimes_to_the_same_result() {
+    let footholds = tmp("steps.toml");
+    std::fs::write(
+        &footholds,
+        r#"
+robot = "small-humanoid"
+[[environment]]
+name = "floor"
+position = [0.0, 0.0, 0.0]
+shape = { rectangle = { half_length = 2.0, half_width = 2.0 } }
+friction = 0.9
+[initial.standing]
+com_height = 0.9
+contacts = { LF = { surface = "floor", at = [0.0, 0.1] }, RF = { surface = "floor", at = [0.0, -0.1] } }
+[[segments]]
+stance = { LF = "floor", RF = "floor" }
+[[segments]]
+stance = { LF = "floor" }
+moves = [{ links = [{ surface = "RF", onto = "floor", at = [0.12, -0.1] }] }]
+[[segments]]
+stance = { LF = "floor", RF = "floor" }
+"#,
+    )
+    .unwrap();
+    for name in ["plan.toml", "plan.json"] {
+        let plan = tmp(name);
+        let a = json(&[
+            "motion",
+            footholds.to_str().unwrap(),
+            "--no-checks",
+            "--write-plan",
+            plan.to_str().unwrap(),
+        ]);
+        assert_eq!(a["status"], "optimal");
+        assert_eq!(a["planning"]["segments"].as_array().unwrap().len(), 3);
+        let b = json(&["motion", plan.to_str().unwrap(), "--no-checks"]);
+        assert_eq!(a["duration"], b["duration"], "{name}");
+        assert!(b["planning"].is_null());
+    }
+    // a plan that cannot be written names the path
+    let out = stance()
+        .args([
+            "motion",
+            footholds.to_str().unwrap(),
+            "--write-plan",
+            "/nonexistent-folder/plan.toml",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("/nonexistent-folder/plan.toml"), "{e}");
+}

@@ -10,6 +10,8 @@
 //! The stages without a link are private modules (`src/<stage>.rs`): [`run`] and [`run_full`]
 //! are their API.
 //!
+//! 0. [`footholds`]: segments written as stances and landings only get their CoM via-points
+//!    and swing paths (the file is made complete; the rest of the pipeline sees no difference).
 //! 1. [`plan`]: the motion file ([`spec`]) is validated, names resolved, the robot loaded
 //!    ([`robot`]: its contact surfaces are operational frames of the model), the environment
 //!    built ([`environment`]) and the initial posture found (`stand`).
@@ -71,6 +73,12 @@
 //!   whole body is at rest in path terms (the start, via-points where nothing else moves):
 //!   there the profile may reach the solver's box (`s'^2 = 1e8`), which costs no time. Planar
 //!   convex environment surfaces only.
+//! - The footholds planner ([`footholds`]): each stance switch's CoM maximises a static margin
+//!   near the feet, with one margin fraction for the whole motion searched by the retimed
+//!   duration; it does not search CoM velocities. Where two consecutive stances share no static
+//!   region it places the switch in the middle of the gap and leaves the crossing to the chained
+//!   retiming, which does not always find one: a walk with no double support (small humanoid,
+//!   12 cm gap between single feet) is not retimable at the start of its second swing.
 //! - Collisions ([`collision`]): the robot is its capsules and contact boxes (not its
 //!   meshes), the environment its surfaces' solids; no self-collision. The IK keeps the
 //!   clearance of the links it can move freely, linearised per step (a body may overshoot its

@@ -137,7 +137,7 @@ pub struct LimitsSpec {
     #[serde(default)]
     pub velocity: Scale,
     /// Acceleration limits (default: none).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub acceleration: Option<AccelerationSpec>,
     /// Fraction of the URDF's effort limits, or `false` (default 1.0).
     #[serde(default)]

@@ -14,7 +14,8 @@
 //! configuration = [q...]             #   Pinocchio's q
 //! standing = {com_height, com_xy?, contacts = {LF = {surface, at = [x, y], yaw}, ...}}
 //! [planning]   friction?, area_scale (1), margin (0),
-//!              friction_cone ({sides = 8, approximation = "inner"}: within Coulomb's cone)
+//!              friction_cone ({sides = 8, approximation = "inner"}: within Coulomb's cone),
+//!              switch_margin? and swing = {clearance = 0.05} (the footholds planner)
 //! [ik]         w_com (1), w_link (0.1), w_posture (1e-5), gain (10), contact_gain (20),
 //!              joint_range (0.95), substeps (4), com_blend (0.25, at most a quarter of the
 //!              shortest move)
@@ -23,7 +24,8 @@
 //! [limits]     velocity (1.0: the URDF's; false), acceleration (none; 30.0 or
 //!              {default = 30.0, J = 50.0}), torque (1.0: the URDF's efforts; false)
 //! [[segments]] name?, stance = {LF = "floor", RF = "floor"}, w_link?, gain?
-//! [[segments.moves]] duration (2), com = {by = [..]} | {to = [..]},
+//! [[segments.moves]] (none, or one move of landings only: planned, crate::footholds)
+//!                    duration (2), com = {by = [..]} | {to = [..]},
 //!                    links = [{surface = "RF", by = [..], rotate_by = [r, p, y]}
 //!                           | {surface, to = [..], rpy = [..]}
 //!                           | {surface, onto = "box", at = [x, y], yaw = 0}]
@@ -142,10 +144,18 @@ pub struct EnvironmentSurfaceSpec {
     #[serde(deserialize_with = "strict::vec3")]
     pub position: [f64; 3],
     /// Orientation as roll, pitch, yaw (rad); give this or `rotation`.
-    #[serde(default, deserialize_with = "opt_vec3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec3"
+    )]
     pub rpy: Option<[f64; 3]>,
     /// Orientation as a rotation matrix (row-major, surface frame -> world).
-    #[serde(default, deserialize_with = "opt_mat3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_mat3"
+    )]
     pub rotation: Option<[[f64; 3]; 3]>,
     /// Shape in the surface frame (the plane z = 0).
     pub shape: Shape,
@@ -180,7 +190,11 @@ pub struct StandingSpec {
     /// CoM height above the world origin (m).
     pub com_height: f64,
     /// CoM horizontal position (m); default: the mean of the contact origins.
-    #[serde(default, deserialize_with = "opt_vec2")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec2"
+    )]
     pub com_xy: Option<[f64; 2]>,
 }
 
@@ -204,7 +218,7 @@ pub struct Placement {
 pub struct PlanningSpec {
     /// Friction used in the GIWC, at most every environment surface's (default: each
     /// surface's own).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub friction: Option<f64>,
     /// Area scale of every contact polygon in the GIWC (in (0, 1]; half sizes scaled by its
     /// square root; default 1).
@@ -378,7 +392,7 @@ impl Default for RetimingSpec {
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
     /// Name (default `"segment k"`).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub name: Option<String>,
     /// Robot surface -> environment surface, for every contact held during the segment.
     #[serde(deserialize_with = "unique_keys")]
@@ -388,10 +402,10 @@ pub struct SegmentSpec {
     #[serde(default)]
     pub moves: Vec<MoveSpec>,
     /// Free-link weight for this segment (default: the `ik` one).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub w_link: Option<f64>,
     /// Task gain for this segment (default: the `ik` one).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub gain: Option<f64>,
 }
 
@@ -403,7 +417,7 @@ pub struct MoveSpec {
     #[serde(default = "two")]
     pub duration: f64,
     /// The CoM via-point (default: stay).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub com: Option<ComTarget>,
     /// Free-link via-points.
     #[serde(default)]
@@ -427,27 +441,47 @@ pub struct LinkMoveSpec {
     /// The robot surface whose frame moves.
     pub surface: String,
     /// Offset of the origin from its previous via-point (world axes, m).
-    #[serde(default, deserialize_with = "opt_vec3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec3"
+    )]
     pub by: Option<[f64; 3]>,
     /// Rotation from the previous via-point's orientation, as roll, pitch, yaw (rad) about the
     /// surface frame's own axes (with `by`).
-    #[serde(default, deserialize_with = "opt_vec3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec3"
+    )]
     pub rotate_by: Option<[f64; 3]>,
     /// World position of the origin (m).
-    #[serde(default, deserialize_with = "opt_vec3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec3"
+    )]
     pub to: Option<[f64; 3]>,
     /// World orientation as roll, pitch, yaw (rad; with `to`; default: keep).
-    #[serde(default, deserialize_with = "opt_vec3")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec3"
+    )]
     pub rpy: Option<[f64; 3]>,
     /// Place the surface on this environment surface (a landing: the contact of the next
     /// segment).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub onto: Option<String>,
     /// Coordinates on that surface (m; with `onto`).
-    #[serde(default, deserialize_with = "opt_vec2")]
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        default,
+        deserialize_with = "opt_vec2"
+    )]
     pub at: Option<[f64; 2]>,
     /// Rotation about its normal (rad; with `onto`).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub yaw: Option<f64>,
 }
 
@@ -456,7 +490,7 @@ pub struct LinkMoveSpec {
 #[serde(deny_unknown_fields)]
 pub struct MotionSpec {
     /// Name for reports.
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub name: Option<String>,
     /// The robot.
     pub robot: RobotRef,

@@ -104,10 +104,18 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
         no_limits: args.no_limits,
         progress: Some(|line| eprintln!("{line}")),
     };
+    // with --write-plan, the plan written is the plan run (planned once), with what the
+    // planner did in the output
+    let mut planning = None;
     if let Some(out) = &args.write_plan {
-        spec = write_plan(&spec, &options, out)?;
+        let planned = write_plan(&spec, &options, out)?;
+        spec = planned.spec;
+        planning = Some(planned.info).filter(|i| !i.segments.is_empty());
     }
-    let out = args.common.repeated(|| run(spec.clone(), &options))?;
+    let mut out = args.common.repeated(|| run(spec.clone(), &options))?;
+    if planning.is_some() {
+        out.planning = planning;
+    }
     if let Some(dir) = &args.plot {
         plots(dir, &out, &args.plot_format)?;
     }
@@ -128,10 +136,14 @@ pub fn run_cmd(args: MotionArgs) -> Result<()> {
 
 /// Plans `spec` and writes the complete motion file to `out` (a relative URDF path is made
 /// relative to `out`'s folder, or absolute).
-fn write_plan(spec: &MotionSpec, options: &RunOptions, out: &Path) -> Result<MotionSpec> {
+fn write_plan(
+    spec: &MotionSpec,
+    options: &RunOptions,
+    out: &Path,
+) -> Result<stance::motion::footholds::PlannedMotion> {
     let base_dir = options.base_dir.as_deref();
-    let planned = stance::motion::footholds::plan(spec, options)?.spec;
-    let mut written = planned.clone();
+    let planned = stance::motion::footholds::plan(spec, options)?;
+    let mut written = planned.spec.clone();
     if let stance::motion::spec::RobotRef::Urdf(r) = &mut written.robot {
         let urdf = Path::new(&r.urdf);
         if urdf.is_relative() {
