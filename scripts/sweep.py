@@ -2603,11 +2603,126 @@ KNOWN = {
 }
 
 
+def footholds_steps(n=2, stride=0.12):
+    """The small humanoid's `n` steps forward written as footholds only (both feet down between
+    them): every segment is planned by the footholds planner."""
+    m = small_sway()
+    m["name"] = "footholds-steps"
+    del m["limits"]
+    feet = {"LF": "floor", "RF": "floor"}
+    segs = [{"stance": dict(feet)}]
+    for i in range(n):
+        foot, other, y = ("RF", "LF", -0.1) if i % 2 == 0 else ("LF", "RF", 0.1)
+        segs.append({"name": f"{foot} step {i + 1}", "stance": {other: "floor"},
+                     "moves": [{"links": [{"surface": foot, "onto": "floor",
+                                           "at": [stride * (i + 1), y]}]}]})
+        segs.append({"stance": dict(feet)})
+    m["segments"] = segs
+    return m
+
+
+STEPS = footholds_steps()
+
+
+def footholds_vs(factor=1.0, rel=1e-6, free=False):
+    """Optimal, every segment planned, and the duration `factor` times the reference's (the
+    footholds steps as written, without checks; `free`: without actuator limits)."""
+    args = ["motion", "{f}", "--no-checks"] + (["--no-limits"] if free else [])
+
+    def check(out, run):
+        why = motion_ok(out, run, checks=False)
+        if why:
+            return why
+        planned = (out.get("planning") or {}).get("segments") or []
+        if len(planned) != len(STEPS["segments"]):
+            return f"{len(planned)} planned segments, expected {len(STEPS['segments'])}"
+        ref = run.cached("steps_free" if free else "steps", args, ".json", STEPS)
+        if ref is None or ref.get("duration") is None:
+            return "the reference footholds steps failed"
+        d, want = number(out["duration"]), number(ref["duration"]) * factor
+        if not rel_close(d, want, rel):
+            return f"duration {d!r}, expected {want!r} (relative {abs(d - want) / want:.1e} > {rel:g})"
+        return None
+    return check
+
+
+def footholds_moved(dx, dy, yaw=0.0):
+    m = footholds_steps()
+    m["environment"][0]["position"] = [dx, dy, 0.0]
+    if yaw:
+        m["environment"][0]["rpy"] = [0.0, 0.0, yaw]
+    return m
+
+
+def footholds_cases():
+    """The footholds planner (issue 29): its answers, their invariances, its refusals."""
+    cases = []
+    g = "footholds"
+    steps_ok = lambda out, run: motion_ok(out, run) or (
+        None if len((out.get("planning") or {}).get("segments") or []) == 5 else "not planned")
+    cases.append(motion_case("steps", STEPS, oracle=steps_ok, group=g))
+    cases.append(motion_case("steps_json", STEPS, ["--no-checks"], ext=".json",
+                             oracle=footholds_vs(rel=1e-12), group=g))
+    # Invariances: the world moved (the regions, the swings and the search move with it) or
+    # turned about the vertical (the IK's tolerances: 1e-4).
+    for dx, dy in [(0.3, -0.2), (-5.0, 12.0), (1e3, -3e2)]:
+        cases.append(motion_case(f"moved_{dx:g}_{dy:g}", footholds_moved(dx, dy), ["--no-checks"],
+                                 oracle=footholds_vs(), group=g))
+    for yaw in [math.pi / 2, -2.0]:
+        cases.append(motion_case(f"turned_{yaw:.3g}", footholds_moved(0.0, 0.0, yaw), ["--no-checks"],
+                                 oracle=footholds_vs(rel=1e-4), group=g))
+    # Gravity: every candidate's duration scales alike, so the search picks the same plan and
+    # the duration goes as 1 / sqrt(|g|) (without actuator limits).
+    for grav in [1.0, 9.81 * 4]:
+        spec = mutate(STEPS, ["gravity"], [0.0, 0.0, -grav])
+        cases.append(motion_case(f"gravity_{grav:g}", spec, ["--no-limits", "--no-checks"],
+                                 oracle=footholds_vs(math.sqrt(9.81 / grav), free=True), group=g))
+    # The fraction fixed by the file: planned without a search.
+    for a in [0.25, 1.0]:
+        spec = mutate(STEPS, ["planning", "switch_margin"], a)
+        cases.append(motion_case(f"switch_margin_{a:g}", spec, oracle=lambda out, run, a=a: motion_ok(out, run)
+                                 or (None if out["planning"]["switch_margin"] == a
+                                     and not out["planning"]["evaluations"] else "searched anyway"),
+                                 group=g))
+    # Refusals, naming the key or the segment.
+    for a in [0.0, 1.5, -1.0]:
+        cases.append(motion_case(f"bad_switch_margin_{a:g}", mutate(STEPS, ["planning", "switch_margin"], a),
+                                 expect="error", keywords=[("planning.switch_margin", "(0, 1]")], group=g))
+    for c in [0.0, 1.0, -0.1]:
+        cases.append(motion_case(f"bad_swing_clearance_{c:g}",
+                                 mutate(STEPS, ["planning", "swing"], {"clearance": c}),
+                                 expect="error", keywords=[("planning.swing.clearance",)], group=g))
+    cases.append(motion_case("bad_swing_key", mutate(STEPS, ["planning", "swing"], {"height": 0.1}),
+                             expect="error", keywords=[("height", "clearance")], group=g))
+    long_step = footholds_steps(1, stride=1.5)
+    long_step["segments"] = long_step["segments"][:2] + [{"stance": {"RF": "floor"}}]
+    cases.append(motion_case("bad_long_step", long_step, expect="error",
+                             keywords=[("segment 2", "RF step 1", "m apart", "add a stance")], group=g))
+    two = mutate(STEPS, SEG + [1, "moves", 0, "links"],
+                 [{"surface": "RF", "onto": "floor", "at": [0.1, -0.1]},
+                  {"surface": "LH", "onto": "floor", "at": [0.3, 0.3]}])
+    cases.append(motion_case("bad_two_landings", two, expect="error",
+                             keywords=[("segment 2", "lands 2")], group=g))
+    cases.append(motion_case("bad_onto_unknown", mutate(STEPS, SEG + [1, "moves", 0, "links", 0, "onto"], "flor"),
+                             expect="error", keywords=[("segment 2", "flor", "does not exist")], group=g))
+    nowhere = mutate(STEPS, SEG + [1, "moves", 0, "links", 0], {"surface": "RF", "onto": "floor"})
+    cases.append(motion_case("bad_onto_without_at", nowhere, expect="error",
+                             keywords=[("segment 2", "at = [x, y]")], group=g))
+    # Bounded work: 30 planned steps (91 segments) complete within the bound.
+    cases.append(motion_case("many_steps_30", footholds_steps(30, stride=0.05), ["--no-checks"],
+                             oracle=lambda out, run: motion_ok(out, run, checks=False), group=g))
+    # The planned motion in the other commands: the page and the simulator take it as is.
+    steps_ref = ("steps", ["motion", "{f}", "--no-checks"], ".json", STEPS)
+    cases.append(Case(g, "view", ["view", "{f}", "-o", "{page}"], {"f": STEPS}, outputs={"page": ".html"},
+                      stdout="text", oracle=motion_page(steps_ref, 5)))
+    return cases
+
+
 def all_cases():
     return (cone_cases() + cone_more_cases() + near_degenerate_cases() + topp_cases() + topp_more_cases()
             + retime_cases() + retime_more_cases() + equilibrium_cases() + equilibrium_more_cases()
             + giwc_cases() + robot_cases() + robot_more_cases() + range_cases() + bounded_cases()
-            + motion_cases() + simulate_cases() + view_cases() + joints_cases() + setup_cases()
+            + motion_cases() + footholds_cases() + simulate_cases() + view_cases() + joints_cases() + setup_cases()
             + cli_cases() + cli_more_cases())
 
 

@@ -34,7 +34,6 @@ use super::chain::SampleValues;
 use super::ik_stage::SegmentPath;
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
-use crate::binding::RowOrigin;
 use crate::StanceError;
 
 /// The midpoint rows computed so far, per segment and step, and whether each was cut in.
@@ -153,7 +152,7 @@ pub fn add_failing_midpoints(
                         b: r.b,
                         c: r.c,
                     };
-                    rows[k].add_cut(j, false, row, RowOrigin::Contact);
+                    rows[k].add_step_row(j, row);
                 }
             }
             if let Err(pos) = new_grid.binary_search(&j) {

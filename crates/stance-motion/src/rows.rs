@@ -98,12 +98,12 @@ pub struct LiftedSide {
 /// The rows of one side of an IK sample: the step leaving it (right) or arriving at it (left).
 #[derive(Debug, Clone)]
 pub struct SideRows {
-    /// Contact rows of eq. 14, explicit limit rows, then the cuts of `lifted` the retiming
-    /// found.
+    /// Contact rows of eq. 14, explicit limit rows, the contact rows of the step's midpoint
+    /// when the refinement added them, then the cuts of `lifted` the retiming found.
     pub rows: Vec<Row>,
     /// What each row stands for.
     pub origins: Vec<RowOrigin>,
-    /// Rows before the cuts.
+    /// Rows before the cuts (the explicit rows).
     pub explicit: usize,
     /// The torque rows with the contact forces as unknowns (two contacts or more).
     pub lifted: Option<Box<LiftedSide>>,
@@ -303,6 +303,17 @@ impl SegmentRows {
         side.rows.push(row);
         side.origins.push(origin);
         self.cuts += 1;
+    }
+
+    /// Adds an explicit contact row to sample `j`'s right side (a row of the model at a point
+    /// inside the step that leaves `j`, written in `j`'s state: module `midpoints`), before
+    /// the lifted rows' cuts; the grid's rows change at the next [`Self::refresh`] or
+    /// [`Self::set_grid`].
+    pub fn add_step_row(&mut self, j: usize, row: Row) {
+        let side = self.side_mut(j, false);
+        side.rows.insert(side.explicit, row);
+        side.origins.insert(side.explicit, RowOrigin::Contact);
+        side.explicit += 1;
     }
 
     /// Re-lays the grid out after cuts.
