@@ -6,10 +6,22 @@
 //! The segments' path parameters are laid end to end: segment `k` covers `[S_k, S_k+1]` of the
 //! global parameter `s`, and the IK made `q_s` continuous across boundaries (each segment starts
 //! from the state where the previous one ended), so `q_s^A s'_A = q_s^B s'_B` holds with one
-//! `s'` on both sides: the physical joint velocity is continuous. At a boundary grid point the
-//! rows of both segments apply (the stance before and the stance after must both hold the
-//! motion at the switching instant; the path accelerations `p_ss`, `l2` may differ on the two
-//! sides). Each row may be tightened by a margin, `a u + b x + c + margin m |g| <= 0`.
+//! `s'` on both sides: the physical joint velocity is continuous. Each row may be tightened by a
+//! margin, `a u + b x + c + margin m |g| <= 0`.
+//!
+//! **Stance switches.** At a boundary grid point `b` both stances hold the motion at the
+//! switching instant, each with its own path acceleration: `u` jumps there (and so may `p_ss`,
+//! `l2`). The interpolation discretization imposes a point's rows with the acceleration of the
+//! interval after it and of the interval before it; at a switch that would ask the stance
+//! before to hold the acceleration after, and the stance after the one before, which forbids
+//! every crossing where the acceleration reverses (a CoM that leaves one support falling and is
+//! caught by the next: measured on a walk without double support, whose switch then had no
+//! feasible state at all). So at `b` only the stance after holds, with `u_b`
+//! (`CanonicalConstraints::with_next_rows`: none of `b`'s rows at the end of the interval
+//! before), and the stance before holds with `u_b-1` at `x_b = x_b-1 + 2 Delta u_b-1`, written
+//! in that interval's own state at `b - 1`: `(a + 2 Delta b) u + b x + c <= 0`. Inside a
+//! segment the rows keep the plain interpolation (both sides of a point with both
+//! accelerations: slightly conservative where `q_ss` jumps at an IK sample).
 //!
 //! **No impacts.** Where a contact is made, the landing surface's velocity is `J q_s s'`; the
 //! references bring it to rest ([`super::references`]), but tracking leaves a residual `J q_s`,
@@ -339,23 +351,47 @@ fn layout(
     let mut x_bounds = Vec::new();
     let mut seg_start = Vec::with_capacity(nseg + 1);
     let mut s_offset = vec![0.0];
+    // per point, its rows also imposed at the end of the interval before it (module doc,
+    // "Stance switches")
+    let mut next_counts = Vec::new();
     for k in 0..nseg {
         let (path, r) = (&paths[k], &rows[k]);
         let off = s_offset[k];
         let first = usize::from(k > 0);
         seg_start.push(s.len() - first);
         let last = r.grid.len() - 1;
+        let switch = k + 1 < nseg;
         for i in first..=last {
             s.push(off + path.samples[r.grid[i]].s);
-            extend_with_margin(
-                &mut all,
-                &mut origins,
-                r.rows_at(i),
-                r.origins_at(i),
-                margin,
-            );
+            let start = all.len();
+            if !(switch && i == last) {
+                extend_with_margin(
+                    &mut all,
+                    &mut origins,
+                    r.rows_at(i),
+                    r.origins_at(i),
+                    margin,
+                );
+            }
+            next_counts.push(all.len() - start);
             let mut bound = [0.0, f64::INFINITY];
-            if i == last && k + 1 < nseg {
+            if switch && i + 1 == last {
+                // the stance before the switch at the switch sample: with this interval's
+                // acceleration only, in this interval's state
+                let two_delta = 2.0 * (path.samples[r.grid[last]].s - path.samples[r.grid[i]].s);
+                let shifted: Vec<Row> = r
+                    .rows_at(last)
+                    .iter()
+                    .map(|row| Row {
+                        a: row.a + two_delta * row.b,
+                        b: row.b,
+                        c: row.c,
+                    })
+                    .collect();
+                extend_with_margin(&mut all, &mut origins, &shifted, r.origins_at(last), margin);
+            }
+            if switch && i == last {
+                // the stance after the switch: with the next interval's acceleration only
                 let next = &rows[k + 1];
                 extend_with_margin(
                     &mut all,
@@ -372,7 +408,9 @@ fn layout(
         s_offset.push(off + path.samples[r.grid[last]].s);
     }
     seg_start.push(s.len() - 1);
-    let constraints = CanonicalConstraints::new(s, offsets, all)?.with_x_bounds(x_bounds)?;
+    let constraints = CanonicalConstraints::new(s, offsets, all)?
+        .with_x_bounds(x_bounds)?
+        .with_next_rows(next_counts)?;
     Ok(Layout {
         constraints,
         origins,
@@ -389,16 +427,20 @@ fn segment_constraints(l: &Layout, k: usize) -> Result<CanonicalConstraints, Sta
     let mut offsets = vec![0];
     let mut rows = Vec::new();
     let mut xb = Vec::new();
+    let mut next = Vec::new();
     for i in a..=b {
         rows.extend_from_slice(c.rows_at(i));
         offsets.push(rows.len());
+        next.push(c.next_rows_at(i).len());
         xb.push(if i == a || i == b {
             [0.0, f64::INFINITY]
         } else {
             c.x_bounds_at(i)
         });
     }
-    Ok(CanonicalConstraints::new(grid, offsets, rows)?.with_x_bounds(xb)?)
+    Ok(CanonicalConstraints::new(grid, offsets, rows)?
+        .with_x_bounds(xb)?
+        .with_next_rows(next)?)
 }
 
 /// One solve of the layout: the profile or the located failure, and the per-segment solves

@@ -130,6 +130,8 @@ pub struct SegmentRows {
     /// Rows at the grid points: at an interior point those of both sides (the step arriving
     /// and the step leaving), at the first point the right side, at the last the left side.
     pub points: PointRows,
+    /// Segment-local path parameter of every IK sample.
+    pub s: Vec<f64>,
     /// The rows of both sides of each IK sample, where computed (the grid's samples, and every
     /// sample once the refinement asked for them).
     pub sides: Vec<Option<Box<Sides>>>,
@@ -144,6 +146,11 @@ pub struct SegmentRows {
 }
 
 impl SegmentRows {
+    /// The segment-local path parameter of IK sample `j` (its grid's samples: the layout).
+    pub fn s_of(&self, j: usize) -> f64 {
+        self.s[j]
+    }
+
     /// The rows at grid point `i`.
     pub fn rows_at(&self, i: usize) -> &[Row] {
         self.points.rows_at(i)
@@ -454,6 +461,7 @@ pub fn segment_rows(
         contacts,
         grid: grid.clone(),
         points: PointRows::new(),
+        s: path.samples.iter().map(|x| x.s).collect(),
         sides: vec![None; path.samples.len()],
         t_u,
         t_abc: Duration::ZERO,

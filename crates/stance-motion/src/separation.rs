@@ -6,8 +6,10 @@
 //! A side of an IK sample with two contacts or more has lifted rows in `(u, x, y)`
 //! ([`crate::limit_rows`]): its admissible states are their projection onto `(u, x)`. The solver
 //! asks the oracle about each state its LPs reach at a grid point; the oracle tests it against
-//! every lifted side of that point (the grid point's own sides, and at a segment boundary the
-//! next segment's first side): a contact-force witness, or the margin program
+//! every lifted side of that point (the grid point's own sides; at a stance switch the stance
+//! after it only, the stance before it at the point before, at the state `x + 2 Delta u` the
+//! interval reaches at the switch, a cut found there written back in `(u, x)`: module doc of
+//! `chain`): a contact-force witness, or the margin program
 //! ([`stance_topp::lifted::Membership::separate`]), accepts it, or the program's dual gives a
 //! row valid for every admissible state of that side that the state violates. The solver adds
 //! the row to the point and solves that LP again; when every optimum is accepted, the profile
@@ -48,8 +50,11 @@ pub struct FoundCut {
 /// The oracle of the lifted sides of a layout's grid points (module doc).
 pub struct LiftedOracle<'a> {
     rows: &'a mut [SegmentRows],
-    /// Per global grid point, its lifted sides.
-    points: Vec<Vec<SideRef>>,
+    /// Per global grid point, its lifted sides: each with the `2 Delta` that maps the point's
+    /// state to the side's (`x_side = x + 2 Delta u`: the stance before a switch, at the
+    /// point before it; zero otherwise), and whether it also holds at the end of the interval
+    /// before the point (not at a switch: module doc of `chain`).
+    points: Vec<Vec<(SideRef, f64, bool)>>,
     /// Added to the solver's grid index (a segment solved alone).
     pub offset: usize,
     member: Membership,
@@ -69,21 +74,33 @@ impl<'a> LiftedOracle<'a> {
         let n = seg_start.last().map_or(0, |&e| e + 1);
         let mut points = vec![Vec::new(); n];
         let mut any = false;
+        let nseg = rows.len();
         for (k, r) in rows.iter().enumerate() {
             let last = r.grid.len() - 1;
             for (i, &j) in r.grid.iter().enumerate() {
                 let Some(sides) = r.sides[j].as_ref() else {
                     continue;
                 };
+                let g = seg_start[k] + i;
                 for (left, on) in [(false, i < last), (true, i > 0)] {
-                    if on && sides[usize::from(left)].lifted.is_some() {
-                        points[seg_start[k] + i].push(SideRef {
-                            segment: k,
-                            sample: j,
-                            left,
-                        });
-                        any = true;
+                    if !(on && sides[usize::from(left)].lifted.is_some()) {
+                        continue;
                     }
+                    let side = SideRef {
+                        segment: k,
+                        sample: j,
+                        left,
+                    };
+                    let entry = if left && i == last && k + 1 < nseg {
+                        // the stance before a switch: at the point before, in its state
+                        let two_delta = 2.0 * (r.s_of(j) - r.s_of(r.grid[i - 1]));
+                        (g - 1, (side, two_delta, false))
+                    } else {
+                        // the stance after a switch holds with its own interval only
+                        (g, (side, 0.0, !(k > 0 && i == 0)))
+                    };
+                    points[entry.0].push(entry.1);
+                    any = true;
                 }
             }
         }
@@ -109,23 +126,34 @@ impl<'a> LiftedOracle<'a> {
     }
 }
 
-impl Separation for LiftedOracle<'_> {
-    fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+impl LiftedOracle<'_> {
+    /// The first lifted side of `point` (all of them, or those that also hold at the end of the
+    /// interval before: `next`) that `(u, x)` violates, as a cut in the point's state.
+    fn separate_sides(
+        &mut self,
+        point: usize,
+        u: f64,
+        x: f64,
+        next: bool,
+    ) -> Result<Option<Cut>, ToppError> {
         let t0 = Instant::now();
         let mut out = None;
         let sides = self
             .points
             .get(point + self.offset)
             .map_or(&[][..], Vec::as_slice);
-        for &side in sides {
+        for &(side, two_delta, both) in sides {
+            if next && !both {
+                continue;
+            }
             self.tests += 1;
             let lifted = self.rows[side.segment].sides[side.sample]
                 .as_mut()
                 .and_then(|s| s[usize::from(side.left)].lifted.as_mut())
                 .expect("the oracle's sides have lifted rows");
-            let Some(cut) = self
-                .member
-                .separate(&lifted.rows, u, x, &mut lifted.witnesses)?
+            let Some(cut) =
+                self.member
+                    .separate(&lifted.rows, u, x + two_delta * u, &mut lifted.witnesses)?
             else {
                 continue;
             };
@@ -136,15 +164,31 @@ impl Separation for LiftedOracle<'_> {
                 .find(|o| matches!(o, RowOrigin::TorqueWithContacts(_)))
                 .unwrap_or(RowOrigin::Contact);
             let tag = self.found.len() as u32;
+            // kept in the side's own state (the layout shifts it), given in the point's
             self.found.push(FoundCut {
                 side,
                 row: cut.row,
                 origin,
             });
-            out = Some(Cut { row: cut.row, tag });
+            let row = Row {
+                a: cut.row.a + two_delta * cut.row.b,
+                b: cut.row.b,
+                c: cut.row.c,
+            };
+            out = Some(Cut { row, tag });
             break;
         }
         self.elapsed += t0.elapsed();
         Ok(out)
+    }
+}
+
+impl Separation for LiftedOracle<'_> {
+    fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        self.separate_sides(point, u, x, false)
+    }
+
+    fn separate_next(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        self.separate_sides(point, u, x, true)
     }
 }

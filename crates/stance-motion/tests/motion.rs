@@ -39,7 +39,7 @@ fn rest_to_rest(mut s: MotionSpec) -> MotionSpec {
 
 /// The discretized retiming of `k` (interpolation) on its grid points `first..N` as one sparse
 /// LP over the states `x_first..x_N` (clarabel, independent of the crate's LP kernel): minimize
-/// `q . x` subject to every row at `(u_i, x_i)` and at `(u_i, x_i+1)` with
+/// `q . x` subject to every row at `(u_i, x_i)` and (`next_rows_at`) at `(u_i, x_i+1)` with
 /// `u_i = (x_i+1 - x_i) / (2 Delta_i)`, the bounds on `x` (capped at `x_cap`, the solver's box),
 /// `x_N = 0`, and `x_first = 0` when `from_rest`.
 fn tail_lp(
@@ -92,7 +92,9 @@ fn tail_lp(
                     &mut b,
                 );
             }
-            for r in k.rows_at(first + i + 1) {
+            // the next point's rows that also hold at this interval's end (at a stance
+            // switch, the stance after it holds with the next interval only)
+            for r in k.next_rows_at(first + i + 1) {
                 push(
                     &[(i + 1, r.a * w + r.b), (i, -r.a * w)],
                     -r.c,

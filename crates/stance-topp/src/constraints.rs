@@ -60,6 +60,9 @@ pub struct CanonicalConstraints {
     rows: Vec<Row>,
     x_bounds: Option<Vec<[f64; 2]>>,
     u_bounds: Option<Vec<[f64; 2]>>,
+    /// Per grid point, how many of its leading rows the interpolation discretization also
+    /// imposes at the end of the interval before it (`None`: all; [`Self::with_next_rows`]).
+    next_counts: Option<Vec<usize>>,
 }
 
 /// Largest `|e|` of the path parameter's unit `L = 2^e` ([`CanonicalConstraints::grid_unit`]):
@@ -264,6 +267,7 @@ impl CanonicalConstraints {
             rows,
             x_bounds: None,
             u_bounds: None,
+            next_counts: None,
         })
     }
 
@@ -341,6 +345,55 @@ impl CanonicalConstraints {
         check_bounds("x bounds", &bounds, self.s.len(), false)?;
         self.x_bounds = Some(bounds);
         Ok(self)
+    }
+
+    /// Says, per grid point, how many of its leading rows the interpolation discretization also
+    /// imposes at the end of the interval before it (`counts[i]` of `rows_at(i)`; the others
+    /// hold with the grid point's own `u_i` only). By default all of them: a point's rows hold on
+    /// both sides of it. Fewer where the path's constraints change at the point (a contact
+    /// switch): the rows of the stance after it must not hold with the acceleration before it.
+    ///
+    /// # Errors
+    ///
+    /// [`ToppError::Shape`] when `counts` does not have one entry per grid point, or one
+    /// exceeds its point's rows.
+    ///
+    /// ```
+    /// use stance_topp::{CanonicalConstraints, Row};
+    /// let r = Row { a: 1.0, b: 0.0, c: -1.0 };
+    /// let k = CanonicalConstraints::new(vec![0.0, 1.0], vec![0, 1, 2], vec![r, r]).unwrap();
+    /// let k = k.with_next_rows(vec![1, 0]).unwrap();
+    /// assert!(k.next_rows_at(1).is_empty());
+    /// assert_eq!(k.rows_at(1).len(), 1);
+    /// ```
+    pub fn with_next_rows(mut self, counts: Vec<usize>) -> Result<Self, ToppError> {
+        if counts.len() != self.s.len() {
+            return Err(ToppError::Shape {
+                what: "rows imposed at the previous interval's end (one count per grid point)"
+                    .into(),
+                expected: self.s.len(),
+                got: counts.len(),
+            });
+        }
+        if let Some(i) = (0..counts.len()).find(|&i| counts[i] > self.rows_at(i).len()) {
+            return Err(ToppError::Shape {
+                what: format!("rows imposed at the previous interval's end at grid point {i}"),
+                expected: self.rows_at(i).len(),
+                got: counts[i],
+            });
+        }
+        self.next_counts = Some(counts);
+        Ok(self)
+    }
+
+    /// The rows of grid point `i` that the interpolation discretization also imposes at the
+    /// end of the interval before it ([`Self::with_next_rows`]; all by default).
+    pub fn next_rows_at(&self, i: usize) -> &[Row] {
+        let rows = self.rows_at(i);
+        match &self.next_counts {
+            Some(c) => &rows[..c[i]],
+            None => rows,
+        }
     }
 
     /// Adds bounds `lo_i <= u <= hi_i` on `u = s''` at every grid point (`N + 1` pairs).
@@ -454,6 +507,7 @@ impl CanonicalConstraints {
                 rows,
                 x_bounds: scale(&self.x_bounds, -2 * e),
                 u_bounds: scale(&self.u_bounds, -e),
+                next_counts: self.next_counts.clone(),
             },
             l,
         )))

@@ -133,8 +133,8 @@ fn assemble<'a>(
         ];
         lines.n_head = K_LINES;
         if with_interp && disc == Discretization::Interpolation {
-            lines.next = k.rows_at(i + 1);
-            lines.next_cuts = cuts.at(i + 1);
+            lines.next = k.next_rows_at(i + 1);
+            lines.next_cuts = cuts.next_at(i + 1);
         }
     }
     let [xl, xh] = k.x_bounds_at(i);
@@ -214,7 +214,12 @@ fn solve_in(
     });
     // the cuts back in the caller's units: (a / L, b / L^2, c), scaled into the window
     let mut cuts = sol.cuts;
-    for r in cuts.rows.iter_mut().flatten() {
+    for r in cuts
+        .rows
+        .iter_mut()
+        .flatten()
+        .chain(cuts.next_rows.iter_mut().flatten())
+    {
         *r = Row {
             a: r.a / l,
             b: r.b / l2,
@@ -322,14 +327,16 @@ fn solve_unit(
             };
             // the step's state at its grid point, and with interpolation the next point's
             let x_next = xi + two_delta * u_hi;
-            let mut cut = sep.separate(i, u_hi, xi)?.map(|c| (i, c));
+            let mut cut = sep.separate(i, u_hi, xi)?.map(|c| (i, c, false));
             if cut.is_none() && disc == Discretization::Interpolation {
-                cut = sep.separate(i + 1, u_hi, x_next)?.map(|c| (i + 1, c));
+                cut = sep
+                    .separate_next(i + 1, u_hi, x_next)?
+                    .map(|c| (i + 1, c, true));
             }
-            let Some((p, c)) = cut else {
+            let Some((p, c, next)) = cut else {
                 break Some(u_hi);
             };
-            cuts.push(p, c);
+            cuts.push(p, c, next);
             stats.cuts += 1;
             rounds += 1;
             if rounds > MAX_CUTS_PER_LP {
@@ -491,7 +498,7 @@ fn backward_pass(
         let Some(c) = cut else {
             break set;
         };
-        cuts.push(n - 1, c);
+        cuts.push(n - 1, c, false);
         stats.cuts += 1;
         rounds += 1;
         if rounds > MAX_CUTS_PER_LP {
@@ -523,22 +530,22 @@ fn backward_pass(
             let mut cut = None;
             for (u, x) in optima {
                 if let Some(c) = sep.separate(i, u, x)? {
-                    cut = Some((i, c));
+                    cut = Some((i, c, false));
                     break;
                 }
                 if disc == Discretization::Interpolation {
-                    if let Some(c) = sep.separate(i + 1, u, x + two_delta * u)? {
-                        cut = Some((i + 1, c));
+                    if let Some(c) = sep.separate_next(i + 1, u, x + two_delta * u)? {
+                        cut = Some((i + 1, c, true));
                         break;
                     }
                 }
             }
-            let Some((p, c)) = cut else {
+            let Some((p, c, next)) = cut else {
                 controllable[i] = Some(set);
                 active = act;
                 break;
             };
-            cuts.push(p, c);
+            cuts.push(p, c, next);
             stats.cuts += 1;
             rounds += 1;
             if rounds > MAX_CUTS_PER_LP {

@@ -38,6 +38,18 @@ pub trait Separation {
     ///
     /// Whatever stops the oracle (it ends the solve).
     fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError>;
+
+    /// The same for the constraints of grid point `point` that also hold at the end of the
+    /// interval before it (the interpolation discretization asks this with that interval's
+    /// state; [`crate::CanonicalConstraints::with_next_rows`]). By default all of them:
+    /// [`Self::separate`].
+    ///
+    /// # Errors
+    ///
+    /// Whatever stops the oracle (it ends the solve).
+    fn separate_next(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        self.separate(point, u, x)
+    }
 }
 
 /// The cuts found per grid point.
@@ -47,6 +59,9 @@ pub struct Cuts {
     pub rows: Vec<Vec<Row>>,
     /// Their tags.
     pub tags: Vec<Vec<u32>>,
+    /// The rows among them that the oracle gave for the end of the interval before the point
+    /// ([`Separation::separate_next`]): also imposed there.
+    pub next_rows: Vec<Vec<Row>>,
 }
 
 impl Cuts {
@@ -55,6 +70,7 @@ impl Cuts {
         Self {
             rows: vec![Vec::new(); n],
             tags: vec![Vec::new(); n],
+            next_rows: vec![Vec::new(); n],
         }
     }
 
@@ -63,10 +79,20 @@ impl Cuts {
         self.rows.get(i).map_or(&[], Vec::as_slice)
     }
 
-    /// Adds a cut at grid point `i`.
-    pub fn push(&mut self, i: usize, cut: Cut) {
+    /// The cuts of grid point `i` that also hold at the end of the interval before it (none
+    /// past the end).
+    pub fn next_at(&self, i: usize) -> &[Row] {
+        self.next_rows.get(i).map_or(&[], Vec::as_slice)
+    }
+
+    /// Adds a cut at grid point `i` (`next`: [`Separation::separate_next`] gave it, and it
+    /// also holds at the end of the interval before the point).
+    pub fn push(&mut self, i: usize, cut: Cut, next: bool) {
         self.rows[i].push(cut.row);
         self.tags[i].push(cut.tag);
+        if next {
+            self.next_rows[i].push(cut.row);
+        }
     }
 
     /// Number of cuts.
@@ -88,17 +114,34 @@ pub(crate) struct OnUnitGrid<'a> {
     pub l: f64,
 }
 
+impl OnUnitGrid<'_> {
+    /// A cut in the caller's units, in the unit grid's.
+    fn to_unit(&self, mut c: Cut) -> Cut {
+        let l = self.l;
+        c.row = Row {
+            a: c.row.a * l,
+            b: c.row.b * l * l,
+            c: c.row.c,
+        };
+        crate::constraints::into_window(&mut c.row);
+        c
+    }
+}
+
 impl Separation for OnUnitGrid<'_> {
     fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
         let l = self.l;
-        Ok(self.inner.separate(point, u * l, x * l * l)?.map(|mut c| {
-            c.row = Row {
-                a: c.row.a * l,
-                b: c.row.b * l * l,
-                c: c.row.c,
-            };
-            crate::constraints::into_window(&mut c.row);
-            c
-        }))
+        Ok(self
+            .inner
+            .separate(point, u * l, x * l * l)?
+            .map(|c| self.to_unit(c)))
+    }
+
+    fn separate_next(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        let l = self.l;
+        Ok(self
+            .inner
+            .separate_next(point, u * l, x * l * l)?
+            .map(|c| self.to_unit(c)))
     }
 }
