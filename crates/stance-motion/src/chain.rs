@@ -930,7 +930,7 @@ pub fn sample_row_values(
 
 /// The profile's state `(u, x)` leaving (`left = false`) or arriving at (`left = true`) the
 /// global path parameter `s`.
-fn state_at(profile: &Profile, s: f64, left: bool) -> (f64, f64) {
+pub fn state_at(profile: &Profile, s: f64, left: bool) -> (f64, f64) {
     let grid = profile.grid();
     let (x, u) = (profile.x(), profile.u());
     let p = if left {

@@ -548,17 +548,7 @@ fn segment_references(
             };
             let plan_l = &mut links[idx];
             let from = plan_l.legs.last().map_or(plan_l.start, |l| l.to);
-            let to = match &lm.goal {
-                LinkGoal::By { offset, rotate } => Pose {
-                    rotation: from.rotation * rotate,
-                    translation: from.translation + offset,
-                },
-                LinkGoal::To { position, rotation } => Pose {
-                    rotation: rotation.unwrap_or(from.rotation),
-                    translation: *position,
-                },
-                LinkGoal::Onto { pose, .. } => *pose,
-            };
+            let to = lm.goal.after(&from);
             plan_l.legs.push(LinkLeg {
                 s: [s0, s1],
                 from,

@@ -30,7 +30,7 @@ use stance_topp::factored::eq14_vectors;
 use stance_topp::path::PathPoint;
 use stance_topp::{Profile, Row};
 
-use super::chain::SampleValues;
+use super::chain::{state_at, SampleValues};
 use super::ik_stage::SegmentPath;
 use super::plan::MotionPlan;
 use super::rows::SegmentRows;
@@ -106,7 +106,6 @@ pub fn add_failing_midpoints(
     let m = &plan.robot.model;
     let weight = m.total_mass() * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     let watch = crate::tol::MIDPOINT_WATCH * weight;
-    let (grid, x, u) = (p.grid(), p.x(), p.u());
     if cache.rows.len() < paths.len() {
         cache.rows.resize_with(paths.len(), HashMap::new);
     }
@@ -130,23 +129,18 @@ pub fn add_failing_midpoints(
                 continue;
             }
             let d = 0.5 * (path.samples[j + 1].s - path.samples[j].s);
-            let sm = s_offset[k] + path.samples[j].s + d;
-            let i = grid
-                .partition_point(|&g| g <= sm)
-                .saturating_sub(1)
-                .min(u.len() - 1);
-            let xm = (x[i] + 2.0 * u[i] * (sm - grid[i])).max(0.0);
+            let (ui, xm) = state_at(p, s_offset[k] + path.samples[j].s + d, false);
             let worst = entry
                 .0
                 .iter()
-                .map(|r| r.a * u[i] + r.b * xm + r.c)
+                .map(|r| r.a * ui + r.b * xm + r.c)
                 .fold(f64::NEG_INFINITY, f64::max);
             if worst <= -0.5 * margin {
                 continue;
             }
             entry.1 = true;
             for r in &entry.0 {
-                if r.a * u[i] + r.b * xm + r.c > -watch {
+                if r.a * ui + r.b * xm + r.c > -watch {
                     let row = Row {
                         a: r.a + 2.0 * r.b * d,
                         b: r.b,

@@ -39,6 +39,30 @@ pub enum LinkGoal {
     },
 }
 
+impl LinkGoal {
+    /// Where the link's frame is after this goal, from `from` (its previous via-point).
+    ///
+    /// ```
+    /// use stance_motion::plan::LinkGoal;
+    /// use stance_robot::Pose;
+    /// let up = LinkGoal::By { offset: [0.0, 0.0, 0.1].into(), rotate: nalgebra::Matrix3::identity() };
+    /// assert_eq!(up.after(&Pose::identity()).translation.z, 0.1);
+    /// ```
+    pub fn after(&self, from: &Pose) -> Pose {
+        match self {
+            LinkGoal::By { offset, rotate } => Pose {
+                rotation: from.rotation * rotate,
+                translation: from.translation + offset,
+            },
+            LinkGoal::To { position, rotation } => Pose {
+                rotation: rotation.unwrap_or(from.rotation),
+                translation: *position,
+            },
+            LinkGoal::Onto { pose, .. } => *pose,
+        }
+    }
+}
+
 /// A free link's via-point in a move.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinkMove {

@@ -319,7 +319,12 @@ fn cuts_give_the_profile_of_the_exact_projections() {
         x_lo: 0.0,
         x_hi: 1e4,
     };
+    // per point, the exact projections that hold on both sides of it, and those that hold
+    // with the interval after it only (at a stance switch: the module doc of the chained
+    // retiming; the stance before a switch at the point before, in that interval's state)
     let mut extra: Vec<Vec<Row>> = vec![Vec::new(); k.num_points()];
+    let mut extra_here: Vec<Vec<Row>> = vec![Vec::new(); k.num_points()];
+    let nseg = run.rows.len();
     let (mut projector, mut out) = (Projector::new(), Projection::default());
     let (mut sides, mut cuts, mut worst) = (0, 0, 0.0f64);
     for (seg, r) in run.rows.iter().enumerate() {
@@ -363,21 +368,41 @@ fn cuts_give_the_profile_of_the_exact_projections() {
                     );
                     cuts += 1;
                 }
-                extra[rt.seg_start[seg] + i].extend_from_slice(&out.rows);
+                let g = rt.seg_start[seg] + i;
+                if left && i == last && seg + 1 < nseg {
+                    let two_delta = 2.0
+                        * (run.paths[seg].samples[j].s - run.paths[seg].samples[r.grid[i - 1]].s);
+                    extra_here[g - 1].extend(out.rows.iter().map(|row| Row {
+                        a: row.a + two_delta * row.b,
+                        b: row.b,
+                        c: row.c,
+                    }));
+                } else if !left && i == 0 && seg > 0 {
+                    extra_here[g].extend_from_slice(&out.rows);
+                } else {
+                    extra[g].extend_from_slice(&out.rows);
+                }
             }
         }
     }
     let mut rows = Vec::new();
     let mut offsets = vec![0];
-    for (i, e) in extra.iter().enumerate() {
-        rows.extend_from_slice(k.rows_at(i));
-        rows.extend_from_slice(e);
+    let mut next = Vec::new();
+    for i in 0..k.num_points() {
+        let both = k.next_rows_at(i);
+        rows.extend_from_slice(both);
+        rows.extend_from_slice(&extra[i]);
+        next.push(both.len() + extra[i].len());
+        rows.extend_from_slice(&k.rows_at(i)[both.len()..]);
+        rows.extend_from_slice(&extra_here[i]);
         offsets.push(rows.len());
     }
     let bounds = (0..k.num_points()).map(|i| k.x_bounds_at(i)).collect();
     let exact = CanonicalConstraints::new(k.grid().to_vec(), offsets, rows)
         .unwrap()
         .with_x_bounds(bounds)
+        .unwrap()
+        .with_next_rows(next)
         .unwrap();
     let sol = stance_topp::solve(&exact, &SolveOptions::new(spec.retiming.discretization)).unwrap();
     let d_exact = sol.duration().unwrap();

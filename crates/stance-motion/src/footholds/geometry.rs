@@ -75,18 +75,7 @@ fn walk(plan: &MotionPlan, data: &Data) -> Result<Walk, StanceError> {
         out.stances.push(stance);
         for mv in &seg.moves {
             for l in &mv.links {
-                let from = pose[l.surface];
-                pose[l.surface] = match &l.goal {
-                    LinkGoal::By { offset, rotate } => Pose {
-                        rotation: from.rotation * rotate,
-                        translation: from.translation + offset,
-                    },
-                    LinkGoal::To { position, rotation } => Pose {
-                        rotation: rotation.unwrap_or(from.rotation),
-                        translation: *position,
-                    },
-                    LinkGoal::Onto { pose, .. } => *pose,
-                };
+                pose[l.surface] = l.goal.after(&pose[l.surface]);
                 resting[l.surface] = match &l.goal {
                     LinkGoal::Onto { surface, .. } => Some(*surface),
                     _ => None,
