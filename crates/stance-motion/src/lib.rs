@@ -75,10 +75,11 @@
 //!   convex environment surfaces only.
 //! - The footholds planner ([`footholds`]): each stance switch's CoM maximises a static margin
 //!   near the feet, with one margin fraction for the whole motion searched by the retimed
-//!   duration; it does not search CoM velocities. Where two consecutive stances share no static
+//!   duration; it does not plan CoM velocities. Where two consecutive stances share no static
 //!   region it places the switch in the middle of the gap and leaves the crossing to the chained
-//!   retiming, which does not always find one: a walk with no double support (small humanoid,
-//!   12 cm gap between single feet) is not retimable at the start of its second swing.
+//!   retiming along the straight CoM path, which does not always find one: a walk with no double
+//!   support (small humanoid, 12 cm between the single feet' regions) crosses its switch but
+//!   cannot stop the CoM before the next landing, and is not retimable.
 //! - Collisions ([`collision`]): the robot is its capsules and contact boxes (not its
 //!   meshes), the environment its surfaces' solids; no self-collision. The IK keeps the
 //!   clearance of the links it can move freely, linearised per step (a body may overshoot its

@@ -8,8 +8,8 @@
 //! onto = "step", at = [0, 0.1] }] }] }`, unless the file positioned the landing link itself
 //! since it last touched a surface (then the landing is the straight one it wrote; give a
 //! `com`, e.g. `com = { by = [0, 0, 0] }`, to keep any segment as written). Every other segment
-//! is hand-written and kept as it is; the two mix freely (the planner follows the hand-written CoM via-points and link moves
-//! to know where everything is when a planned segment starts).
+//! is hand-written and kept as it is; the two mix freely (the planner follows the hand-written
+//! CoM via-points and link moves to know where everything is when a planned segment starts).
 //!
 //! # Method
 //!
@@ -17,18 +17,22 @@
 //! stance `S_k`; its CoM path goes in a straight line (through its moves, proportionally) from
 //! where the previous segment left it to the switch point `p_k`:
 //!
-//! - horizontally, the point of largest margin ([`regions`]) of the intersection of the
-//!   static-equilibrium polygons of `S_k` and `S_{k+1}` (of `S_k` alone for the last segment),
-//!   both computed with the planning friction, area scale and friction cone: the CoM can stop
-//!   there on either side of the switch, as far from both boundaries as possible (Bretl and Lall
-//!   2008 for the polygons; the Chebyshev centre of their intersection). Since the polygons are
-//!   convex and `p_{k-1}` and `p_k` both lie in `S_k`'s, the whole straight path of segment `k`
-//!   holds at rest;
-//! - where the two polygons do not intersect (the box climbing's third switch: the left foot
-//!   on the slope with the hand, then the right foot on the box with the hand), the same LP
-//!   gives the middle of the gap between them (negative margin): the chained retiming crosses
-//!   it with momentum, as the paper's box climbing does. Gaps wider than
-//!   [`crate::tol::MAX_CROSSING_GAP`] are refused with the segment and the width;
+//! - horizontally, in the intersection of the static-equilibrium polygons of `S_k` and
+//!   `S_{k+1}` (of `S_k` alone for the last segment), computed with the planning friction, area
+//!   scale and friction cone, where the CoM can stop on either side of the switch (Bretl and
+//!   Lall 2008 for the polygons): the point nearest the feet with at least a fraction `alpha` of
+//!   the largest margin the intersection has (its Chebyshev centre's, [`regions`]). Since the
+//!   polygons are convex and `p_{k-1}` and `p_k` both lie in `S_k`'s, the whole straight path of
+//!   segment `k` holds at rest. A small `alpha` shortens the CoM's path, a large one leaves the
+//!   swings room to accelerate the swinging leg; `alpha` is chosen by the retimed duration
+//!   itself (`search`: the pipeline on a few candidates), or given (`planning.switch_margin`);
+//! - where the two polygons do not intersect, the same LP gives the middle of the gap between
+//!   them (negative margin), which only momentum can cross: the chained retiming then has to
+//!   (each stance holds with its own path acceleration at the switch: module doc of the chained
+//!   retiming). Gaps wider than [`crate::tol::MAX_CROSSING_GAP`] are refused with the segment
+//!   and the width. (The paper's box climbing crossed its third switch with momentum; with the
+//!   hand on the ledge in both stances their polygons do meet, and the planned box climbing
+//!   stops there.)
 //! - vertically, the initial CoM height above the feet (the surfaces of the first segment's
 //!   stance) is kept above the lowest foot in contact in `S_k` or `S_{k+1}`: a CoM rises onto a
 //!   step while the back foot swings, not while it is still down.
@@ -39,10 +43,14 @@
 //!
 //! # Limitations
 //!
-//! - The switch points maximise static margins; they are not searched for the shortest
-//!   retimed duration, and a motion that the chained retiming cannot make (an IK failure, a
-//!   gap it cannot cross) is reported by the pipeline as for a hand-written file.
-//! - One landing per planned segment; swing clearance is the landing link's contact box's.
+//! - One margin fraction for the whole motion; the switch points are otherwise those of the
+//!   static regions, not optimised one by one, and CoM velocities are not planned: a crossing
+//!   with momentum is left to the retiming along the straight CoM path, which does not always
+//!   find one (a walk without double support is not retimable).
+//! - A motion that the pipeline cannot make (an IK failure, a switch it cannot cross) is
+//!   reported as for a hand-written file.
+//! - One landing per planned segment; the swing's clearance is the landing link's contact
+//!   box's (the rest of the leg keeps the IK's `ik.clearance`).
 
 mod assemble;
 mod geometry;
