@@ -8,6 +8,8 @@ use stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace};
 use stance_contact::{Contact, FrictionModel, Shape, Stance};
 use stance_robot::{center_of_mass, Data, Model, UrdfOptions};
 
+use crate::look::{pose7, robot_look, RobotLook};
+
 use super::{
     round, round3, scale_of, ContactView, PhaseView, PolygonView, RobotView, StanceView,
     SurfaceView, TableView, ViewData, MAX_FRAME_RATE,
@@ -102,14 +104,37 @@ impl MotionRecord {
     }
 }
 
+/// What [`motion_view`] draws besides the plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionViewOptions {
+    /// Read the URDF's mesh files (else primitives and capsules only: a small page).
+    pub meshes: bool,
+}
+
+impl Default for MotionViewOptions {
+    fn default() -> Self {
+        Self { meshes: true }
+    }
+}
+
 /// Computes what the page shows of a motion, with the robot's `model`.
 ///
 /// # Errors
 ///
 /// A trajectory whose configurations do not fit the model, or a contact of the result that is
 /// not a valid contact.
-pub fn motion_view(record: &MotionRecord, model: &Model) -> Result<ViewData, StanceError> {
+pub fn motion_view(
+    record: &MotionRecord,
+    model: &Model,
+    options: &MotionViewOptions,
+) -> Result<ViewData, StanceError> {
     let mut notes = Vec::new();
+    let look = robot_look(
+        model,
+        record.robot.urdf.as_deref().map(Path::new),
+        options.meshes,
+    )?;
+    notes.extend(look.notes.iter().cloned());
     let environment: Vec<SurfaceView> = record
         .environment
         .iter()
@@ -119,7 +144,7 @@ pub fn motion_view(record: &MotionRecord, model: &Model) -> Result<ViewData, Sta
         })
         .collect();
     let robot = match &record.trajectory {
-        Some(tr) => Some(playback(tr, model, record)?),
+        Some(tr) => Some(playback(tr, model, record, look)?),
         None => {
             notes.push("no trajectory: the motion has no retimed profile".to_string());
             None
@@ -276,6 +301,7 @@ fn playback(
     tr: &TrajectoryInfo,
     model: &Model,
     record: &MotionRecord,
+    look: RobotLook,
 ) -> Result<RobotView, StanceError> {
     let n = tr.t.len();
     if tr.q.len() != n || tr.segment.len() != n {
@@ -296,16 +322,22 @@ fn playback(
     let mut data = Data::new(model);
     let joints = model.joints.len() - 1;
     let mut positions = Vec::with_capacity(keep.len());
+    let mut orientations = Vec::with_capacity(keep.len());
     let mut com = Vec::with_capacity(keep.len());
     for &i in &keep {
         let c = center_of_mass(model, &mut data, &tr.q[i]).map_err(StanceError::Robot)?;
         com.push(round3(c.into()));
         let mut p = Vec::with_capacity(3 * joints);
+        let mut o = Vec::with_capacity(4 * joints);
         for j in 1..=joints {
-            let x = data.world_from_joint[j].translation;
-            p.extend([round(x.x), round(x.y), round(x.z)]);
+            let pose = pose7(&data.world_from_joint[j]);
+            p.extend([round(pose[0]), round(pose[1]), round(pose[2])]);
+            if !look.meshes.is_empty() {
+                o.extend(pose[3..].iter().map(|x| (x * 1e4).round() / 1e4));
+            }
         }
         positions.push(p);
+        orientations.push(o);
     }
     Ok(RobotView {
         name: record.robot.name.clone(),
@@ -317,6 +349,9 @@ fn playback(
             .collect(),
         t: keep.iter().map(|&i| tr.t[i]).collect(),
         positions,
+        orientations,
+        meshes: look.meshes,
+        mesh_data: look.mesh_data,
         com,
         // the page indexes its stances from 0; the result numbers segments from 1
         segment: keep

@@ -83,7 +83,7 @@ fn motion_view_plays_the_forward_kinematics_of_the_retimed_trajectory() {
     let run = small_sway();
     let model = &run.plan.robot.model;
     let record = MotionRecord::from(&run.result);
-    let v = motion_view(&record, model).unwrap();
+    let v = motion_view(&record, model, &Default::default()).unwrap();
     let robot = v.robot.as_ref().unwrap();
     let tr = run.result.trajectory.as_ref().unwrap();
     // Playback: from 0 to the duration, at most 50 frames per second of motion.
@@ -95,6 +95,24 @@ fn motion_view_plays_the_forward_kinematics_of_the_retimed_trajectory() {
     }
     // Joint origins and CoM: forward kinematics of the sample at that time, to 0.1 mm.
     let mut data = Data::new(model);
+    let urdf_text = match &run.plan.robot.urdf {
+        Some(path) => std::fs::read_to_string(path).unwrap(),
+        None => stance_robot::SMALL_HUMANOID_URDF.to_string(),
+    };
+    let urdf = urdf_rs::read_from_string(&urdf_text).unwrap();
+    let visuals: Vec<(String, stance_robot::Pose)> = urdf
+        .links
+        .iter()
+        .flat_map(|l| {
+            l.visual.iter().map(|v| {
+                (
+                    l.name.clone(),
+                    stance_robot::Pose::from_xyz_rpy(v.origin.xyz.0, v.origin.rpy.0),
+                )
+            })
+        })
+        .collect();
+    assert_eq!(robot.meshes.len(), visuals.len());
     for (f, &t) in robot.t.iter().enumerate() {
         let i = tr.t.iter().position(|&x| x == t).unwrap();
         let com = center_of_mass(model, &mut data, &tr.q[i]).unwrap();
@@ -108,6 +126,36 @@ fn motion_view_plays_the_forward_kinematics_of_the_retimed_trajectory() {
             }
         }
         assert_eq!(robot.segment[f] + 1, tr.segment[i]);
+        // Joint orientations (quaternions rounded to 1e-4) and each drawn mesh where the URDF
+        // puts its visual: the link's frame composed with the visual's origin, read here with
+        // urdf-rs.
+        for j in 1..model.joints.len() {
+            let o = &robot.orientations[f][4 * (j - 1)..4 * j];
+            let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                o[3], o[0], o[1], o[2],
+            ));
+            let r = q.to_rotation_matrix();
+            assert!((r.matrix() - data.world_from_joint[j].rotation).abs().max() < 1e-3);
+        }
+        if f % 25 == 0 {
+            for (mesh, visual) in robot.meshes.iter().zip(&visuals) {
+                let (link, origin) = visual;
+                assert_eq!(&mesh.link, link);
+                let frame = model.frames.iter().position(|x| &x.name == link).unwrap();
+                let want = stance_robot::kinematics::frame_placement(model, &data, frame)
+                    .unwrap()
+                    .compose(origin);
+                let jp = &data.world_from_joint[mesh.joint + 1];
+                let o = mesh.origin;
+                let local = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                    o[6], o[3], o[4], o[5],
+                ));
+                let got_r = jp.rotation * local.to_rotation_matrix().matrix();
+                let got_t = jp.rotation * nalgebra::Vector3::new(o[0], o[1], o[2]) + jp.translation;
+                assert!((got_r - want.rotation).abs().max() < 1e-9);
+                assert!((got_t - want.translation).norm() < 1e-9);
+            }
+        }
     }
     // Every bone joins a joint to its child.
     for b in &robot.bones {
@@ -143,8 +191,13 @@ fn motion_view_from_the_result_json_equals_the_view_of_the_run() {
     let json = serde_json::to_string(&run.result).unwrap();
     let record: MotionRecord = serde_json::from_str(&json).unwrap();
     let model = record.load_model().unwrap();
-    let from_file = motion_view(&record, &model).unwrap();
-    let direct = motion_view(&MotionRecord::from(&run.result), &run.plan.robot.model).unwrap();
+    let from_file = motion_view(&record, &model, &Default::default()).unwrap();
+    let direct = motion_view(
+        &MotionRecord::from(&run.result),
+        &run.plan.robot.model,
+        &Default::default(),
+    )
+    .unwrap();
     assert_eq!(from_file, direct);
     // A result whose robot changed since is an error naming what to do.
     let mut changed = record.clone();

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use stance_view::{build, render, SceneViewOptions, SourceKind};
+use stance_view::{build, render, MotionViewOptions, SceneViewOptions, SourceKind};
 
 use super::contact::parse_vec3;
 
@@ -28,6 +28,10 @@ pub struct ViewArgs {
     /// (default: the scene's gravity and four tilts of it by 10 %, i.e. horizontal accelerations of 0.1 g).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub gravity: Vec<[f64; 3]>,
+    /// Draw the robot without its mesh files (the URDF's primitives and capsules): a page of
+    /// about 1 MB instead of a few.
+    #[arg(long)]
+    pub no_meshes: bool,
     /// The page to write.
     #[arg(
         short = 'o',
@@ -58,7 +62,10 @@ pub fn run(a: ViewArgs) -> Result<()> {
         com_height: a.com_height,
         gravities: a.gravity,
     };
-    let view = build(&a.source, kind, &options)?;
+    let motion_options = MotionViewOptions {
+        meshes: !a.no_meshes,
+    };
+    let view = build(&a.source, kind, &options, &motion_options)?;
     let page = render(&view);
     std::fs::write(&a.output, &page)
         .with_context(|| format!("cannot write the page {}", a.output.display()))?;

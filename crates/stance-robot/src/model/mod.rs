@@ -18,7 +18,10 @@
 //! joint takes `q = (cos theta, sin theta)` and one velocity; revolute and prismatic joints take
 //! one of each.
 
+mod geometry;
 mod urdf;
+
+pub use geometry::{LinkGeometry, LinkShape, RobotGeometry};
 
 use nalgebra::Vector3;
 

@@ -201,6 +201,23 @@
     return s;
   }
 
+  // the bytes of a base64 string (the packed meshes: crates/stance-view/src/meshes)
+  function bytes(b64) {
+    var s = atob(b64), a = new Uint8Array(s.length);
+    for (var i = 0; i < s.length; i++) a[i] = s.charCodeAt(i);
+    return a.buffer;
+  }
+  // a URDF shape in its own frame (three.js's cylinders and capsules run along y, URDF's along z)
+  function shapeGeometry(shape, meshGeometries) {
+    switch (shape.kind) {
+      case 'mesh': return meshGeometries[shape.data];
+      case 'box': return new THREE.BoxGeometry(shape.size[0], shape.size[1], shape.size[2]);
+      case 'cylinder': return new THREE.CylinderGeometry(shape.radius, shape.radius, shape.length, 24).rotateX(Math.PI / 2);
+      case 'capsule': return new THREE.CapsuleGeometry(shape.radius, shape.length, 4, 16).rotateX(Math.PI / 2);
+      default: return new THREE.SphereGeometry(shape.radius, 20, 14);
+    }
+  }
+
   function build3d() {
     // the camera frames what matters (contacts, robot, polygons, region), not the whole floor
     var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
@@ -245,7 +262,9 @@
     var gPoly = layer('polygon', 'static polygon', true);
     var gPrism = layer('prism', 'polygon prism', false);
     var gRegion = D.region ? layer('region', 'robust region M', true) : null;
-    var gRobot = R ? layer('robot', 'robot', true) : null;
+    var hasMeshes = !!(R && R.meshes && R.meshes.length);
+    var gRobot = R ? layer('robot', hasMeshes ? 'robot' : 'robot (capsules)', true) : null;
+    var gBones = hasMeshes ? layer('links', 'links as capsules', false) : gRobot;
     var gCom = R ? layer('com', 'CoM and path', true) : null;
 
     // axes and grid (1 line every grid step, on the lowest plane)
@@ -343,17 +362,46 @@
       gRegion.add(segments(edges, 0xa04f1c, 0.8));
     }
 
-    // the robot: a cylinder per bone, a ball per joint
+    // the robot as it looks: the URDF's geometries, each on its joint's frame
+    var jointFrames = {};
+    counts.meshes = 0;
+    if (hasMeshes) {
+      var meshGeometries = R.mesh_data.map(function (d) {
+        var g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.Float32BufferAttribute(new Float32Array(bytes(d.positions)), 3));
+        var ib = bytes(d.indices);
+        g.setIndex(Array.from(d.index_bytes === 2 ? new Uint16Array(ib) : new Uint32Array(ib)));
+        return g;
+      });
+      R.meshes.forEach(function (mv) {
+        var frame = jointFrames[mv.joint];
+        if (!frame) { frame = jointFrames[mv.joint] = new THREE.Group(); gRobot.add(frame); }
+        var m = new THREE.Mesh(shapeGeometry(mv.shape, meshGeometries), new THREE.MeshStandardMaterial({
+          color: new THREE.Color().setRGB(mv.color[0], mv.color[1], mv.color[2], 'srgb'),
+          flatShading: true, roughness: 0.75, metalness: 0.05,
+          transparent: mv.color[3] < 1, opacity: mv.color[3]
+        }));
+        var o = mv.origin;
+        m.position.set(o[0], o[1], o[2]);
+        m.quaternion.set(o[3], o[4], o[5], o[6]);
+        if (mv.shape.kind === 'mesh') m.scale.set(mv.shape.scale[0], mv.shape.scale[1], mv.shape.scale[2]);
+        m.userData.link = mv.link;
+        frame.add(m);
+        counts.meshes++;
+      });
+    }
+
+    // the robot as capsules: a cylinder per bone, a ball per joint
     var boneMeshes = [], jointMeshes = [];
-    if (gRobot) {
+    if (gBones) {
       var cyl = new THREE.CylinderGeometry(R.radius, R.radius, 1, 12);
       var ball = new THREE.SphereGeometry(R.radius * 1.15, 12, 8);
       var mb = new THREE.MeshStandardMaterial({ color: COLORS.robot, roughness: 0.6 });
       var mj = new THREE.MeshStandardMaterial({ color: COLORS.joint, roughness: 0.6 });
-      R.bones.forEach(function () { var m = new THREE.Mesh(cyl, mb); gRobot.add(m); boneMeshes.push(m); });
+      R.bones.forEach(function () { var m = new THREE.Mesh(cyl, mb); gBones.add(m); boneMeshes.push(m); });
       var used = {};
       R.bones.forEach(function (b) { used[b[0]] = true; used[b[1]] = true; });
-      Object.keys(used).forEach(function (j) { var m = new THREE.Mesh(ball, mj); m.userData.joint = +j; gRobot.add(m); jointMeshes.push(m); });
+      Object.keys(used).forEach(function (j) { var m = new THREE.Mesh(ball, mj); m.userData.joint = +j; gBones.add(m); jointMeshes.push(m); });
       counts.bones = R.bones.length;
     }
     var comBall = null, comLine = null;
@@ -367,19 +415,35 @@
       gCom.add(comLine);
     }
 
-    // camera: the whole scene, from the front-right, a little above
+    // camera: the whole scene (a motion: the robot where it is now), from the front-right, a
+    // little above
     var c = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2];
     var radius = 0.5 * Math.sqrt(Math.pow(hi[0] - lo[0], 2) + Math.pow(hi[1] - lo[1], 2) + Math.pow(hi[2] - lo[2], 2)) || 1;
-    var dist = 1.15 * radius / Math.sin((camera.fov / 2) * Math.PI / 180);
-    var dir = new THREE.Vector3(0.75, -1.0, 0.55).normalize();
-    camera.position.set(c[0] + dist * dir.x, c[1] + dist * dir.y, c[2] + dist * dir.z);
-    camera.near = dist / 100; camera.far = dist * 10; camera.updateProjectionMatrix();
     var controls = new THREE.OrbitControls(camera, renderer.domElement);
-    controls.target.set(c[0], c[1], c[2]);
-    controls.update();
+    function aim(c, radius) {
+      var dist = 1.15 * radius / Math.sin((camera.fov / 2) * Math.PI / 180);
+      var dir = new THREE.Vector3(0.75, -1.0, 0.55).normalize();
+      camera.position.set(c[0] + dist * dir.x, c[1] + dist * dir.y, c[2] + dist * dir.z);
+      camera.near = dist / 100; camera.far = dist * 10; camera.updateProjectionMatrix();
+      controls.target.set(c[0], c[1], c[2]);
+      controls.update();
+    }
+    aim(c, radius);
     controls.addEventListener('change', function () { render(); });
+    // following the robot: the camera and its target move with the CoM's horizontal motion
+    var followed = null, followBox = document.getElementById('follow');
+    function follow(p) {
+      if (!followBox || !followBox.checked) { followed = null; return; }
+      var v = new THREE.Vector3(p[0], p[1], 0);
+      if (followed) {
+        var d = v.clone().sub(followed);
+        camera.position.add(d); controls.target.add(d); controls.update();
+      }
+      followed = v;
+    }
 
     var up = new THREE.Vector3(0, 1, 0);
+    var qa = new THREE.Quaternion(), qb = new THREE.Quaternion();
     function pose() {
       var seg = segmentAt();
       stanceGroups.forEach(function (sg, i) {
@@ -403,7 +467,18 @@
         if (len > 0) m.quaternion.setFromUnitVectors(up, d.divideScalar(len));
       });
       jointMeshes.forEach(function (m) { m.position.copy(at(m.userData.joint)); });
+      if (hasMeshes) {
+        var O = R.orientations[i], O1 = i + 1 < R.t.length ? R.orientations[i + 1] : O;
+        Object.keys(jointFrames).forEach(function (k) {
+          var j = +k, g = jointFrames[k];
+          g.position.copy(at(j));
+          qa.set(O[4 * j], O[4 * j + 1], O[4 * j + 2], O[4 * j + 3]);
+          qb.set(O1[4 * j], O1[4 * j + 1], O1[4 * j + 2], O1[4 * j + 3]);
+          g.quaternion.copy(qa).slerp(qb, w);
+        });
+      }
       var com = comAt();
+      follow(com);
       comBall.position.set(com[0], com[1], com[2]);
       var cl = comLine.geometry.attributes.position;
       cl.setXYZ(0, com[0], com[1], com[2]);
@@ -442,7 +517,53 @@
       renderer.setSize(container.clientWidth, container.clientHeight);
       render();
     });
-    return { pose: pose, render: render, renderer: renderer, camera: camera, scene: scene, counts: counts, stanceGroups: stanceGroups };
+    // a motion: the camera frames the robot where it is at the start (its drawn geometry's
+    // bounding spheres, or its joints), with room for the contacts around it
+    if (R) {
+      var fa = locate(current.t);
+      current.frame = fa[0]; current.alpha = fa[1];
+      pose();
+      scene.updateMatrixWorld(true);
+      var blo = [Infinity, Infinity, Infinity], bhi = [-Infinity, -Infinity, -Infinity];
+      function box(p, r) { for (var k = 0; k < 3; k++) { blo[k] = Math.min(blo[k], p[k] - r); bhi[k] = Math.max(bhi[k], p[k] + r); } }
+      Object.keys(jointFrames).forEach(function (k) {
+        jointFrames[k].children.forEach(function (m) {
+          m.geometry.computeBoundingSphere();
+          var bs = m.geometry.boundingSphere, cw = bs.center.clone().applyMatrix4(m.matrixWorld);
+          box([cw.x, cw.y, cw.z], bs.radius * Math.max(m.scale.x, m.scale.y, m.scale.z));
+        });
+      });
+      var P0 = R.positions[current.frame];
+      for (var j3 = 0; j3 < P0.length; j3 += 3) box([P0[j3], P0[j3 + 1], P0[j3 + 2]], R.radius);
+      var half = 0.5 * Math.sqrt(Math.pow(bhi[0] - blo[0], 2) + Math.pow(bhi[1] - blo[1], 2) + Math.pow(bhi[2] - blo[2], 2));
+      aim([(blo[0] + bhi[0]) / 2, (blo[1] + bhi[1]) / 2, (blo[2] + bhi[2]) / 2], 0.75 * half);
+    }
+    function probeLink(link) {
+      var target = null, swapped = [];
+      Object.keys(jointFrames).forEach(function (k) {
+        jointFrames[k].children.forEach(function (m) {
+          if (!target && m.userData.link === link) target = m;
+          swapped.push([m, m.material]);
+          m.material = new THREE.MeshBasicMaterial({ color: m.material.color });
+        });
+      });
+      if (!target) { swapped.forEach(function (x) { x[0].material = x[1]; }); return { link: link, error: 'no mesh of that link' }; }
+      var shown = [];
+      scene.children.forEach(function (g) { if (g.isGroup) { shown.push([g, g.visible]); g.visible = g.name === 'robot'; } });
+      scene.updateMatrixWorld(true);
+      target.geometry.computeBoundingSphere();
+      var q = target.geometry.boundingSphere.center.clone().applyMatrix4(target.matrixWorld).project(camera);
+      render();
+      var gl = renderer.getContext();
+      var px = Math.round((q.x + 1) / 2 * (gl.drawingBufferWidth - 1)), py = Math.round((q.y + 1) / 2 * (gl.drawingBufferHeight - 1));
+      var rgba = new Uint8Array(4);
+      gl.readPixels(px, py, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+      shown.forEach(function (x) { x[0].visible = x[1]; });
+      swapped.forEach(function (x) { x[0].material.dispose(); x[0].material = x[1]; });
+      render();
+      return { link: link, pixel: [px, py], rgba: Array.from(rgba), color: '#' + target.material.color.getHexString('srgb') };
+    }
+    return { probeLink: probeLink, pose: pose, render: render, renderer: renderer, camera: camera, scene: scene, counts: counts, stanceGroups: stanceGroups };
   }
 
   // ---- time updates -------------------------------------------------------------------
@@ -532,6 +653,10 @@
       shown.forEach(function (x) { x[0].visible = x[1]; });
       three.render();
     }
+    // a link's probe (`#probe=LINK`): the robot alone, unlit (so that a pixel has the exact
+    // colour of whatever mesh covers it), read at the on-screen centre of the link's first mesh
+    var pl = /probe=([^&]+)/.exec(location.hash);
+    if (pl && three.probeLink) status.link_probe = three.probeLink(decodeURIComponent(pl[1]));
   } else {
     status.counts = { stances: D.stances.length, contacts_2d: document.querySelectorAll('.contact2d').length };
   }
