@@ -230,14 +230,45 @@ def main():
         run([stance, "view", talos, "--no-meshes", "-o", out / "talos-no-meshes.html"])
         report["talos_no_meshes"] = {"bytes": (out / "talos-no-meshes.html").stat().st_size}
 
+    # --- a simulation played 1.5x faster than retimed: it fails, its events marked ---------
+    report_path = work / "box-climbing-x1.5.json"
+    sim_page = out / "box-climbing-x1.5.html"
+    run([stance, "simulate", "box-climbing", "--time-scale", "1.5", "--view", sim_page, "-o", report_path])
+    sim_report = json.loads(report_path.read_text())
+    html = sim_page.read_text()
+    data = page_data(html)
+    status, console, dom, _ = load(sim_page, "#t=1.5&probe=WAIST_R_S")
+    check_common("simulation", status, console, len(html.encode()), MAX_MESH_PAGE_BYTES, MAX_MESH_READY_MS)
+    check_meshes("simulation", status, data, motion["robot"]["urdf"], "WAIST_R_S")
+    c = status.get("counts", {})
+    check(c.get("robots") == 2 and c.get("executed_meshes") == c.get("meshes"),
+          f"simulation: two robots drawn, the executed one and the plan's ghost ({c.get('robots')})")
+    n = len(sim_report["events"])
+    check(n > 0 and c.get("events") == n and c.get("timeline_marks") == n,
+          f"simulation: every event of the report in 3-D ({c.get('events')}) and on the time line "
+          f"({c.get('timeline_marks')}); the report has {n}")
+    listed = re.findall(r'<li data-t="[^"]*" data-kind="([a-z_]+)"', dom)
+    check(listed == [e["kind"] for e in sim_report["events"]], f"simulation: the events listed in order ({len(listed)})")
+    title = re.search(r'<h1 id="title"[^>]*>(.*?)</h1>', dom, re.S)
+    check(not sim_report["held"] and title is not None and "failed in MuJoCo" in title.group(1)
+          and sim_report["reason"] in data["subtitle"],
+          f"simulation: the verdict and its reason in the title ({title.group(1) if title else None})")
+    again = out / "box-climbing-x1.5-report.html"
+    run([stance, "view", report_path, "-o", again])
+    a, b = page_data(again.read_text()), dict(data)
+    a.pop("table"), b.pop("table")  # the table has the run's own timings
+    check(a == b, "simulation: `stance view REPORT.json` draws the page `stance simulate --view` wrote")
+    report["simulation"] = {"bytes": len(html.encode()), "ready_ms": status.get("load_ms"), "events": n}
+
     # --- screenshots ----------------------------------------------------------------------
     screenshot(scene_page, out / "view-double-support.png")
-    screenshot(motion_page, out / "view-box-climbing.png", "#t=2.2")
+    screenshot(motion_page, out / "view-box-climbing.png", "#t=2.6")
+    screenshot(sim_page, out / "view-simulation-failed.png", "#t=1.5")
     if update_docs:
         docs = ROOT / "docs"
         docs.mkdir(exist_ok=True)
-        shutil.copy(out / "view-double-support.png", docs / "view-double-support.png")
-        shutil.copy(out / "view-box-climbing.png", docs / "view-box-climbing.png")
+        for name in ["view-double-support.png", "view-box-climbing.png", "view-simulation-failed.png"]:
+            shutil.copy(out / name, docs / name)
     print(json.dumps(report))
     if failures:
         sys.exit(f"{len(failures)} check(s) failed")

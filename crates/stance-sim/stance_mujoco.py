@@ -174,6 +174,12 @@ def main(input_path, report_path, trace_path=None):
     ]
     max_base, max_angle, max_com, fell = 0.0, 0.0, 0.0, False
     fall_reason = ""
+    # what the viewer plays and marks: qpos every frame_dt of simulated time, and the events
+    frame_every = max(1, int(round(inp.get("frame_dt", 0.02) / dt)))
+    frames_t, frames_q, events = [], [], []
+
+    def event(kind, t, position, text):
+        events.append({"kind": kind, "t": float(t), "position": [float(x) for x in position], "text": text})
     force6 = np.zeros(6)
     steps_total = int(round((preroll + t_end + settle) / dt))
     trace = open(trace_path, "w") if trace_path else None
@@ -240,6 +246,9 @@ def main(input_path, report_path, trace_path=None):
                             landing = tm - seg["t_start"] > seg["t_end"] - tm
                         pair = (f"{model.geom(rg).name} / {model.geom(eg).name}",
                                 seg["number"], "landed early" if landing else "lifted late")
+                        if pair not in early_late:
+                            event("early_touch" if landing else "late_lift", t, con.pos,
+                                  f"{pair[0]} {pair[2]} in segment {pair[1]}")
                         e = early_late.setdefault(pair, [t, t, 0.0, 0.0, 0.0])
                         e[1] = t
                         e[2] = max(e[2], force6[0])
@@ -248,6 +257,8 @@ def main(input_path, report_path, trace_path=None):
                 if not near_switch(tm):
                     mujoco.mj_contactForce(model, data, c, force6)
                     pair = f"{model.geom(rg).name} / {model.geom(eg).name}"
+                    if pair not in unplanned:
+                        event("unplanned_contact", t, con.pos, f"{pair} touched (not planned)")
                     u = unplanned.setdefault(pair, [t, t, 0.0, 0.0, 0.0])
                     u[1] = t
                     u[2] = max(u[2], force6[0])
@@ -274,6 +285,9 @@ def main(input_path, report_path, trace_path=None):
                     p["anchor"] = site
                 d = site - p["anchor"]
                 slip = float(np.linalg.norm(d - np.dot(d, n) * n))
+                if slip > th["max_slip"] >= p["max_slip"]:
+                    event("slip", t, site, f"{p['surface']} slipped more than {th['max_slip'] * 1e3:.0f} mm "
+                          f"on {p['environment']} in segment {p['segment']}")
                 p["max_slip"] = max(p["max_slip"], slip)
             else:
                 p["anchor"] = None
@@ -285,6 +299,11 @@ def main(input_path, report_path, trace_path=None):
             else:
                 if p["off_since"] is None:
                     p["off_since"] = t
+                # once per loss, when it outlasts the loss time
+                if t - p["off_since"] > th["loss_time"] and p.get("reported") != p["off_since"]:
+                    p["reported"] = p["off_since"]
+                    event("contact_loss", p["off_since"], site, f"{p['surface']} lost on {p['environment']} "
+                          f"in segment {p['segment']} (for more than {th['loss_time'] * 1e3:.0f} ms)")
                 p["longest_loss"] = max(p["longest_loss"], t - p["off_since"])
         # unplanned support: an unplanned contact carrying load, and for how long (the same
         # for early landings and late lift-offs)
@@ -306,12 +325,20 @@ def main(input_path, report_path, trace_path=None):
         ci, cj = com_ref[i], com_ref[j]
         com_err = float(np.linalg.norm(com - ((1 - a) * ci + a * cj)))
         max_base, max_angle, max_com = max(max_base, base_err), max(max_angle, angle), max(max_com, com_err)
+        if step % frame_every == 0:
+            frames_t.append(float(t))
+            frames_q.append(data.qpos.tolist())
         if data.qpos[2] < q_star[2] - th["fall_height"] or angle > th["fall_tilt"]:
             fell = True
             fall_reason = f"fell at t = {t:.3f} s (base {q_star[2] - data.qpos[2]:.3f} m low, trunk {math.degrees(angle):.1f} deg off)"
+            event("fall", t, data.qpos[:3], fall_reason)
             break
     wall = time.perf_counter() - wall0
     sim_time = step * dt
+    if not frames_t or frames_t[-1] < t:
+        frames_t.append(float(t))
+        frames_q.append(data.qpos.tolist())
+    events.sort(key=lambda e: e["t"])
 
     contacts = []
     for key, p in per.items():
@@ -355,6 +382,8 @@ def main(input_path, report_path, trace_path=None):
         "sim_time_s": sim_time, "wall_s": wall, "wall_per_sim_s": wall / max(sim_time, 1e-9),
         "time_scale": inp["time_scale"], "mujoco_version": mujoco.__version__,
         "standing_load_ratio": (float(np.mean(standing)) / weight) if standing else None,
+        "executed": {"t": frames_t, "qpos": frames_q},
+        "events": events,
     }
     with open(report_path, "w") as f:
         json.dump(report, f, indent=1)

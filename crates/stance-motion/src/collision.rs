@@ -546,6 +546,44 @@ pub fn check_collisions(
     })
 }
 
+/// The pairs (body, solid) within `range` (m) at configuration `q` of segment `segment`
+/// (from 0), held contacts left out as in the check, with their signed distances: what a
+/// viewer shows near a sample.
+///
+/// ```
+/// use stance_motion::{collision::near_pairs, experiments, run_full, RunOptions};
+/// let options = RunOptions { skip_checks: true, ..Default::default() };
+/// let run = run_full(experiments::by_name("small-sway").unwrap(), &options).unwrap();
+/// let mut d = stance_robot::Data::new(&run.plan.robot.model);
+/// // standing: the feet are held on the floor, nothing else within 2 cm of it
+/// let near = near_pairs(&run.plan, &run.paths, 0, &run.samples[0].q, 0.02, &mut d).unwrap();
+/// assert!(near.is_empty());
+/// ```
+///
+/// # Errors
+///
+/// A configuration that does not fit the model.
+pub fn near_pairs(
+    plan: &MotionPlan,
+    paths: &[SegmentPath],
+    segment: usize,
+    q: &[f64],
+    range: f64,
+    data: &mut Data,
+) -> Result<Vec<(usize, usize, PairDistance)>, StanceError> {
+    let model = &plan.collision;
+    forward_kinematics(&plan.robot.model, data, q).map_err(StanceError::Robot)?;
+    let mut out = Vec::new();
+    for b in 0..model.bodies.len() {
+        model.distances(data, b, range, |s, d| {
+            if d.distance <= range && !held_on(model, paths, segment, b, s) {
+                out.push((b, s, d));
+            }
+        });
+    }
+    Ok(out)
+}
+
 /// Whether body `b` is a contact surface held on solid `s` in segment `k` (a pair the check
 /// leaves out, module doc).
 fn held_on(model: &CollisionModel, paths: &[SegmentPath], k: usize, b: usize, s: usize) -> bool {

@@ -47,8 +47,11 @@
 //! brief touches of a landing foot a few milliseconds early are timing noise, not support), and
 //! the largest slip below [`crate::tol::SIM_MAX_SLIP`].
 
+pub mod execution;
 pub mod mjcf;
 pub mod tol;
+
+pub use execution::{SimEvent, SimEventKind, SimSource, SimTrajectory};
 
 use std::path::{Path, PathBuf};
 
@@ -175,6 +178,29 @@ pub struct SimReport {
     /// carry, over `m |g|` (mean over the last 100 ms of the hold; 1 when the contacts carry the
     /// robot's weight).
     pub standing_load_ratio: Option<f64>,
+    /// What happened, in time order ([`execution`]).
+    #[serde(default)]
+    pub events: Vec<SimEvent>,
+    /// The executed trajectory ([`execution`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<SimTrajectory>,
+    /// What was simulated (set by `stance simulate`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<SimSource>,
+}
+
+/// The harness's report: the [`SimReport`] and the executed `qpos`.
+#[derive(Debug, Clone, Deserialize)]
+struct HarnessReport {
+    #[serde(flatten)]
+    report: SimReport,
+    executed: HarnessExecution,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+struct HarnessExecution {
+    t: Vec<f64>,
+    qpos: Vec<Vec<f64>>,
 }
 
 /// The harness's input (see `crates/stance-sim/stance_mujoco.py`).
@@ -191,6 +217,7 @@ struct HarnessInput {
     actuated: Vec<String>,
     surfaces: Vec<String>,
     segments: Vec<HarnessSegment>,
+    frame_dt: f64,
     reference: HarnessReference,
     thresholds: Thresholds,
     disturbance: Option<Disturbance>,
@@ -404,11 +431,23 @@ pub fn simulate(
             .map(|s| mjcf::surface_geom(&s.name))
             .collect(),
         segments,
+        frame_dt: crate::tol::SIM_FRAME_DT,
         reference,
         thresholds: Thresholds::from_tol(),
         disturbance: options.disturbance.clone(),
     };
-    let mut report = run_harness(&xml, input, options.keep.as_deref())?;
+    let (mut report, executed) = run_harness(&xml, input, options.keep.as_deref())?;
+    let q = executed
+        .qpos
+        .iter()
+        .map(|x| execution::model_q_of_qpos(m, x))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| StanceError::BadMotion(format!("the harness's report is invalid: {e}")))?;
+    report.trajectory = Some(SimTrajectory {
+        t: executed.t,
+        q,
+        plan_t0: t0,
+    });
     report.friction = options.mjcf.friction;
     set_contact_frictions(&mut report, &run, options.mjcf.friction)?;
     Ok((run, report))
@@ -697,7 +736,7 @@ fn run_harness(
     xml: &str,
     mut input: HarnessInput,
     keep: Option<&Path>,
-) -> Result<SimReport, StanceError> {
+) -> Result<(SimReport, HarnessExecution), StanceError> {
     let python = venv_python()?;
     let io = |e: std::io::Error, what: &str| StanceError::BadMotion(format!("{what}: {e}"));
     let dir = match keep {
@@ -741,10 +780,10 @@ fn run_harness(
     }
     let text = std::fs::read_to_string(&report_path)
         .map_err(|e| io(e, &format!("cannot read {}", report_path.display())))?;
-    let report: SimReport = serde_json::from_str(&text)
+    let report: HarnessReport = serde_json::from_str(&text)
         .map_err(|e| StanceError::BadMotion(format!("the harness's report is invalid: {e}")))?;
     if keep.is_none() {
         let _ = std::fs::remove_dir_all(&dir);
     }
-    Ok(report)
+    Ok((report.report, report.executed))
 }

@@ -40,3 +40,7 @@ pub const SIM_SETTLE: f64 = 0.3;
 /// of wall time, and a motion stretched past it (`--time-scale 1e-9` ran without end) is
 /// refused with the time scale that fits.
 pub const SIM_MAX_DURATION: f64 = 120.0;
+
+/// Interval of the executed trajectory the report carries for the viewer (s of simulated time).
+/// Default 0.02: the viewer's 50 frames per second (`stance_view::MAX_FRAME_RATE`).
+pub const SIM_FRAME_DT: f64 = 0.02;

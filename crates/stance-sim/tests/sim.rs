@@ -206,6 +206,60 @@ fn a_pushed_foot_slips_and_the_report_says_so() {
         .map(|c| c.max_slip_m)
         .fold(0.0, f64::max);
     assert!(lf > 5e-3, "the slip is the pushed foot's: {lf}");
+    // What the viewer plays: the executed trajectory every 20 ms from the start, starting where
+    // the plan starts; the calm run has no event that fails a verdict, the pushed one a slip of
+    // the pushed foot, where that foot is.
+    let (run, _) = simulate(spec("small-sway"), &SimOptions::default()).unwrap();
+    for report in [&calm, &pushed] {
+        let tr = report.trajectory.as_ref().unwrap();
+        assert_eq!(tr.t[0], 0.0);
+        assert_eq!(tr.q.len(), tr.t.len());
+        for w in tr.t.windows(2) {
+            assert!(w[1] - w[0] <= stance_sim::tol::SIM_FRAME_DT + 1e-9 && w[1] > w[0]);
+        }
+        let q0 = &run.samples[0].q;
+        let base = (0..3)
+            .map(|k| (tr.q[0][k] - q0[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(
+            base < 5e-3,
+            "the executed base starts {base} m from the plan's"
+        );
+        assert_eq!(tr.q[0].len(), q0.len());
+    }
+    use stance_sim::SimEventKind::{ContactLoss, Fall, Slip};
+    assert!(
+        calm.events
+            .iter()
+            .all(|e| !matches!(e.kind, Slip | ContactLoss | Fall)),
+        "{:?}",
+        calm.events
+    );
+    let slip = pushed.events.iter().find(|e| e.kind == Slip).unwrap();
+    // (not before the push; the slip is counted from where the foot was last loaded, so it
+    // may pass 5 mm later, when the pushed foot is loaded again)
+    assert!(
+        slip.text.starts_with("LF") && slip.t >= 0.3 && slip.t <= pushed.sim_time_s,
+        "{slip:?}"
+    );
+    let mut d = Data::new(&run.plan.robot.model);
+    forward_kinematics(&run.plan.robot.model, &mut d, &run.samples[0].q).unwrap();
+    let lf = run
+        .plan
+        .robot
+        .surfaces
+        .iter()
+        .find(|s| s.name == "LF")
+        .unwrap();
+    let at = frame_placement(&run.plan.robot.model, &d, lf.frame)
+        .unwrap()
+        .translation;
+    assert!(
+        ((slip.position[0] - at.x).powi(2) + (slip.position[1] - at.y).powi(2)).sqrt() < 0.05,
+        "the slip is marked at the left foot: {:?} vs {at:?}",
+        slip.position
+    );
 }
 
 /// Bounded work: a motion stretched past the simulator's longest duration is refused before

@@ -44,16 +44,22 @@
 //! - A motion's static polygon is computed once per segment, at the segment's mean CoM height;
 //!   it is drawn at the current CoM height, which is exact for vertical gravity only.
 
+mod forces;
 mod html;
 mod look;
 pub mod meshes;
 mod motion;
+mod run_layers;
 mod scene;
+mod simulation;
 
+pub use forces::{forces_view, ForcesView, WEIGHT_ARROW};
 pub use html::render;
 pub use look::{robot_look, MeshView, RobotLook, ShapeView};
 pub use motion::{motion_view, MotionRecord, MotionViewOptions};
+pub use run_layers::{add_run_layers, ClearanceView, NearView, TorqueView, CLEARANCE_SHOWN};
 pub use scene::{scene_view, SceneViewOptions};
+pub use simulation::{add_simulation, read_sim_record, SimRecord, SimulationView};
 
 use std::path::Path;
 
@@ -71,10 +77,14 @@ pub enum SourceKind {
     Motion,
     /// The JSON output of `stance motion` ([`MotionRecord`]), drawn as it is.
     MotionResult,
+    /// The JSON report of `stance simulate` ([`SimRecord`]): its motion is run again and drawn
+    /// as a ghost beside the executed trajectory.
+    SimReport,
 }
 
-/// What a file holds, from its top-level keys: `trajectory` and `segments` make a motion's
-/// result, `contacts` a scene, anything else is read as a motion file.
+/// What a file holds, from its top-level keys: `held` and `reason` make a simulation report,
+/// `status` and `segments` a motion's result, `contacts` a scene, anything else is read as a
+/// motion file.
 fn kind_of_file(path: &Path) -> Result<SourceKind, StanceError> {
     let keys: Vec<String> = if path
         .extension()
@@ -87,7 +97,9 @@ fn kind_of_file(path: &Path) -> Result<SourceKind, StanceError> {
         v.keys().cloned().collect()
     };
     let has = |k: &str| keys.iter().any(|x| x == k);
-    Ok(if has("segments") && has("status") {
+    Ok(if has("held") && has("reason") {
+        SourceKind::SimReport
+    } else if has("segments") && has("status") {
         SourceKind::MotionResult
     } else if has("contacts") {
         SourceKind::Scene
@@ -170,15 +182,47 @@ pub fn build(
                 ..Default::default()
             };
             let run = stance_motion::run_full(spec, &options)?;
-            motion_view(
+            let mut view = motion_view(
                 &MotionRecord::from(&run.result),
                 &run.plan.robot.model,
                 motion_options,
-            )
+            )?;
+            add_run_layers(&mut view, &run)?;
+            Ok(view)
+        }
+        SourceKind::SimReport => {
+            let record = read_sim_record(Path::new(source))?;
+            let sim = record.motion.as_ref().ok_or_else(|| {
+                StanceError::BadMotion(format!("{source}: the report names no motion"))
+            })?;
+            let (spec, base_dir) = stance_motion::input::motion(&sim.motion)?;
+            let options = stance_motion::RunOptions {
+                base_dir,
+                skip_checks: true,
+                time_scale: Some(sim.time_scale),
+                no_limits: sim.no_limits,
+                ..Default::default()
+            };
+            let run = stance_motion::run_full(spec, &options)?;
+            let duration = run.result.duration.unwrap_or(f64::NAN);
+            if (duration - sim.duration).abs() > 1e-9 * sim.duration.abs().max(1.0) {
+                return Err(StanceError::BadMotion(format!(
+                    "{source}: the motion {} now lasts {duration:.6} s at time scale {}, the \
+                     simulated one {:.6} s: it changed since; simulate it again",
+                    sim.motion, sim.time_scale, sim.duration
+                )));
+            }
+            simulation_page(&run, &record, motion_options)
         }
         SourceKind::MotionResult => {
             let record: MotionRecord = stance_motion::input::read_file(Path::new(source))?;
-            motion_view(&record, &record.load_model()?, motion_options)
+            let mut view = motion_view(&record, &record.load_model()?, motion_options)?;
+            view.notes.push(
+                "clearances and torque ratios need the plan: view the motion file or name \
+                 rather than its result to see them"
+                    .into(),
+            );
+            Ok(view)
         }
     }
 }
@@ -186,6 +230,24 @@ pub fn build(
 /// Most triangles of a page's robot meshes, shared among the mesh files in proportion to their
 /// own counts ([`meshes`]): about 2.4 MB of base64 at 24 bytes per triangle.
 pub const MESH_TRIANGLE_BUDGET: usize = 100_000;
+
+/// The page of a simulation: the view of its plan `run` (retimed at the simulated time scale),
+/// its run layers, and the executed trajectory of `record` beside it.
+///
+/// # Errors
+///
+/// As [`motion_view`], [`add_run_layers`] and [`add_simulation`].
+pub fn simulation_page(
+    run: &stance_motion::MotionRun,
+    record: &SimRecord,
+    motion_options: &MotionViewOptions,
+) -> Result<ViewData, StanceError> {
+    let model = &run.plan.robot.model;
+    let mut view = motion_view(&MotionRecord::from(&run.result), model, motion_options)?;
+    add_run_layers(&mut view, run)?;
+    add_simulation(&mut view, record, model)?;
+    Ok(view)
+}
 
 /// Highest frame rate of a motion's playback data (frames per second of motion time).
 pub const MAX_FRAME_RATE: f64 = 50.0;
@@ -216,6 +278,16 @@ pub struct ViewData {
     pub robot: Option<RobotView>,
     /// The phase plane (motions with a profile).
     pub phase: Option<PhaseView>,
+    /// The contact forces at each playback frame (motions with a trajectory).
+    pub forces: Option<ForcesView>,
+    /// The robot's closest approaches to the environment at each frame (motions viewed with
+    /// their plan).
+    pub clearance: Option<ClearanceView>,
+    /// The worst joint torque ratio at each frame (motions with torque limits, viewed with
+    /// their plan).
+    pub torque: Option<TorqueView>,
+    /// The simulation beside the plan (a simulation report).
+    pub simulation: Option<SimulationView>,
     /// A table (the segments of a motion; the contacts of a scene).
     pub table: TableView,
     /// Notes shown under the table (what could not be computed, and why).
@@ -347,6 +419,9 @@ pub struct RobotView {
     pub com: Vec<[f64; 3]>,
     /// Per frame, the segment index.
     pub segment: Vec<usize>,
+    /// Per frame, its sample in the trajectory.
+    #[serde(skip)]
+    pub samples: Vec<usize>,
 }
 
 /// The retiming in the phase plane.

@@ -8,6 +8,7 @@ use stance_contact::equilibrium::{EquilibriumOptions, PolygonWorkspace};
 use stance_contact::{Contact, FrictionModel, Shape, Stance};
 use stance_robot::{center_of_mass, Data, Model, UrdfOptions};
 
+use crate::forces::forces_view;
 use crate::look::{pose7, robot_look, RobotLook};
 
 use super::{
@@ -152,21 +153,37 @@ pub fn motion_view(
     };
     let mut stances = Vec::new();
     let mut ws = PolygonWorkspace::new();
-    for (k, seg) in record.segments.iter().enumerate() {
-        let contacts: Vec<Contact> = seg
-            .contacts
-            .iter()
-            .map(|c| {
-                Contact::new(
-                    &c.name,
-                    c.position,
-                    c.rotation,
-                    Shape::Polygon(c.vertices.clone()),
-                    c.friction,
-                    &Default::default(),
-                )
-            })
-            .collect::<Result<_, _>>()?;
+    let segment_contacts: Vec<Vec<Contact>> = record
+        .segments
+        .iter()
+        .map(|seg| {
+            seg.contacts
+                .iter()
+                .map(|c| {
+                    Contact::new(
+                        &c.name,
+                        c.position,
+                        c.rotation,
+                        Shape::Polygon(c.vertices.clone()),
+                        c.friction,
+                        &Default::default(),
+                    )
+                })
+                .collect::<Result<_, _>>()
+        })
+        .collect::<Result<_, _>>()?;
+    let forces = match (&robot, &record.trajectory) {
+        (Some(r), Some(tr)) => Some(forces_view(
+            model,
+            tr,
+            &r.samples,
+            &segment_contacts,
+            record.friction_cone,
+            record.gravity,
+        )?),
+        _ => None,
+    };
+    for ((k, seg), contacts) in record.segments.iter().enumerate().zip(segment_contacts) {
         let views = contacts
             .iter()
             .map(|c| ContactView::of(c, &record.friction_cone))
@@ -242,6 +259,10 @@ pub fn motion_view(
         region: None,
         robot,
         phase,
+        forces,
+        clearance: None,
+        torque: None,
+        simulation: None,
         table: segment_table(&record.segments),
         notes,
     })
@@ -304,10 +325,13 @@ fn playback(
     look: RobotLook,
 ) -> Result<RobotView, StanceError> {
     let n = tr.t.len();
-    if tr.q.len() != n || tr.segment.len() != n {
+    if tr.q.len() != n || tr.v.len() != n || tr.a.len() != n || tr.segment.len() != n {
         return Err(StanceError::BadMotion(format!(
-            "the trajectory has {n} times but {} configurations and {} segment indices",
+            "the trajectory has {n} times but {} configurations, {} velocities, {} \
+             accelerations and {} segment indices: give the complete output of `stance motion`",
             tr.q.len(),
+            tr.v.len(),
+            tr.a.len(),
             tr.segment.len()
         )));
     }
@@ -319,26 +343,8 @@ fn playback(
             last = t;
         }
     }
-    let mut data = Data::new(model);
-    let joints = model.joints.len() - 1;
-    let mut positions = Vec::with_capacity(keep.len());
-    let mut orientations = Vec::with_capacity(keep.len());
-    let mut com = Vec::with_capacity(keep.len());
-    for &i in &keep {
-        let c = center_of_mass(model, &mut data, &tr.q[i]).map_err(StanceError::Robot)?;
-        com.push(round3(c.into()));
-        let mut p = Vec::with_capacity(3 * joints);
-        let mut o = Vec::with_capacity(4 * joints);
-        for j in 1..=joints {
-            let pose = pose7(&data.world_from_joint[j]);
-            p.extend([round(pose[0]), round(pose[1]), round(pose[2])]);
-            if !look.meshes.is_empty() {
-                o.extend(pose[3..].iter().map(|x| (x * 1e4).round() / 1e4));
-            }
-        }
-        positions.push(p);
-        orientations.push(o);
-    }
+    let qs: Vec<Vec<f64>> = keep.iter().map(|&i| tr.q[i].clone()).collect();
+    let frames = fk_frames(model, &qs, !look.meshes.is_empty())?;
     Ok(RobotView {
         name: record.robot.name.clone(),
         radius: LINK_RADIUS,
@@ -348,15 +354,58 @@ fn playback(
             .map(|b| [b.parent - 1, b.child - 1])
             .collect(),
         t: keep.iter().map(|&i| tr.t[i]).collect(),
-        positions,
-        orientations,
+        positions: frames.positions,
+        orientations: frames.orientations,
         meshes: look.meshes,
         mesh_data: look.mesh_data,
-        com,
+        com: frames.com,
         // the page indexes its stances from 0; the result numbers segments from 1
         segment: keep
             .iter()
             .map(|&i| tr.segment[i].saturating_sub(1))
             .collect(),
+        samples: keep,
     })
+}
+
+/// Forward kinematics of playback frames.
+pub(crate) struct Frames {
+    /// Per frame, the joint origins (flattened, rounded to 0.1 mm).
+    pub positions: Vec<Vec<f64>>,
+    /// Per frame, the joint orientations `qx, qy, qz, qw` (flattened, rounded to 1e-4; empty
+    /// when `orientations` is false).
+    pub orientations: Vec<Vec<f64>>,
+    /// Per frame, the CoM.
+    pub com: Vec<[f64; 3]>,
+}
+
+/// The joint frames and CoM of `model` at each configuration of `qs`.
+pub(crate) fn fk_frames(
+    model: &Model,
+    qs: &[Vec<f64>],
+    orientations: bool,
+) -> Result<Frames, StanceError> {
+    let mut data = Data::new(model);
+    let joints = model.joints.len() - 1;
+    let mut out = Frames {
+        positions: Vec::with_capacity(qs.len()),
+        orientations: Vec::with_capacity(qs.len()),
+        com: Vec::with_capacity(qs.len()),
+    };
+    for q in qs {
+        let c = center_of_mass(model, &mut data, q).map_err(StanceError::Robot)?;
+        out.com.push(round3(c.into()));
+        let mut p = Vec::with_capacity(3 * joints);
+        let mut o = Vec::with_capacity(4 * joints);
+        for j in 1..=joints {
+            let pose = pose7(&data.world_from_joint[j]);
+            p.extend([round(pose[0]), round(pose[1]), round(pose[2])]);
+            if orientations {
+                o.extend(pose[3..].iter().map(|x| (x * 1e4).round() / 1e4));
+            }
+        }
+        out.positions.push(p);
+        out.orientations.push(o);
+    }
+    Ok(out)
 }

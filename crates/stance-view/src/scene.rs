@@ -165,6 +165,10 @@ pub fn scene_view(
         region,
         robot: None,
         phase: None,
+        forces: None,
+        clearance: None,
+        torque: None,
+        simulation: None,
         table,
         notes,
     })

@@ -205,3 +205,197 @@ fn motion_view_from_the_result_json_equals_the_view_of_the_run() {
     let e = changed.load_model().unwrap_err().to_string();
     assert!(e.contains("run `stance motion` again"), "{e}");
 }
+
+/// The page's forces hold the motion: at every frame they sum, with their moments about the
+/// world origin taken at the page's contact vertices, to minus the gravito-inertial wrench of
+/// the frame's sample (so they are in the vertices' order), and each vertex's friction usage is
+/// `|f_t| / (mu f_n)` in its contact's frame.
+#[test]
+fn the_forces_balance_the_gravito_inertial_wrench_at_every_frame() {
+    let run = small_sway();
+    let model = &run.plan.robot.model;
+    let v = motion_view(&MotionRecord::from(&run.result), model, &Default::default()).unwrap();
+    let robot = v.robot.as_ref().unwrap();
+    let forces = v.forces.as_ref().unwrap();
+    let tr = run.result.trajectory.as_ref().unwrap();
+    let mut data = Data::new(model);
+    assert_eq!(forces.forces.len(), robot.t.len());
+    assert!(
+        forces.feasible.iter().all(|&f| f),
+        "small-sway holds at every frame"
+    );
+    let weight = model.total_mass() * 9.81;
+    assert!((forces.scale - stance_view::WEIGHT_ARROW / weight).abs() < 1e-12);
+    for (f, &i) in robot.samples.iter().enumerate() {
+        let w = stance_motion::checks::w_gi_of(
+            model,
+            &mut data,
+            &tr.q[i],
+            &tr.v[i],
+            &tr.a[i],
+            run.plan.gravity,
+        )
+        .unwrap();
+        let stance = &v.stances[robot.segment[f]];
+        let (mut sum_f, mut sum_m) = ([0.0; 3], [0.0; 3]);
+        for (c, fs) in stance.contacts.iter().zip(&forces.forces[f]) {
+            assert_eq!(fs.len(), c.vertices.len());
+            for (p, x) in c.vertices.iter().zip(fs) {
+                let m = [
+                    p[1] * x[2] - p[2] * x[1],
+                    p[2] * x[0] - p[0] * x[2],
+                    p[0] * x[1] - p[1] * x[0],
+                ];
+                for k in 0..3 {
+                    sum_f[k] += x[k];
+                    sum_m[k] += m[k];
+                }
+            }
+        }
+        for k in 0..3 {
+            // rounding to 0.1 N at 8 vertices
+            assert!(
+                (sum_f[k] + w[k]).abs() < 1.0,
+                "frame {f}: force {sum_f:?} vs {w:?}"
+            );
+            assert!(
+                (sum_m[k] + w[3 + k]).abs() < 1.0,
+                "frame {f}: moment {sum_m:?} vs {w:?}"
+            );
+        }
+        for ((c, fs), us) in stance
+            .contacts
+            .iter()
+            .zip(&forces.forces[f])
+            .zip(&forces.usage[f])
+        {
+            for (x, u) in fs.iter().zip(us) {
+                // in the contact frame: axes are the columns (x, y, normal)
+                let local: Vec<f64> = (0..3)
+                    .map(|a| (0..3).map(|k| c.axes[k][a] * x[k]).sum())
+                    .collect();
+                if local[2] > 20.0 {
+                    let want = local[0].hypot(local[1]) / (c.friction * local[2]);
+                    assert!((u - want).abs() < 0.01, "frame {f}: usage {u} vs {want}");
+                }
+            }
+        }
+    }
+}
+
+/// The closest approaches the page lists are the collision model's distances, under 2 cm, never
+/// closer than the collision check found over all samples; the torque ratios never exceed the
+/// limit check's largest.
+#[test]
+fn clearance_and_torque_layers_agree_with_the_checks() {
+    let run = run_full(
+        experiments::by_name("box-climbing").unwrap(),
+        &RunOptions::default(),
+    )
+    .unwrap();
+    let mut v = motion_view(
+        &MotionRecord::from(&run.result),
+        &run.plan.robot.model,
+        &Default::default(),
+    )
+    .unwrap();
+    stance_view::add_run_layers(&mut v, &run).unwrap();
+    let robot = v.robot.as_ref().unwrap();
+    let clearance = v.clearance.as_ref().unwrap();
+    let checks = run.result.checks.as_ref().unwrap();
+    let model = &run.plan.robot.model;
+    let mut data = Data::new(model);
+    let mut listed = 0;
+    for (f, near) in clearance.frames.iter().enumerate() {
+        let s = &run.samples[robot.samples[f]];
+        stance_robot::forward_kinematics(model, &mut data, &s.q).unwrap();
+        for n in near {
+            listed += 1;
+            assert!(n.distance < stance_view::CLEARANCE_SHOWN);
+            let b = run.plan.collision.body(&n.body).unwrap();
+            let k = run
+                .plan
+                .environment
+                .iter()
+                .position(|e| e.name == n.surface)
+                .unwrap();
+            let d = run.plan.collision.distance(&data, b, k, 0.1).unwrap();
+            assert!((d.distance - n.distance).abs() <= 0.6e-4);
+            if let Some(c) = checks.clearances.iter().find(|c| c.body == n.body) {
+                assert!(
+                    n.distance >= c.distance - 1e-4,
+                    "{} closer than the check",
+                    n.body
+                );
+            }
+        }
+    }
+    assert!(
+        listed > 0,
+        "the hand comes within 2 cm of the ledge before it lands"
+    );
+    let torque = v.torque.as_ref().unwrap();
+    let max = torque
+        .ratio
+        .iter()
+        .flatten()
+        .fold(0.0, |a: f64, &b| a.max(b));
+    let checked = checks.max_torque_ratio.unwrap();
+    assert!(
+        max > 0.1 && max <= checked + 1e-4,
+        "{max} vs the check's {checked}"
+    );
+}
+
+/// A simulation report is drawn beside its plan: its frames are the forward kinematics of the
+/// executed configurations, its events numbered in time order, its verdict in the title.
+#[test]
+fn a_simulation_is_drawn_beside_its_plan() {
+    let run = small_sway();
+    let model = &run.plan.robot.model;
+    // an execution 5 cm ahead of the plan in x, every 20 ms, that "falls" at 1 s
+    let mut t = Vec::new();
+    let mut q = Vec::new();
+    for s in run.samples.iter().step_by(20) {
+        let mut x = s.q.clone();
+        x[0] += 0.05;
+        t.push(s.t);
+        q.push(x);
+    }
+    let record: stance_view::SimRecord = serde_json::from_value(serde_json::json!({
+        "held": false, "reason": "fell at t = 1.000 s", "time_scale": 1.0,
+        "events": [
+            {"kind": "fall", "t": 1.0, "position": [0.0, 0.0, 0.5], "text": "fell"},
+            {"kind": "slip", "t": 0.5, "position": [0.0, 0.1, 0.0], "text": "LF slipped"}
+        ],
+        "trajectory": {"t": t, "q": q, "plan_t0": 0.0},
+        "motion": {"motion": "small-sway", "time_scale": 1.0, "segments": null,
+                   "no_limits": false, "duration": run.result.duration.unwrap()}
+    }))
+    .unwrap();
+    let v = stance_view::simulation_page(&run, &record, &Default::default()).unwrap();
+    assert!(v.title.ends_with("failed in MuJoCo"), "{}", v.title);
+    let sim = v.simulation.as_ref().unwrap();
+    let numbers: Vec<(usize, &str)> = sim
+        .events
+        .iter()
+        .map(|e| (e.number, e.kind.as_str()))
+        .collect();
+    assert_eq!(numbers, [(1, "slip"), (2, "fall")]);
+    let mut data = Data::new(model);
+    for (f, x) in record.trajectory.as_ref().unwrap().q.iter().enumerate() {
+        let com = center_of_mass(model, &mut data, x).unwrap();
+        for j in 1..model.joints.len() {
+            let p = data.world_from_joint[j].translation;
+            for k in 0..3 {
+                assert!((sim.positions[f][3 * (j - 1) + k] - p[k]).abs() <= 0.6e-4);
+            }
+        }
+        assert!((sim.com[f][0] - com.x).abs() <= 0.6e-4);
+    }
+    // a report whose trajectory is missing is refused
+    let mut bad = record.clone();
+    bad.trajectory = None;
+    let mut view = v.clone();
+    assert!(stance_view::add_simulation(&mut view, &bad, model).is_err());
+}

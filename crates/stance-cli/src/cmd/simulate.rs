@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use stance_sim::{simulate, SimOptions};
 
 use super::io::{write_output, Common};
@@ -34,6 +34,14 @@ pub struct SimulateArgs {
     /// surface's own `friction` from the motion file).
     #[arg(long, value_name = "MU", allow_hyphen_values = true)]
     pub friction: Option<f64>,
+    /// Also write the page of `stance view` with the simulation beside the plan (the executed
+    /// robot solid, the plan a ghost, the events marked; `stance view REPORT.json` writes the same
+    /// page from the report later).
+    #[arg(long, value_name = "PAGE")]
+    pub view: Option<PathBuf>,
+    /// With --view: draw the robot without its mesh files.
+    #[arg(long, requires = "view")]
+    pub no_meshes: bool,
     #[command(flatten)]
     pub common: Common,
 }
@@ -67,6 +75,31 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         no_limits: args.no_limits,
         ..Default::default()
     };
-    let (_, report) = simulate(spec, &options)?;
-    write_output(&args.common, &report)
+    let (run, mut report) = simulate(spec, &options)?;
+    // what was simulated, so that `stance view REPORT.json` can draw the plan again
+    let path = std::path::Path::new(&args.motion);
+    report.motion = Some(stance_sim::SimSource {
+        motion: if path.is_file() {
+            path.canonicalize()
+                .map_or(args.motion.clone(), |p| p.display().to_string())
+        } else {
+            args.motion.clone()
+        },
+        time_scale: args.time_scale.unwrap_or(1.0),
+        segments: segments.map(|[a, b]| [a + 1, b + 1]),
+        no_limits: args.no_limits,
+        duration: run.result.duration.unwrap_or(0.0),
+    });
+    write_output(&args.common, &report)?;
+    if let Some(page) = &args.view {
+        let record: stance_view::SimRecord = serde_json::to_value(&report)
+            .and_then(serde_json::from_value)
+            .context("cannot pass the report to the page")?;
+        let motion_options = stance_view::MotionViewOptions {
+            meshes: !args.no_meshes,
+        };
+        let view = stance_view::simulation_page(&run, &record, &motion_options)?;
+        super::view::write_page(page, &view)?;
+    }
+    Ok(())
 }

@@ -66,12 +66,17 @@ pub fn run(a: ViewArgs) -> Result<()> {
         meshes: !a.no_meshes,
     };
     let view = build(&a.source, kind, &options, &motion_options)?;
-    let page = render(&view);
-    std::fs::write(&a.output, &page)
-        .with_context(|| format!("cannot write the page {}", a.output.display()))?;
+    write_page(&a.output, &view)
+}
+
+/// Writes the page of `view` to `path` and says where on standard error.
+pub fn write_page(path: &std::path::Path, view: &stance_view::ViewData) -> Result<()> {
+    let page = render(view);
+    std::fs::write(path, &page)
+        .with_context(|| format!("cannot write the page {}", path.display()))?;
     eprintln!(
         "wrote {} ({:.2} MB): open it in a browser (it needs no network)",
-        a.output.display(),
+        path.display(),
         page.len() as f64 / 1e6
     );
     Ok(())

@@ -30,18 +30,31 @@
 
   // ---- time and segments --------------------------------------------------------------
   var R = D.robot;
-  var T = R && R.t.length ? R.t[R.t.length - 1] : 0;
+  // a simulation report: the page's time is the simulation's, the plan shown at its own time
+  var S = D.simulation || null;
+  var T = S ? S.t[S.t.length - 1] : (R && R.t.length ? R.t[R.t.length - 1] : 0);
+  var EVENT_COLORS = { slip: 0xff7f0e, contact_loss: 0xd62728, unplanned_contact: 0x9467bd, early_touch: 0x17becf, late_lift: 0x8c564b, fall: 0x000000 };
   var current = { t: 0, frame: 0, alpha: 0 };
   var hashT = /(?:^|[#&])t=([0-9.]+)/.exec(location.hash);
   if (hashT) current.t = Math.min(T, parseFloat(hashT[1]));
 
-  function locate(t) {
-    // frame i and weight a with t between R.t[i] and R.t[i + 1]
-    var lo = 0, hi = R.t.length - 1;
-    if (t <= R.t[0]) return [0, 0];
-    if (t >= R.t[hi]) return [hi, 0];
-    while (hi - lo > 1) { var mid = (lo + hi) >> 1; if (R.t[mid] <= t) lo = mid; else hi = mid; }
-    return [lo, (t - R.t[lo]) / (R.t[lo + 1] - R.t[lo])];
+  function locateIn(ts, t) {
+    // frame i and weight a with t between ts[i] and ts[i + 1]
+    var lo = 0, hi = ts.length - 1;
+    if (t <= ts[0]) return [0, 0];
+    if (t >= ts[hi]) return [hi, 0];
+    while (hi - lo > 1) { var mid = (lo + hi) >> 1; if (ts[mid] <= t) lo = mid; else hi = mid; }
+    return [lo, (t - ts[lo]) / (ts[lo + 1] - ts[lo])];
+  }
+  function locate(t) { return locateIn(R.t, t); }
+  // the plan's time at the page's time (a simulation's: the plan held at its ends)
+  function planTime() {
+    if (!S) return current.t;
+    return Math.min(Math.max(S.plan_t0 + current.t, R.t[0]), R.t[R.t.length - 1]);
+  }
+  function simComAt() {
+    var f = locateIn(S.t, current.t), n = f[0] + 1 < S.t.length ? f[0] + 1 : f[0];
+    return lerpArr(S.com[f[0]], S.com[n], f[1]);
   }
   function lerpArr(a, b, w) {
     var out = new Array(a.length);
@@ -218,6 +231,14 @@
     }
   }
 
+  // friction usage |f_t| / (mu f_n) to a colour: green (0) to yellow (0.5) to red (1);
+  // magenta beyond 1 (the force would slide under Coulomb's law)
+  function usageColor(u) {
+    if (u > 1) return 0xc000c0;
+    var r = Math.round(255 * Math.min(1, 2 * u)), g = Math.round(200 * Math.min(1, 2 * (1 - u)));
+    return (r << 16) | (g << 8);
+  }
+
   function build3d() {
     // the camera frames what matters (contacts, robot, polygons, region), not the whole floor
     var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
@@ -266,6 +287,8 @@
     var gRobot = R ? layer('robot', hasMeshes ? 'robot' : 'robot (capsules)', true) : null;
     var gBones = hasMeshes ? layer('links', 'links as capsules', false) : gRobot;
     var gCom = R ? layer('com', 'CoM and path', true) : null;
+    var gForces = D.forces ? layer('forces', 'contact forces', true) : null;
+    var gClear = D.clearance ? layer('clearance', 'closest approaches', true) : null;
 
     // axes and grid (1 line every grid step, on the lowest plane)
     var span = Math.max(hi[0] - lo[0], hi[1] - lo[1], 0.5);
@@ -362,47 +385,105 @@
       gRegion.add(segments(edges, 0xa04f1c, 0.8));
     }
 
-    // the robot as it looks: the URDF's geometries, each on its joint's frame
-    var jointFrames = {};
+    // the robots: the plan's (a translucent ghost beside a simulation), and the simulation's
+    var meshGeometries = hasMeshes ? R.mesh_data.map(function (d) {
+      var g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.Float32BufferAttribute(new Float32Array(bytes(d.positions)), 3));
+      var ib = bytes(d.indices);
+      g.setIndex(Array.from(d.index_bytes === 2 ? new Uint16Array(ib) : new Uint32Array(ib)));
+      return g;
+    }) : [];
+    var planRobot = null, simRobot = null, gSim = null;
     counts.meshes = 0;
-    if (hasMeshes) {
-      var meshGeometries = R.mesh_data.map(function (d) {
-        var g = new THREE.BufferGeometry();
-        g.setAttribute('position', new THREE.Float32BufferAttribute(new Float32Array(bytes(d.positions)), 3));
-        var ib = bytes(d.indices);
-        g.setIndex(Array.from(d.index_bytes === 2 ? new Uint16Array(ib) : new Uint32Array(ib)));
-        return g;
-      });
-      R.meshes.forEach(function (mv) {
-        var frame = jointFrames[mv.joint];
-        if (!frame) { frame = jointFrames[mv.joint] = new THREE.Group(); gRobot.add(frame); }
-        var m = new THREE.Mesh(shapeGeometry(mv.shape, meshGeometries), new THREE.MeshStandardMaterial({
-          color: new THREE.Color().setRGB(mv.color[0], mv.color[1], mv.color[2], 'srgb'),
-          flatShading: true, roughness: 0.75, metalness: 0.05,
-          transparent: mv.color[3] < 1, opacity: mv.color[3]
-        }));
-        var o = mv.origin;
-        m.position.set(o[0], o[1], o[2]);
-        m.quaternion.set(o[3], o[4], o[5], o[6]);
-        if (mv.shape.kind === 'mesh') m.scale.set(mv.shape.scale[0], mv.shape.scale[1], mv.shape.scale[2]);
-        m.userData.link = mv.link;
-        frame.add(m);
-        counts.meshes++;
-      });
+    counts.robots = 0;
+    if (R) {
+      planRobot = makeRobot(hasMeshes ? gRobot : null, gBones, S ? 0.3 : 1);
+      counts.meshes = planRobot.meshes;
+      counts.bones = R.bones.length;
+    }
+    if (S) {
+      gSim = layer('executed', 'executed in MuJoCo', true);
+      simRobot = makeRobot(hasMeshes ? gSim : null, hasMeshes ? null : gSim, 1);
+      counts.executed_meshes = simRobot.meshes;
+    }
+    var mainRobot = simRobot || planRobot, mainGroup = S ? gSim : gRobot;
+
+    // a robot: the URDF's geometries, each on its joint's frame (meshGroup), and capsules
+    // between joint origins (boneGroup); placed from a frame's joint positions and orientations
+    function makeRobot(meshGroup, boneGroup, opacity) {
+      var robot = { frames: {}, bones: [], balls: [], meshes: 0 };
+      counts.robots++;
+      if (meshGroup) {
+        R.meshes.forEach(function (mv) {
+          var frame = robot.frames[mv.joint];
+          if (!frame) { frame = robot.frames[mv.joint] = new THREE.Group(); meshGroup.add(frame); }
+          var alpha = mv.color[3] * opacity;
+          var m = new THREE.Mesh(shapeGeometry(mv.shape, meshGeometries), new THREE.MeshStandardMaterial({
+            color: new THREE.Color().setRGB(mv.color[0], mv.color[1], mv.color[2], 'srgb'),
+            flatShading: true, roughness: 0.75, metalness: 0.05,
+            transparent: alpha < 1, opacity: alpha, depthWrite: alpha >= 1
+          }));
+          var o = mv.origin;
+          m.position.set(o[0], o[1], o[2]);
+          m.quaternion.set(o[3], o[4], o[5], o[6]);
+          if (mv.shape.kind === 'mesh') m.scale.set(mv.shape.scale[0], mv.shape.scale[1], mv.shape.scale[2]);
+          m.userData.link = mv.link;
+          frame.add(m);
+          robot.meshes++;
+        });
+      }
+      if (boneGroup) {
+        var cyl = new THREE.CylinderGeometry(R.radius, R.radius, 1, 12);
+        var ball = new THREE.SphereGeometry(R.radius * 1.15, 12, 8);
+        var mb = new THREE.MeshStandardMaterial({ color: COLORS.robot, roughness: 0.6, transparent: opacity < 1, opacity: opacity });
+        var mj = new THREE.MeshStandardMaterial({ color: COLORS.joint, roughness: 0.6, transparent: opacity < 1, opacity: opacity });
+        R.bones.forEach(function () { var m = new THREE.Mesh(cyl, mb); boneGroup.add(m); robot.bones.push(m); });
+        var used = {};
+        R.bones.forEach(function (b) { used[b[0]] = true; used[b[1]] = true; });
+        Object.keys(used).forEach(function (j) { var m = new THREE.Mesh(ball, mj); m.userData.joint = +j; boneGroup.add(m); robot.balls.push(m); });
+      }
+      // P: joint positions (3 per joint); O, O1: orientations (4 per joint) at the frames
+      // around the time, w the weight of O1
+      robot.place = function (P, O, O1, w) {
+        function at(j) { return new THREE.Vector3(P[3 * j], P[3 * j + 1], P[3 * j + 2]); }
+        R.bones.forEach(function (b, k) {
+          var a = at(b[0]), e = at(b[1]);
+          var d = e.clone().sub(a), len = d.length();
+          var m = robot.bones[k];
+          if (!m) return;
+          m.position.copy(a).add(e).multiplyScalar(0.5);
+          m.scale.set(1, Math.max(len, 1e-6), 1);
+          if (len > 0) m.quaternion.setFromUnitVectors(up, d.divideScalar(len));
+        });
+        robot.balls.forEach(function (m) { m.position.copy(at(m.userData.joint)); });
+        Object.keys(robot.frames).forEach(function (k) {
+          var j = +k, g = robot.frames[k];
+          g.position.copy(at(j));
+          qa.set(O[4 * j], O[4 * j + 1], O[4 * j + 2], O[4 * j + 3]);
+          qb.set(O1[4 * j], O1[4 * j + 1], O1[4 * j + 2], O1[4 * j + 3]);
+          g.quaternion.copy(qa).slerp(qb, w);
+        });
+      };
+      return robot;
     }
 
-    // the robot as capsules: a cylinder per bone, a ball per joint
-    var boneMeshes = [], jointMeshes = [];
-    if (gBones) {
-      var cyl = new THREE.CylinderGeometry(R.radius, R.radius, 1, 12);
-      var ball = new THREE.SphereGeometry(R.radius * 1.15, 12, 8);
-      var mb = new THREE.MeshStandardMaterial({ color: COLORS.robot, roughness: 0.6 });
-      var mj = new THREE.MeshStandardMaterial({ color: COLORS.joint, roughness: 0.6 });
-      R.bones.forEach(function () { var m = new THREE.Mesh(cyl, mb); gBones.add(m); boneMeshes.push(m); });
-      var used = {};
-      R.bones.forEach(function (b) { used[b[0]] = true; used[b[1]] = true; });
-      Object.keys(used).forEach(function (j) { var m = new THREE.Mesh(ball, mj); m.userData.joint = +j; gBones.add(m); jointMeshes.push(m); });
-      counts.bones = R.bones.length;
+    // the simulation's events: a numbered marker where each happened
+    var eventMarkers = [];
+    if (S) {
+      var gEvents = layer('events', 'simulation events', true);
+      S.events.forEach(function (e) {
+        var g = new THREE.Group();
+        var ball = new THREE.Mesh(new THREE.SphereGeometry(0.025, 16, 12), new THREE.MeshBasicMaterial({ color: EVENT_COLORS[e.kind] || 0x000000, depthTest: false }));
+        ball.renderOrder = 11;
+        g.add(ball);
+        var tag = label(String(e.number), [0.05, 0, 0.05], 0.06);
+        g.add(tag);
+        g.position.set(e.position[0], e.position[1], e.position[2]);
+        g.userData.event = e;
+        gEvents.add(g);
+        eventMarkers.push(g);
+      });
+      counts.events = eventMarkers.length;
     }
     var comBall = null, comLine = null;
     if (R) {
@@ -414,6 +495,26 @@
       comLine = segments([0, 0, 0, 0, 0, 0], COLORS.com, 0.5);
       gCom.add(comLine);
     }
+
+    // contact forces: an arrow per contact vertex, from the vertex along the force on the robot
+    // (WEIGHT_ARROW per weight), coloured by friction usage against Coulomb's circle
+    var arrows = [];
+    if (gForces) {
+      var most = 0;
+      D.stances.forEach(function (st) { var n = 0; st.contacts.forEach(function (c) { n += c.vertices.length; }); most = Math.max(most, n); });
+      for (var ai = 0; ai < most; ai++) {
+        var arrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 0.1, 0x2e9e4f);
+        arrow.visible = false;
+        // drawn over the robot: the forces act under its feet and hands
+        arrow.line.material.depthTest = false; arrow.cone.material.depthTest = false;
+        arrow.renderOrder = 10;
+        gForces.add(arrow);
+        arrows.push(arrow);
+      }
+    }
+    // closest approaches: a segment from the body's closest point to the solid's
+    var nearLines = gClear ? segments(new Array(6 * 64).fill(0), 0xd62728, 1) : null;
+    if (nearLines) { nearLines.material.linewidth = 2; gClear.add(nearLines); }
 
     // camera: the whole scene (a motion: the robot where it is now), from the front-right, a
     // little above
@@ -455,36 +556,56 @@
         if (sg.prism) sg.prism.visible = on;
       });
       if (!R) return;
-      var i = current.frame, w = current.alpha;
-      var P = i + 1 < R.t.length ? lerpArr(R.positions[i], R.positions[i + 1], w) : R.positions[i];
-      function at(j) { return new THREE.Vector3(P[3 * j], P[3 * j + 1], P[3 * j + 2]); }
-      R.bones.forEach(function (b, k) {
-        var a = at(b[0]), e = at(b[1]);
-        var d = e.clone().sub(a), len = d.length();
-        var m = boneMeshes[k];
-        m.position.copy(a).add(e).multiplyScalar(0.5);
-        m.scale.set(1, Math.max(len, 1e-6), 1);
-        if (len > 0) m.quaternion.setFromUnitVectors(up, d.divideScalar(len));
-      });
-      jointMeshes.forEach(function (m) { m.position.copy(at(m.userData.joint)); });
-      if (hasMeshes) {
-        var O = R.orientations[i], O1 = i + 1 < R.t.length ? R.orientations[i + 1] : O;
-        Object.keys(jointFrames).forEach(function (k) {
-          var j = +k, g = jointFrames[k];
-          g.position.copy(at(j));
-          qa.set(O[4 * j], O[4 * j + 1], O[4 * j + 2], O[4 * j + 3]);
-          qb.set(O1[4 * j], O1[4 * j + 1], O1[4 * j + 2], O1[4 * j + 3]);
-          g.quaternion.copy(qa).slerp(qb, w);
+      var i = current.frame, w = current.alpha, n1 = i + 1 < R.t.length ? i + 1 : i;
+      planRobot.place(lerpArr(R.positions[i], R.positions[n1], w), R.orientations[i], R.orientations[n1], w);
+      if (S) {
+        var si = locateIn(S.t, current.t), sn = si[0] + 1 < S.t.length ? si[0] + 1 : si[0];
+        simRobot.place(lerpArr(S.positions[si[0]], S.positions[sn], si[1]), S.orientations[si[0]], S.orientations[sn], si[1]);
+        eventMarkers.forEach(function (g) {
+          // an event's marker grows while it happens (within 0.1 s)
+          var k = Math.abs(g.userData.event.t - current.t) < 0.1 ? 2 : 1;
+          g.scale.set(k, k, k);
         });
       }
       var com = comAt();
-      follow(com);
+      follow(S ? simComAt() : com);
       comBall.position.set(com[0], com[1], com[2]);
       var cl = comLine.geometry.attributes.position;
       cl.setXYZ(0, com[0], com[1], com[2]);
       cl.setXYZ(1, com[0], com[1], floorZ);
       cl.needsUpdate = true;
       var st = D.stances[seg];
+      if (gForces) {
+        var F = D.forces, fi = current.frame, used = 0, dirv = new THREE.Vector3();
+        // the frame's forces, held until the next frame (they change with the stance)
+        if (F.feasible[fi] && st) {
+          st.contacts.forEach(function (c, ci) {
+            c.vertices.forEach(function (v, vi) {
+              var f = F.forces[fi][ci][vi], a = arrows[used++];
+              var len = Math.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) * F.scale;
+              if (len < 1e-4) { a.visible = false; return; }
+              a.visible = true;
+              a.position.set(v[0], v[1], v[2]);
+              a.setDirection(dirv.set(f[0], f[1], f[2]).normalize());
+              a.setLength(len, Math.min(0.3 * len, 0.04), Math.min(0.15 * len, 0.02));
+              a.setColor(usageColor(F.usage[fi][ci][vi]));
+            });
+          });
+        }
+        for (var k = used; k < arrows.length; k++) arrows[k].visible = false;
+      }
+      if (nearLines) {
+        var near = D.clearance.frames[current.frame] || [], np = nearLines.geometry.attributes.position;
+        for (var n = 0; n < 64; n++) {
+          var e = near[n];
+          if (e) {
+            var d = Math.max(e.distance, 0);
+            np.setXYZ(2 * n, e.point[0], e.point[1], e.point[2]);
+            np.setXYZ(2 * n + 1, e.point[0] + d * e.normal[0], e.point[1] + d * e.normal[1], e.point[2] + d * e.normal[2]);
+          } else { np.setXYZ(2 * n, 0, 0, 0); np.setXYZ(2 * n + 1, 0, 0, 0); }
+        }
+        np.needsUpdate = true;
+      }
       if (st && stanceGroups[seg].polygon && Math.abs(D.gravity[0]) + Math.abs(D.gravity[1]) === 0) {
         stanceGroups[seg].polygon.position.z = com[2];
       }
@@ -507,6 +628,8 @@
     [['contacts', COLORS.contact], ['friction pyramids', COLORS.pyramid], ['static polygon', COLORS.polygon]]
       .concat(D.region ? [['robust region M', COLORS.region]] : [])
       .concat(R ? [['CoM', COLORS.com]] : [])
+      .concat(D.forces ? [['force, friction usage 0', usageColor(0)], ['0.5', usageColor(0.5)], ['1', usageColor(1)], ['> 1', usageColor(1.5)]] : [])
+      .concat(D.clearance ? [['closest approach < ' + (D.clearance.threshold * 100) + ' cm', 0xd62728]] : [])
       .forEach(function (x) {
         var s = document.createElement('span'); s.style.background = hex(x[1]);
         legend.appendChild(s); legend.appendChild(document.createTextNode(x[0]));
@@ -520,28 +643,28 @@
     // a motion: the camera frames the robot where it is at the start (its drawn geometry's
     // bounding spheres, or its joints), with room for the contacts around it
     if (R) {
-      var fa = locate(current.t);
+      var fa = locate(planTime());
       current.frame = fa[0]; current.alpha = fa[1];
       pose();
       scene.updateMatrixWorld(true);
       var blo = [Infinity, Infinity, Infinity], bhi = [-Infinity, -Infinity, -Infinity];
       function box(p, r) { for (var k = 0; k < 3; k++) { blo[k] = Math.min(blo[k], p[k] - r); bhi[k] = Math.max(bhi[k], p[k] + r); } }
-      Object.keys(jointFrames).forEach(function (k) {
-        jointFrames[k].children.forEach(function (m) {
+      Object.keys(mainRobot.frames).forEach(function (k) {
+        mainRobot.frames[k].children.forEach(function (m) {
           m.geometry.computeBoundingSphere();
           var bs = m.geometry.boundingSphere, cw = bs.center.clone().applyMatrix4(m.matrixWorld);
           box([cw.x, cw.y, cw.z], bs.radius * Math.max(m.scale.x, m.scale.y, m.scale.z));
         });
       });
-      var P0 = R.positions[current.frame];
+      var P0 = S ? S.positions[locateIn(S.t, current.t)[0]] : R.positions[current.frame];
       for (var j3 = 0; j3 < P0.length; j3 += 3) box([P0[j3], P0[j3 + 1], P0[j3 + 2]], R.radius);
       var half = 0.5 * Math.sqrt(Math.pow(bhi[0] - blo[0], 2) + Math.pow(bhi[1] - blo[1], 2) + Math.pow(bhi[2] - blo[2], 2));
       aim([(blo[0] + bhi[0]) / 2, (blo[1] + bhi[1]) / 2, (blo[2] + bhi[2]) / 2], 0.75 * half);
     }
     function probeLink(link) {
       var target = null, swapped = [];
-      Object.keys(jointFrames).forEach(function (k) {
-        jointFrames[k].children.forEach(function (m) {
+      Object.keys(mainRobot.frames).forEach(function (k) {
+        mainRobot.frames[k].children.forEach(function (m) {
           if (!target && m.userData.link === link) target = m;
           swapped.push([m, m.material]);
           m.material = new THREE.MeshBasicMaterial({ color: m.material.color });
@@ -549,7 +672,7 @@
       });
       if (!target) { swapped.forEach(function (x) { x[0].material = x[1]; }); return { link: link, error: 'no mesh of that link' }; }
       var shown = [];
-      scene.children.forEach(function (g) { if (g.isGroup) { shown.push([g, g.visible]); g.visible = g.name === 'robot'; } });
+      scene.children.forEach(function (g) { if (g.isGroup) { shown.push([g, g.visible]); g.visible = g === mainGroup; } });
       scene.updateMatrixWorld(true);
       target.geometry.computeBoundingSphere();
       var q = target.geometry.boundingSphere.center.clone().applyMatrix4(target.matrixWorld).project(camera);
@@ -571,14 +694,19 @@
   var slider = document.getElementById('time');
   function update() {
     if (R) {
-      var fa = locate(current.t);
+      var fa = locate(planTime());
       current.frame = fa[0]; current.alpha = fa[1];
-      clock.textContent = 't = ' + current.t.toFixed(3) + ' s of ' + T.toFixed(3) + ' s, segment ' + D.stances[segmentAt()].name;
+      clock.textContent = 't = ' + current.t.toFixed(3) + ' s of ' + T.toFixed(3) + ' s' +
+        (S ? ' simulated (plan at ' + planTime().toFixed(3) + ' s)' : '') + ', segment ' + D.stances[segmentAt()].name;
+      document.querySelectorAll('#timeline .mark, #events li').forEach(function (m) {
+        m.classList.toggle('now', Math.abs(parseFloat(m.dataset.t) - current.t) < 0.1);
+      });
+      document.getElementById('margins').textContent = margins(current.frame);
       slider.value = String(T > 0 ? current.t / T : 0);
       var rows = document.querySelectorAll('#table tr');
       for (var i = 1; i < rows.length; i++) rows[i].className = i - 1 === segmentAt() ? 'current' : '';
       if (topCom) { var p = topMap(comAt()); topCom.setAttribute('cx', p[0]); topCom.setAttribute('cy', p[1]); }
-      var s = sAt(current.t);
+      var s = sAt(planTime());
       if (phaseMarker && s !== null) { var x = phaseMap(s, 0)[0]; phaseMarker.setAttribute('x1', x); phaseMarker.setAttribute('x2', x); }
       var seg = segmentAt();
       document.querySelectorAll('.contact2d, .poly2d').forEach(function (e) {
@@ -588,6 +716,35 @@
     }
     if (three) { three.pose(); three.render(); }
   }
+  // one line per margin at a frame: friction usage, closest approach, worst torque ratio
+  function margins(fi) {
+    var out = [];
+    if (D.forces) {
+      if (!D.forces.feasible[fi]) out.push('no contact forces hold this frame');
+      else {
+        // at the vertices, and of each contact's resultant (its axes: x, y, normal)
+        var u = 0, ur = 0, st = D.stances[R.segment[fi]];
+        D.forces.usage[fi].forEach(function (c) { c.forEach(function (x) { u = Math.max(u, x); }); });
+        D.forces.forces[fi].forEach(function (fs, ci) {
+          var F = [0, 0, 0], a = st.contacts[ci].axes;
+          fs.forEach(function (f) { F[0] += f[0]; F[1] += f[1]; F[2] += f[2]; });
+          var loc = [0, 1, 2].map(function (k) { return a[0][k] * F[0] + a[1][k] * F[1] + a[2][k] * F[2]; });
+          if (loc[2] > 1e-9) ur = Math.max(ur, Math.sqrt(loc[0] * loc[0] + loc[1] * loc[1]) / (st.contacts[ci].friction * loc[2]));
+        });
+        out.push('friction usage (Coulomb): vertices ' + u.toFixed(2) + (u > 1 ? ' (> 1: a corner of the pyramid)' : '') + ', contacts ' + ur.toFixed(2));
+      }
+    }
+    if (D.clearance) {
+      var near = D.clearance.frames[fi];
+      if (near.length) {
+        var c = near.reduce(function (a, b) { return b.distance < a.distance ? b : a; });
+        out.push('closest: ' + c.body + ' to ' + c.surface + ', ' + (c.distance * 1000).toFixed(1) + ' mm');
+      }
+    }
+    if (D.torque && D.torque.ratio[fi] !== null) out.push('worst torque: ' + D.torque.joint[fi] + ' at ' + D.torque.ratio[fi].toFixed(2) + ' of its limit');
+    return out.join('\n');
+  }
+
   var playing = false, last = null;
   function tick(now) {
     if (!playing) return;
@@ -610,8 +767,37 @@
     slider.addEventListener('input', function () { current.t = parseFloat(slider.value) * T; update(); });
   }
 
+  // the simulation's verdict and events: marks on the time line, a numbered list
+  function drawEvents() {
+    if (!S) return;
+    document.getElementById('title').classList.add(S.verdict.held ? 'held' : 'failed');
+    var line = document.getElementById('timeline'), list = document.getElementById('events');
+    line.hidden = false;
+    document.getElementById('eventsfig').hidden = false;
+    S.events.forEach(function (e) {
+      var m = document.createElement('span');
+      m.className = 'mark'; m.dataset.t = e.t; m.dataset.kind = e.kind;
+      m.style.left = (T > 0 ? 100 * e.t / T : 0) + '%';
+      m.style.background = hex(EVENT_COLORS[e.kind] || 0);
+      m.textContent = e.number; m.title = e.t.toFixed(3) + ' s: ' + e.text;
+      m.addEventListener('click', function () { current.t = e.t; update(); });
+      line.appendChild(m);
+      var li = document.createElement('li');
+      li.dataset.t = e.t; li.dataset.kind = e.kind;
+      li.textContent = e.t.toFixed(3) + ' s, ' + e.kind.replace('_', ' ') + ': ' + e.text;
+      li.addEventListener('click', function () { current.t = e.t; update(); });
+      list.appendChild(li);
+    });
+    if (!S.events.length) {
+      var li = document.createElement('li');
+      li.textContent = 'no event: ' + S.verdict.reason;
+      list.appendChild(li);
+    }
+  }
+
   // ---- go -----------------------------------------------------------------------------
   drawTop();
+  drawEvents();
   drawPhase();
   drawTable();
   if (webglAvailable()) {
@@ -631,6 +817,7 @@
   update();
   if (three) {
     status.counts = three.counts;
+    status.counts.timeline_marks = document.querySelectorAll('#timeline .mark').length;
     status.draw_calls = three.renderer.info.render.calls;
     status.triangles = three.renderer.info.render.triangles;
     // pixel probe (on request, `#probe` in the address: reading pixels back stalls the GPU):
