@@ -16,6 +16,10 @@
 //!   `U_stance (m g, m p x g) <= 0`, eq. 11 of the paper; [`stance_contact::equilibrium`]) at the
 //!   CoM height, and its prism: the polygon swept along gravity down to the lowest contact (for
 //!   a static CoM only the horizontal position matters, so the whole prism is the static region);
+//! - for a motion, at every frame: the contact forces at the contact vertices ([`forces_view`]),
+//!   the robot's closest approaches to the environment and its worst torque ratio
+//!   ([`add_run_layers`]); beside a simulation report, the executed robot, its events and its
+//!   verdict ([`add_simulation`]);
 //! - for a scene, the robust static-equilibrium region `M` of the gravity-like vectors `g_k`
 //!   (eq. 12) as a translucent polyhedron, cut at the height of the lowest contact (below it
 //!   the region continues, mathematically, under the ground);
@@ -43,6 +47,14 @@
 //!   interpolated linearly between frames), rounded to 0.1 mm.
 //! - A motion's static polygon is computed once per segment, at the segment's mean CoM height;
 //!   it is drawn at the current CoM height, which is exact for vertical gravity only.
+//! - The forces are the least-norm ones inside the planned friction pyramids (the check's
+//!   problem): other forces may hold the same frame with less friction, so a vertex's usage
+//!   above 1 (an outer pyramid's corner) says where the plan's model and Coulomb's differ, not
+//!   that no sticking forces exist. They are shown at the frame before the current time (not
+//!   interpolated).
+//! - Clearances and torque ratios need the plan: a motion's result JSON is drawn without them.
+//! - A simulation report is drawn by running its motion again (at its time scale), and refused
+//!   when the motion's duration changed since.
 
 mod forces;
 mod html;
