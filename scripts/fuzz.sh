@@ -6,7 +6,7 @@
 #
 #   bash scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #
-# Targets (fuzz/fuzz_targets/): cone, topp, scene, urdf, motion, args. Each runs SECONDS (default 60)
+# Targets (fuzz/fuzz_targets/): cone, topp, scene, urdf, motion, args, meshes. Each runs SECONDS (default 60)
 # from its committed corpus (in CI, from a sample of it: see below) (fuzz/corpus/TARGET, kept small: new inputs go to a scratch
 # directory, then only those that add coverage are merged back). A crash leaves its input in
 # fuzz/artifacts/TARGET/ and the script fails; turn it into a named regression test.
@@ -15,7 +15,7 @@ cd "$(dirname "$0")/../fuzz"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(cone topp scene urdf motion args)
+[ ${#targets[@]} -gt 0 ] || targets=(cone topp scene urdf motion args meshes)
 triple="$(rustc -vV | sed -n 's/^host: //p')"
 # libfuzzer-sys compiles libFuzzer (C++).
 if ! command -v c++ >/dev/null && command -v apt-get >/dev/null; then

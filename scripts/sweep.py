@@ -1257,6 +1257,7 @@ def simulate_cases():
         ("keep_unwritable", ["--keep", "/proc/nonexistent/keep"], ["/proc/nonexistent/keep"]),
         ("unknown_option", ["--grid", "10"], [("--grid", "unexpected")]),
         ("repeat_zero", ["--repeat", "0"], [("--repeat", "1..=")]),
+        ("no_meshes_without_view", ["--no-meshes"], [("--view", "required")]),
     ]:
         cases.append(Case("simulate", f"bad_{name}", ["simulate", "small-sway", *args], expect="error",
                           keywords=kw))
@@ -1410,6 +1411,46 @@ def view_cases():
     cases.append(Case("view", "motion_result_without_trajectory", ["view", "{f}", "-o", "{page}"],
                       {"f": result_without("trajectory")}, outputs=page, stdout="text",
                       oracle=lambda out, run: None if page_data(run)["kind"] == "motion" else "not a motion page"))
+    # The robot as it looks: the small humanoid's primitives with or without --no-meshes (no
+    # mesh file either way), JVRC-1's 35 Collada meshes, one per visual of its URDF.
+    def looks(meshes, files):
+        def check(out, run):
+            r = page_data(run)["robot"]
+            if len(r["meshes"]) != meshes or len(r["mesh_data"]) != files:
+                return f"{len(r['meshes'])} drawn geometries of {len(r['mesh_data'])} files, expected {meshes} of {files}"
+            if len(r["orientations"]) != len(r["t"]):
+                return "no orientation per frame"
+            return None
+        return check
+    cases.append(Case("view", "motion_primitives", ["view", "small-sway", "-o", "{page}"], outputs=page,
+                      stdout="text", oracle=looks(26, 0)))
+    cases.append(Case("view", "motion_no_meshes", ["view", "small-sway", "--no-meshes", "-o", "{page}"],
+                      outputs=page, stdout="text", oracle=looks(26, 0)))
+    cases.append(Case("view", "motion_jvrc1_meshes", ["view", "stair-climbing", "-o", "{page}"], outputs=page,
+                      stdout="text", oracle=looks(35, 35)))
+    # A simulation report (written here: no MuJoCo needed), drawn beside its plan; one whose
+    # motion changed since, or without its trajectory, is refused.
+    def sim_report(duration=None, trajectory=True):
+        def content(run):
+            r = run.cached(*SWAY_REF)
+            q0 = r["trajectory"]["q"][0]
+            rep = {"held": True, "reason": "held: largest slip 0.10 mm", "time_scale": 1.0,
+                   "events": [{"kind": "slip", "t": 0.5, "position": [0, 0.1, 0], "text": "LF slipped"}],
+                   "motion": {"motion": "small-sway", "time_scale": 1.0, "segments": None, "no_limits": False,
+                              "duration": r["duration"] if duration is None else duration}}
+            if trajectory:
+                rep["trajectory"] = {"t": [0.0, 0.02], "q": [q0, q0], "plan_t0": 0.0}
+            return rep
+        return content
+
+    def sim_page(out, run):
+        d = page_data(run)
+        sim = d.get("simulation")
+        if sim is None or len(sim["events"]) != 1 or not d["title"].endswith("held in MuJoCo"):
+            return f"title {d['title']!r}, simulation {sim is not None}"
+        return None
+    cases.append(Case("view", "simulation_report", ["view", "{f}", "-o", "{page}"], {"f": sim_report()},
+                      outputs=page, stdout="text", oracle=sim_page))
     # Bad sources: one line naming the file (or the names there are) and what to fix.
     def result_edit(edit):
         def content(run):
@@ -1440,6 +1481,9 @@ def view_cases():
         ("empty_file", ["{f}"], {"f": ""}, [("{f}", "empty")]),
         ("bare_array", ["{f}"], {"f": "[1, 2]"}, [("{f}", "object")]),
         ("not_json", ["{f}"], {"f": "view me"}, [("{f}", "json")]),
+        ("sim_report_changed", ["{f}"], {"f": sim_report(duration=99.0)}, [("{f}", "changed", "simulate")]),
+        ("sim_report_without_trajectory", ["{f}"], {"f": sim_report(trajectory=False)},
+         [("{f}", "trajectory", "simulate again")]),
     ]:
         cases.append(Case("view", f"bad_{name}", ["view", *args, "-o", "{page}"], files, outputs=page,
                           expect="error", keywords=kw, ext=".toml" if name == "motion_bad_surface" else None))

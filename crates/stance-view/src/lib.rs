@@ -261,6 +261,10 @@ pub fn simulation_page(
     Ok(view)
 }
 
+/// Largest mesh file read (bytes): 200 MB, ten times the largest of the description packages
+/// on PyPI. Reason: bounded work; a larger file is named in the notes and not drawn.
+pub const MAX_MESH_FILE_BYTES: u64 = 200_000_000;
+
 /// Highest frame rate of a motion's playback data (frames per second of motion time).
 pub const MAX_FRAME_RATE: f64 = 50.0;
 

@@ -48,8 +48,10 @@ pub struct ClearanceView {
 /// The worst joint torque ratio of the playback (`torque` in the page data).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TorqueView {
-    /// Per frame, the ratio (`null` where no contact forces balance the base).
-    pub ratio: Vec<Option<f64>>,
+    /// Per frame, whether contact forces balance the base (else no ratio: 0 and no joint).
+    pub balanced: Vec<bool>,
+    /// Per frame, the ratio.
+    pub ratio: Vec<f64>,
     /// Per frame, its joint.
     pub joint: Vec<String>,
 }
@@ -108,6 +110,7 @@ pub fn add_run_layers(view: &mut ViewData, run: &MotionRun) -> Result<(), Stance
     };
     let contacts = planned_contacts(plan, &run.paths);
     let mut torque = TorqueView {
+        balanced: Vec::new(),
         ratio: Vec::new(),
         joint: Vec::new(),
     };
@@ -116,11 +119,13 @@ pub fn add_run_layers(view: &mut ViewData, run: &MotionRun) -> Result<(), Stance
         let stance = &run.rows[s.segment].stance;
         match exact_torque_ratio(plan, lp, stance, &contacts[s.segment], s)? {
             Some((r, j)) => {
-                torque.ratio.push(Some((r * 1e4).round() / 1e4));
+                torque.balanced.push(true);
+                torque.ratio.push((r * 1e4).round() / 1e4);
                 torque.joint.push(lp.names[j].clone());
             }
             None => {
-                torque.ratio.push(None);
+                torque.balanced.push(false);
+                torque.ratio.push(0.0);
                 torque.joint.push(String::new());
             }
         }

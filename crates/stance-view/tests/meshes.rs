@@ -383,3 +383,36 @@ fn a_missing_mesh_is_drawn_as_its_links_collision_primitive_with_a_note() {
     assert!((o[2] - 0.5).abs() < 1e-12 && (o[5] - h).abs() < 1e-12 && (o[6] - h).abs() < 1e-12);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn hostile_mesh_files_are_errors_not_panics() {
+    // a polygon count that overflows, a position that is not finite, a binary STL with a NaN
+    let head = r##"<COLLADA><library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array>0 0 0 1 0 0 0 1 X</float_array>
+      <technique_common><accessor stride="3"/></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>"##;
+    let tail = "</mesh></geometry></library_geometries></COLLADA>";
+    let overflow = format!(
+        "{}<polylist><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/><vcount>18446744073709551615 3</vcount><p>0 1 2</p></polylist>{tail}",
+        head.replace(" X<", " 0<")
+    );
+    assert!(collada::read(&overflow)
+        .unwrap_err()
+        .contains("fewer indices"));
+    let infinite = format!(
+        "{}<triangles><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/><p>0 1 2</p></triangles>{tail}",
+        head.replace(" X<", " inf<")
+    );
+    assert!(collada::read(&infinite).unwrap_err().contains("not finite"));
+    let mut bin = vec![0u8; 80];
+    bin.extend(1u32.to_le_bytes());
+    bin.extend([0u8; 12]);
+    for x in [f32::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        bin.extend(x.to_le_bytes());
+    }
+    bin.extend([0, 0]);
+    assert!(stl::read(&bin).unwrap_err().contains("not finite"));
+    // a budget below what the coarsest clustering reaches: the first triangles
+    let b = ball(3);
+    assert!(b.within(5).triangles.len() <= 5);
+}

@@ -741,7 +741,7 @@
         out.push('closest: ' + c.body + ' to ' + c.surface + ', ' + (c.distance * 1000).toFixed(1) + ' mm');
       }
     }
-    if (D.torque && D.torque.ratio[fi] !== null) out.push('worst torque: ' + D.torque.joint[fi] + ' at ' + D.torque.ratio[fi].toFixed(2) + ' of its limit');
+    if (D.torque && D.torque.balanced[fi]) out.push('worst torque: ' + D.torque.joint[fi] + ' at ' + D.torque.ratio[fi].toFixed(2) + ' of its limit');
     return out.join('\n');
   }
 

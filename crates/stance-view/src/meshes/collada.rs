@@ -196,7 +196,14 @@ fn add_mesh(mesh: Node, m: &Matrix4<f64>, out: &mut TriMesh) -> Result<(), Strin
             values[stride * k + 1],
             values[stride * k + 2],
         ));
-        out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
+        let p = [p.x as f32, p.y as f32, p.z as f32];
+        if p.iter().any(|x| !x.is_finite()) {
+            return Err(format!(
+                "position {k} of {:?} is not finite (or the node transforms overflow)",
+                source.attribute("id").unwrap_or("its source")
+            ));
+        }
+        out.positions.push(p);
     }
     for prim in mesh.children().filter(Node::is_element) {
         let kind = prim.tag_name().name();
@@ -240,9 +247,10 @@ fn add_mesh(mesh: Node, m: &Matrix4<f64>, out: &mut TriMesh) -> Result<(), Strin
             polygons.push((sizes, idx));
         }
         for (sizes, idx) in polygons {
-            let mut at = 0;
+            let mut at = 0usize;
             for n in sizes {
-                if (at + n) * tuple > idx.len() {
+                let end = at.checked_add(n).and_then(|e| e.checked_mul(tuple));
+                if end.is_none_or(|e| e > idx.len()) {
                     return Err(format!("<{kind}> has fewer indices than its counts say"));
                 }
                 let corner = |k: usize| -> Result<u32, String> {

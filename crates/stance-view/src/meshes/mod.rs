@@ -132,7 +132,8 @@ impl TriMesh {
     }
 
     /// The mesh with at most `budget` triangles: itself, or clustered at the smallest cube
-    /// side `diagonal / 2^k` that fits (module doc).
+    /// side `diagonal / 2^k` that fits (module doc); when even the coarsest does not (a budget
+    /// of a few dozen triangles), its first `budget` triangles.
     pub fn within(&self, budget: usize) -> TriMesh {
         if self.triangles.len() <= budget {
             return self.clone();
@@ -155,6 +156,10 @@ impl TriMesh {
                 break;
             }
         }
+        if best.triangles.len() > budget {
+            best.triangles.truncate(budget);
+            best.drop_unused();
+        }
         best
     }
 }
@@ -169,6 +174,18 @@ pub fn read_mesh(path: &Path) -> Result<TriMesh, String> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
+    let size = std::fs::metadata(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .len();
+    if size > crate::MAX_MESH_FILE_BYTES {
+        return Err(format!(
+            "{}: {} MB, more than the {} MB a mesh file is read up to (simplify it, or view \
+             with --no-meshes)",
+            path.display(),
+            size / 1_000_000,
+            crate::MAX_MESH_FILE_BYTES / 1_000_000
+        ));
+    }
     let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let text = || String::from_utf8_lossy(&bytes).into_owned();
     let mesh = match ext.as_str() {

@@ -39,7 +39,11 @@ pub fn read(bytes: &[u8]) -> Result<TriMesh, String> {
                 };
                 let mut t = [0; 3];
                 for (c, i) in t.iter_mut().enumerate() {
-                    *i = weld.index(&mut mesh, [f(3 * c), f(3 * c + 1), f(3 * c + 2)]);
+                    let p = [f(3 * c), f(3 * c + 1), f(3 * c + 2)];
+                    if p.iter().any(|x| !x.is_finite()) {
+                        return Err(format!("triangle {k} has a corner that is not finite"));
+                    }
+                    *i = weld.index(&mut mesh, p);
                 }
                 mesh.triangles.push(t);
             }
