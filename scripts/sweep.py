@@ -2617,8 +2617,6 @@ KNOWN = {
                           "are absolute in time units (the path is normalized, time is not)",
     "topp/closed_form_9": "stance topp with |s''| <= 2.9e7 over a path of 1.03e-3 hits the speed box "
                           "and answers 1.45e-4 s instead of 1.6e-5 s (same cause)",
-    "topp/bad_discretization_number": "a number for `discretization` gets serde's 'expected value' "
-                                      "without the variants",
     "bounded/cone_circle_20000": "span-to-face of 20,000 generators takes 4 min (no generator limit)",
     "bounded/motion_friction_cone_64": "a 64-sided friction cone in small-sway takes 40 s and 7 GB "
                                        "(the GIWC of two 64-sided feet has 10,988 facets)",
@@ -2627,23 +2625,10 @@ KNOWN = {
     "motion/grid_10": "with 10 grid intervals, 8 samples of the force check (18 before the midpoint "
                       "refinement) "
                       "have no supporting forces though the retiming is optimal",
-    "motion/bad_com_xy_far": "a CoM 5 m off the feet: the message suggests changing com_height",
-    "motion/bad_segment_robot_surface_unknown": "an unknown robot surface in a segment's stance: "
-                                                "the message names no segment",
-    "motion/bad_link_surface_unknown": "an unknown robot surface in a link move: the message names "
-                                       "no segment",
-    "motion/bad_com_by_and_to": "a com move with both by and to: 'wanted exactly 1 element'",
-    "motion/bad_com_empty": "a com move with neither by nor to: 'wanted exactly 1 element'",
-    "view/bad_result_q_short": "a result JSON with short q rows: the message names no file",
     "joints/knots_3_-2": "retime-joints: the grid refinement between grid points depends on the "
                          "knots' unit (13 points added at knots x3; 1e-5 relative in the duration)",
     "joints/knots_1000_1000": "same, knots x1000 (7,658 points added)",
     "joints/knots_1e+06_0": "same, knots x1e6 (16,145 points added, not converged)",
-    "joints/bad_knots_decreasing": "retime-joints: bad knots are reported as 'the path grid s[1]'",
-    "joints/bad_knots_nan": "same, NaN knots",
-    "joints/bad_knots_repeated": "same, repeated knots",
-    "joints/bad_urdf_not_urdf": "retime-joints: a file that is not a URDF: the message names no path",
-    "joints/bad_all_locked": "retime-joints: every joint locked gives 'total mass is -0 kg'",
 }
 
 

@@ -405,14 +405,18 @@ impl Names<'_> {
             })
     }
 
-    fn surface(&self, name: &str) -> Result<usize, StanceError> {
-        self.robot.surface(name).map(|s| {
-            self.robot
+    /// The robot surface `name`, used by `what` (the error says where).
+    fn surface(&self, name: &str, what: &str) -> Result<usize, StanceError> {
+        match self.robot.surface(name) {
+            Ok(s) => Ok(self
+                .robot
                 .surfaces
                 .iter()
                 .position(|o| o.name == s.name)
-                .unwrap_or(0)
-        })
+                .unwrap_or(0)),
+            Err(StanceError::BadMotion(m)) => Err(bad(format!("{what}: {m}"))),
+            Err(e) => Err(e),
+        }
     }
 }
 
@@ -435,7 +439,7 @@ fn segment(
     }
     let mut stance = Vec::new();
     for (rs, es) in &s.stance {
-        let r = names.surface(rs)?;
+        let r = names.surface(rs, &format!("{what}, stance"))?;
         let e = names.env(es, &what)?;
         if let Some(mu) = spec.planning.friction {
             let surface_mu = names.environment[e].friction;
@@ -475,7 +479,7 @@ fn segment(
         }
         let mut links: Vec<LinkMove> = Vec::new();
         for l in &m.links {
-            let surface = names.surface(&l.surface)?;
+            let surface = names.surface(&l.surface, &mw)?;
             if stance.iter().any(|&(r, _)| r == surface) {
                 return Err(bad(format!(
                     "{mw} moves {:?}, which is a contact of the segment's stance; \
@@ -582,7 +586,7 @@ fn initial(spec: &MotionSpec, names: &Names) -> Result<Vec<f64>, StanceError> {
             let mut targets = Vec::new();
             let mut mean = Vector3::zeros();
             for (rs, placement) in &st.contacts {
-                let r = names.surface(rs)?;
+                let r = names.surface(rs, "initial.standing")?;
                 let e = names.env(&placement.surface, "initial.standing")?;
                 if !(placement.at.iter().all(|x| x.is_finite()) && placement.yaw.is_finite()) {
                     return Err(bad(format!(

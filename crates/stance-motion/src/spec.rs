@@ -424,14 +424,52 @@ pub struct MoveSpec {
     pub links: Vec<LinkMoveSpec>,
 }
 
-/// A CoM via-point.
+/// A CoM via-point: exactly one of `by` and `to`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", try_from = "ComTargetKeys")]
 pub enum ComTarget {
     /// Offset from the previous CoM via-point (m).
-    By(#[serde(deserialize_with = "strict::vec3")] [f64; 3]),
+    By([f64; 3]),
     /// World position (m).
-    To(#[serde(deserialize_with = "strict::vec3")] [f64; 3]),
+    To([f64; 3]),
+}
+
+/// A CoM via-point as written (both keys optional), so that a wrong count of keys gets a
+/// message saying which keys there are.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ComTargetKeys {
+    by: Option<Vec<f64>>,
+    to: Option<Vec<f64>>,
+}
+
+impl TryFrom<ComTargetKeys> for ComTarget {
+    type Error = String;
+
+    fn try_from(k: ComTargetKeys) -> Result<Self, String> {
+        let three = |key: &str, v: Option<Vec<f64>>| -> Result<Option<[f64; 3]>, String> {
+            v.map(|v| {
+                <[f64; 3]>::try_from(v.as_slice()).map_err(|_| {
+                    format!(
+                        "a com move's `{key}` needs 3 numbers [x, y, z], not {}",
+                        v.len()
+                    )
+                })
+            })
+            .transpose()
+        };
+        match (three("by", k.by)?, three("to", k.to)?) {
+            (Some(v), None) => Ok(ComTarget::By(v)),
+            (None, Some(v)) => Ok(ComTarget::To(v)),
+            (Some(_), Some(_)) => Err("a com move takes one of `by` (an offset from the \
+                                       previous CoM via-point) and `to` (a world position), not \
+                                       both"
+                .into()),
+            (None, None) => Err("a com move needs `by` (an offset from the previous CoM \
+                                 via-point) or `to` (a world position)"
+                .into()),
+        }
+    }
 }
 
 /// A free link's via-point: exactly one of `by`, `to`, `onto`.

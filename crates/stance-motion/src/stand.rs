@@ -124,10 +124,23 @@ pub fn stand(
         }
     }
     if residual > crate::tol::STAND_RESIDUAL {
+        // a CoM far from every contact horizontally is the likely cause: say so
+        let far = targets
+            .iter()
+            .map(|(_, t)| (t.translation.x - com.x).hypot(t.translation.y - com.y))
+            .fold(f64::INFINITY, f64::min);
+        let advice = if far > crate::tol::STAND_FAR_COM {
+            format!(
+                "the CoM is {far:.2} m from the nearest contact horizontally: put \
+                 initial.standing.com_xy over the contacts"
+            )
+        } else {
+            "move the contacts closer, or change com_height".to_string()
+        };
         return Err(StanceError::BadMotion(format!(
             "no standing posture puts the initial contacts on their surfaces with the CoM at \
-             ({:.3}, {:.3}, {:.3}) (residual {residual:.1e} m or rad after {} iterations): move \
-             the contacts closer, or change com_height",
+             ({:.3}, {:.3}, {:.3}) (residual {residual:.1e} m or rad after {} iterations): \
+             {advice}",
             com.x,
             com.y,
             com.z,

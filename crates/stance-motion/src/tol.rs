@@ -49,6 +49,11 @@ pub const STAND_DAMPING: f64 = 1e-10;
 /// surfaces to far below the contact tolerances.
 pub const STAND_RESIDUAL: f64 = 1e-10;
 
+/// A standing-posture search that fails with its CoM target farther than this from every
+/// contact horizontally (m) says that the CoM is the likely cause. Default 0.5: farther than a
+/// humanoid's leg can lean.
+pub const STAND_FAR_COM: f64 = 0.5;
+
 /// Residual (m or rad) below which the standing-posture search stops pulling towards the nominal
 /// posture and polishes the contacts and the CoM alone. Default 1e-6: the pull is second order
 /// in the step and would otherwise stall the residual near 1e-9 (measured on JVRC-1).

@@ -81,6 +81,9 @@ pub enum RobotError {
         /// What is wrong.
         reason: String,
     },
+    /// Nothing moves: the base is fixed and every joint is fixed or locked.
+    #[error("no movable joint: the base is fixed and every joint of the URDF is fixed or locked; unlock a joint")]
+    NothingMoves,
     /// The moving model has no mass, so it has no centre of mass.
     #[error("the model's total mass is {mass} kg: its links are missing <inertial> elements; add masses and inertias")]
     MissingInertia {

@@ -439,3 +439,27 @@ fn centroidal_quantities_reject_bad_configurations_far_from_the_origin_too() {
     assert!(centroidal_map_dot_v(&m, &mut d, &q, &v).is_err());
     assert!(centroidal_map(&m, &mut d, &q).is_err());
 }
+
+#[test]
+fn a_fixed_base_with_every_joint_locked_says_nothing_moves() {
+    let text = robot(
+        r#"<link name="a"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+           <link name="b"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+           <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+             <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#,
+    );
+    let options = UrdfOptions {
+        root: stance_robot::RootJoint::Fixed,
+        locked: vec![("j".into(), 0.0)],
+        ..Default::default()
+    };
+    let e = Model::from_urdf_str(&text, &options).unwrap_err();
+    assert!(matches!(e, RobotError::NothingMoves), "{e}");
+    assert!(e.to_string().contains("locked"));
+    // unlocked, it moves
+    let options = UrdfOptions {
+        root: stance_robot::RootJoint::Fixed,
+        ..Default::default()
+    };
+    assert_eq!(Model::from_urdf_str(&text, &options).unwrap().nv, 1);
+}

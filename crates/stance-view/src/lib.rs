@@ -228,7 +228,8 @@ pub fn build(
         }
         SourceKind::MotionResult => {
             let record: MotionRecord = stance_motion::input::read_file(Path::new(source))?;
-            let mut view = motion_view(&record, &record.load_model()?, motion_options)?;
+            let mut view = motion_view(&record, &record.load_model()?, motion_options)
+                .map_err(|e| StanceError::BadMotion(format!("{source}: {e}")))?;
             view.notes.push(
                 "clearances and torque ratios need the plan: view the motion file or name \
                  rather than its result to see them"

@@ -99,7 +99,11 @@ impl JointProblem {
             locked: spec.locked.iter().map(|(k, v)| (k.clone(), *v)).collect(),
             ..Default::default()
         };
-        let model = Model::from_urdf_file(&urdf, &options).map_err(StanceError::Robot)?;
+        let model = Model::from_urdf_file(&urdf, &options).map_err(|e| match e {
+            // a file that cannot be read names itself already
+            stance_robot::RobotError::Io { .. } => StanceError::Robot(e),
+            e => StanceError::BadMotion(format!("the URDF {}: {e}", urdf.display())),
+        })?;
         let movable: Vec<usize> = (1..model.joints.len())
             .filter(|&k| model.joints[k].dims().1 > 0)
             .collect();
@@ -157,6 +161,23 @@ impl JointProblem {
                     w.len(),
                     names.join(", ")
                 )));
+            }
+        }
+        if let Some(k) = &spec.knots {
+            for i in 0..k.len() {
+                let bad = !k[i].is_finite() || (i > 0 && k[i] <= k[i - 1]);
+                if bad {
+                    let after = if i > 0 {
+                        format!(" after knots[{}] = {}", i - 1, k[i - 1])
+                    } else {
+                        String::new()
+                    };
+                    return Err(StanceError::BadMotion(format!(
+                        "knots[{i}] = {}{after}: the knots must be finite and strictly \
+                         increasing, one per waypoint",
+                        k[i]
+                    )));
+                }
             }
         }
         let knots = spec.knots.clone().unwrap_or_else(|| {

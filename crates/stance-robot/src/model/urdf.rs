@@ -553,6 +553,9 @@ fn finish(mut model: Model) -> Result<Model, RobotError> {
         }
     }
     model.subtree_end[0] = n - 1;
+    if n == 1 {
+        return Err(RobotError::NothingMoves);
+    }
     let mass = model.total_mass();
     if mass <= model.tolerances.min_total_mass {
         return Err(RobotError::MissingInertia { mass });

@@ -1,6 +1,6 @@
 //! Options, outcomes and results of the solver.
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::error::ToppError;
 use crate::profile::Profile;
@@ -9,7 +9,7 @@ use crate::tol::Tolerances;
 /// How the continuous constraints are imposed on the grid (Pham and Pham, T-RO 2018, sec. VI).
 /// In files: `"collocation"` or `"interpolation"` (the one type of the solver, the facade's
 /// specs and the command line).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Discretization {
     /// The rows of grid point `i` constrain `(u_i, x_i)`.
@@ -19,6 +19,28 @@ pub enum Discretization {
     /// `(u_i, x_i + 2 Delta_i u_i)`, so each interval's constant acceleration satisfies the rows
     /// at both of its ends.
     Interpolation,
+}
+
+/// Read from a name only, so that anything else (a number, a list) gets a message with the two
+/// names (a derived enum reader answers a number in JSON with "expected value").
+impl<'de> serde::Deserialize<'de> for Discretization {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Name;
+        impl serde::de::Visitor<'_> for Name {
+            type Value = Discretization;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"collocation\" or \"interpolation\"")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Discretization, E> {
+                match v {
+                    "collocation" => Ok(Discretization::Collocation),
+                    "interpolation" => Ok(Discretization::Interpolation),
+                    _ => Err(E::unknown_variant(v, &["collocation", "interpolation"])),
+                }
+            }
+        }
+        d.deserialize_str(Name)
+    }
 }
 
 impl Discretization {
