@@ -1901,10 +1901,14 @@ def bounded_cases():
                       oracle=facet_count(2000, 0)))
     cases.append(Case("bounded", "cone_circle_2000_face", ["cone", "face-to-span", "{f}"],
                       {"f": {"facets": [[x, y, -1.0] for x, y, _ in circ]}}, oracle=generator_count(2000, 0)))
-    # ... and 20,000 (a fine circular friction cone): took 4 minutes in release.
+    # ... and 20,000 (a fine circular friction cone): took 4 minutes in release; refused with the
+    # command's limit, and 5,000, at it, converted.
     circ = [[math.cos(2 * math.pi * k / 20000), math.sin(2 * math.pi * k / 20000), 1.0] for k in range(20000)]
     cases.append(Case("bounded", "cone_circle_20000", ["cone", "span-to-face", "{f}"], {"f": {"generators": circ}},
-                      oracle=facet_count(20000, 0)))
+                      expect="error", keywords=[("generators", "20000 rows", "5000")]))
+    circ = [[math.cos(2 * math.pi * k / 5000), math.sin(2 * math.pi * k / 5000), 1.0] for k in range(5000)]
+    cases.append(Case("bounded", "cone_circle_5000", ["cone", "span-to-face", "{f}"], {"f": {"generators": circ}},
+                      oracle=facet_count(5000, 0)))
     # A 4-D cone over 500 points of a sphere: every point is extreme.
     rng = random.Random(11)
     sphere = []
@@ -1949,7 +1953,12 @@ def bounded_cases():
                                  oracle=lambda out, run: None if out.get("status") in ("optimal", "ik_failed", "not_retimable")
                                  else f"status {out.get('status')}"))
     # motion: the friction pyramid at its limit (64 sides), the default inscribed one.
+    # ... refused with the sides that fit (two feet of 64 sides took 40 s and 7 GB), and at the
+    # largest that fits, an answer no slower than the default's.
     cases.append(motion_case("motion_friction_cone_64", mutate(SWAY, ["planning", "friction_cone"], {"sides": 64}),
+                             ["--no-checks"], group="bounded", expect="error",
+                             keywords=[("friction_cone", "at most 32 sides")]))
+    cases.append(motion_case("motion_friction_cone_32", mutate(SWAY, ["planning", "friction_cone"], {"sides": 32}),
                              ["--no-checks"], group="bounded", oracle=motion_vs(SWAY_REF, "le", checks=False)))
     return cases
 
@@ -2617,9 +2626,6 @@ KNOWN = {
                           "are absolute in time units (the path is normalized, time is not)",
     "topp/closed_form_9": "stance topp with |s''| <= 2.9e7 over a path of 1.03e-3 hits the speed box "
                           "and answers 1.45e-4 s instead of 1.6e-5 s (same cause)",
-    "bounded/cone_circle_20000": "span-to-face of 20,000 generators takes 4 min (no generator limit)",
-    "bounded/motion_friction_cone_64": "a 64-sided friction cone in small-sway takes 40 s and 7 GB "
-                                       "(the GIWC of two 64-sided feet has 10,988 facets)",
     "motion/moved_0_-1e+06": "the standing-posture search's residual is absolute (1e-10 m): a scene "
                              "1000 km from the origin fails it at 1.2e-10",
     "motion/grid_10": "with 10 grid intervals, 8 samples of the force check (18 before the midpoint "

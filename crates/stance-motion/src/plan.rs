@@ -420,6 +420,38 @@ impl Names<'_> {
     }
 }
 
+/// Bounded work: a stance's contact wrench cone has one generator per friction-cone edge at
+/// every contact vertex, and the double description's work grows fast with their count (two
+/// feet of 64-sided cones, 512 edges: 40 s and 7 GB); a stance with more than
+/// [`crate::tol::MAX_STANCE_EDGES`] is refused with the sides that fit.
+fn stance_size(
+    stance: &[(usize, usize)],
+    spec: &MotionSpec,
+    names: &Names,
+    what: &str,
+) -> Result<(), StanceError> {
+    let vertices: usize = stance
+        .iter()
+        .map(|&(r, _)| match &names.robot.surfaces[r].shape {
+            stance_contact::Shape::Point => 1,
+            stance_contact::Shape::Rectangle { .. } => 4,
+            stance_contact::Shape::Polygon(p) => p.len(),
+        })
+        .sum();
+    let sides = spec.planning.friction_cone.sides;
+    let edges = vertices * sides;
+    if edges > crate::tol::MAX_STANCE_EDGES {
+        return Err(bad(format!(
+            "{what}: its stance has {edges} friction-cone edges ({vertices} contact vertices x \
+             {sides} sides), more than the {} whose contact wrench cone is computed in seconds: \
+             give planning.friction_cone at most {} sides",
+            crate::tol::MAX_STANCE_EDGES,
+            (crate::tol::MAX_STANCE_EDGES / vertices.max(1)).max(3)
+        )));
+    }
+    Ok(())
+}
+
 /// Segment `k` (from 0): its stance, its moves and its task options.
 fn segment(
     k: usize,
@@ -452,6 +484,7 @@ fn segment(
         }
         stance.push((r, e));
     }
+    stance_size(&stance, spec, names, &what)?;
     if s.moves.is_empty() {
         return Err(bad(format!(
             "{what} has no moves; give at least one (the footholds planner plans a segment \

@@ -234,3 +234,8 @@ pub const PLANNER_PROGRESS_AFTER: f64 = 1.0;
 /// the step (the rows between samples differ from the samples' by 1e-5 of the weight where
 /// measured).
 pub const MIDPOINT_WATCH: f64 = 1e-3;
+
+/// Most friction-cone edges in one stance (contact vertices times the cone's sides): the contact
+/// wrench cone's generators. Default 256: two rectangular feet with 32-sided cones, computed in
+/// about 3 s (debug build; 48 sides took 13 s, 64 sides 40 s and 7 GB). Reason: bounded work.
+pub const MAX_STANCE_EDGES: usize = 256;

@@ -80,6 +80,15 @@ fn to_matrix(what: &str, rows: &[Vec<f64>], dim: Option<usize>) -> Result<DMatri
     if d == 0 {
         bail!("{what}: the dimension is 0; rows need at least one entry");
     }
+    let most = polycone::tol::MAX_COMMAND_ROWS;
+    if rows.len() > most {
+        bail!(
+            "{what}: {} rows, more than the {most} the command converts (the double \
+             description's work grows with rows times facets: 20,000 generators on a circle took \
+             4 minutes); thin the input, or call the library's conversion",
+            rows.len()
+        );
+    }
     for (i, r) in rows.iter().enumerate() {
         if r.len() != d {
             bail!(
