@@ -17,9 +17,11 @@
 //! joints, `mu` = [`crate::tol::STAND_DAMPING`]), applied with `q <- q (+) dq` and the joints
 //! clamped to their limits (a joint at a limit is held there for the next step: infinite
 //! weight, no posture pull); once `|e|_inf <= `[`crate::tol::STAND_POLISH`] the posture pull
-//! stops (`d = 0`: Gauss-Newton on the tasks alone, quadratic convergence from there), until `|e|_inf <= `[`crate::tol::STAND_RESIDUAL`]. At the answer,
-//! the tasks hold and `q - q_nom` has no component left in their null space: the posture is the
-//! closest to the nominal one, in `W`, among those that satisfy them.
+//! stops (`d = 0`: Gauss-Newton on the tasks alone, quadratic convergence from there), until
+//! `|e|_inf <= `[`crate::tol::STAND_RESIDUAL`] (plus [`crate::tol::STAND_ULPS`] units in the
+//! last place of the largest target coordinate: what floating point can reach far from the
+//! origin). At the answer, the tasks hold and `q - q_nom` has no component left in their null
+//! space: the posture is the closest to the nominal one, in `W`, among those that satisfy them.
 
 use nalgebra::{DMatrix, DVector, Matrix6xX, Vector3};
 use stance_robot::spatial::rotation_log;
@@ -54,6 +56,13 @@ pub fn stand(
     q[0] = com.x;
     q[1] = com.y;
     q[2] = com.z;
+    // the residual a computation in floating point can reach where the targets are: a few
+    // units in the last place of their coordinates (1.2e-10 m at 1,000 km from the origin)
+    let scale = targets
+        .iter()
+        .map(|(_, t)| t.translation.amax())
+        .fold(com.amax(), f64::max);
+    let tolerance = crate::tol::STAND_RESIDUAL + crate::tol::STAND_ULPS * f64::EPSILON * scale;
     let mut residual = f64::INFINITY;
     for _ in 0..crate::tol::STAND_MAX_ITERATIONS {
         forward_kinematics(m, &mut data, &q).map_err(StanceError::Robot)?;
@@ -111,7 +120,7 @@ pub fn stand(
         if dq.iter().any(|x| !x.is_finite()) {
             break;
         }
-        if residual <= crate::tol::STAND_RESIDUAL && dq.amax() <= crate::tol::STAND_RESIDUAL {
+        if residual <= tolerance && dq.amax() <= tolerance {
             break;
         }
         // limit the step (Gauss-Newton far from the answer overshoots)
@@ -123,7 +132,7 @@ pub fn stand(
             }
         }
     }
-    if residual > crate::tol::STAND_RESIDUAL {
+    if residual > tolerance {
         // a CoM far from every contact horizontally is the likely cause: say so
         let far = targets
             .iter()

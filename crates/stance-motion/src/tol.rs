@@ -49,6 +49,11 @@ pub const STAND_DAMPING: f64 = 1e-10;
 /// surfaces to far below the contact tolerances.
 pub const STAND_RESIDUAL: f64 = 1e-10;
 
+/// Units in the last place of the largest target coordinate added to [`STAND_RESIDUAL`]: far
+/// from the origin a position is only known to its last bits (at 1,000 km one unit is 1.2e-10 m,
+/// more than the residual). Default 16.
+pub const STAND_ULPS: f64 = 16.0;
+
 /// A standing-posture search that fails with its CoM target farther than this from every
 /// contact horizontally (m) says that the CoM is the likely cause. Default 0.5: farther than a
 /// humanoid's leg can lean.

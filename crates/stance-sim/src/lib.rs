@@ -80,6 +80,10 @@ pub struct SimOptions {
     pub disturbance: Option<Disturbance>,
     /// Retime under contact stability alone (`--no-limits`).
     pub no_limits: bool,
+    /// Where long work says what it is doing (the footholds planner's evaluations, and a
+    /// simulation of more than [`crate::tol::SIM_PROGRESS_AFTER`] seconds before it starts);
+    /// `None`: silent.
+    pub progress: Option<fn(&str)>,
 }
 
 /// An external force on the body of a robot surface, in world axes, over a time window.
@@ -436,6 +440,15 @@ pub fn simulate(
         thresholds: Thresholds::from_tol(),
         disturbance: options.disturbance.clone(),
     };
+    let simulated = input.reference.t.last().copied().unwrap_or(0.0) + crate::tol::SIM_SETTLE;
+    if let Some(say) = options.progress {
+        if simulated > crate::tol::SIM_PROGRESS_AFTER {
+            say(&format!(
+                "simulating {simulated:.1} s in MuJoCo (about a tenth of that in wall time for a \
+                 humanoid)..."
+            ));
+        }
+    }
     let (mut report, executed) = run_harness(&xml, input, options.keep.as_deref())?;
     let q = executed
         .qpos
@@ -466,7 +479,7 @@ fn retimed_run(spec: MotionSpec, options: &SimOptions) -> Result<MotionRun, Stan
             time_scale: options.time_scale,
             check_friction: None,
             no_limits: options.no_limits,
-            progress: None,
+            progress: options.progress,
         },
     )?;
     if run.samples.is_empty() {

@@ -44,3 +44,8 @@ pub const SIM_MAX_DURATION: f64 = 120.0;
 /// Interval of the executed trajectory the report carries for the viewer (s of simulated time).
 /// Default 0.02: the viewer's 50 frames per second (`stance_view::MAX_FRAME_RATE`).
 pub const SIM_FRAME_DT: f64 = 0.02;
+
+/// A simulation longer than this (s of simulated time, settling included) says so on the
+/// progress channel before it starts (`SimOptions::progress`). Default 5 s: about half a second
+/// of wall time for JVRC-1.
+pub const SIM_PROGRESS_AFTER: f64 = 5.0;

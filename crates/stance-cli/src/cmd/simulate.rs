@@ -73,6 +73,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         base_dir,
         keep: args.keep.clone(),
         no_limits: args.no_limits,
+        progress: Some(|line| eprintln!("{line}")),
         ..Default::default()
     };
     let (run, mut report) = simulate(spec, &options)?;
