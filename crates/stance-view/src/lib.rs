@@ -191,6 +191,7 @@ pub fn build(
             let options = stance_motion::RunOptions {
                 base_dir,
                 skip_checks: true,
+                progress: motion_options.progress,
                 ..Default::default()
             };
             let run = stance_motion::run_full(spec, &options)?;
@@ -213,6 +214,7 @@ pub fn build(
                 skip_checks: true,
                 time_scale: Some(sim.time_scale),
                 no_limits: sim.no_limits,
+                progress: motion_options.progress,
                 ..Default::default()
             };
             let run = stance_motion::run_full(spec, &options)?;

@@ -105,16 +105,22 @@ impl MotionRecord {
     }
 }
 
-/// What [`motion_view`] draws besides the plan.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What [`motion_view`] draws besides the plan, and how a motion run for the page reports.
+#[derive(Debug, Clone, Copy)]
 pub struct MotionViewOptions {
     /// Read the URDF's mesh files (else primitives and capsules only: a small page).
     pub meshes: bool,
+    /// Where a motion run for the page says what its long work is doing
+    /// ([`stance_motion::RunOptions::progress`]); `None`: silent.
+    pub progress: Option<fn(&str)>,
 }
 
 impl Default for MotionViewOptions {
     fn default() -> Self {
-        Self { meshes: true }
+        Self {
+            meshes: true,
+            progress: None,
+        }
     }
 }
 

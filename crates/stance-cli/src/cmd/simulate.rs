@@ -98,6 +98,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             .context("cannot pass the report to the page")?;
         let motion_options = stance_view::MotionViewOptions {
             meshes: !args.no_meshes,
+            progress: None,
         };
         let view = stance_view::simulation_page(&run, &record, &motion_options)?;
         super::view::write_page(page, &view)?;

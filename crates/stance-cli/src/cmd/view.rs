@@ -64,6 +64,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
     };
     let motion_options = MotionViewOptions {
         meshes: !a.no_meshes,
+        progress: Some(|line| eprintln!("{line}")),
     };
     let view = build(&a.source, kind, &options, &motion_options)?;
     write_page(&a.output, &view)
