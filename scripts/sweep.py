@@ -2639,11 +2639,6 @@ OUTCOMES = ("ok", "unclear", "wrong", "panic", "crash", "slow", "known", "fixed"
 # is left). They are reported as `known` and do not fail --check; one that passes is reported
 # as `fixed`, which fails --check until it is taken off this list (so the list stays true).
 KNOWN = {
-    "topp/closed_form_1": "stance topp with |s''| <= 4.9e-8 and s'^2 <= 1.7e-4 over a path of 3460 "
-                          "answers 395,344 s, below the 530,410 s minimum: the solver's thresholds "
-                          "are absolute in time units (the path is normalized, time is not)",
-    "topp/closed_form_9": "stance topp with |s''| <= 2.9e7 over a path of 1.03e-3 hits the speed box "
-                          "and answers 1.45e-4 s instead of 1.6e-5 s (same cause)",
     "motion/grid_10": "with 10 grid intervals, 8 samples of the force check (18 before the midpoint "
                       "refinement) "
                       "have no supporting forces though the retiming is optimal",

@@ -78,6 +78,14 @@ const NEAR_UNIT: i32 = 4;
 /// Beyond it each coefficient gets its own power of two (slower: an exponent per coefficient).
 const FAST_GRID_EXPONENT: i32 = 200;
 
+/// Time units `T = 4^m` with `|m| <= NEAR_TIME` (a factor of up to 256 in `x` and `u`) are
+/// solved in as they are ([`CanonicalConstraints::on_unit_time`]).
+const NEAR_TIME: i32 = 4;
+
+/// Largest `|m|` of the time unit `T = 4^m` ([`CanonicalConstraints::time_unit`]): states of
+/// order one map back to `2^+-400`, finite and normal.
+const MAX_TIME_EXPONENT: i32 = 200;
+
 /// Rows whose largest coefficient is outside `[2^-ROW_WINDOW, 2^ROW_WINDOW]` are multiplied
 /// by the power of two that brings it into `[0.5, 1)`.
 const ROW_WINDOW: i32 = 100;
@@ -511,6 +519,91 @@ impl CanonicalConstraints {
             },
             l,
         )))
+    }
+
+    /// The time unit the solver decides in: `T = 4^m` with `T` near the rows' typical
+    /// distance from the origin of the `(u, x)` plane (the median, in powers of two, of
+    /// `-c / |(a, b)|` over the rows with `c < 0`, and of the finite bounds on `x` and `u`), so
+    /// that the states the solver compares with its tolerances are of order one whatever the
+    /// unit of time. `m = 0` without such rows. Unit: `1/time^2`; `|m| <=` [`MAX_TIME_EXPONENT`].
+    pub(crate) fn time_unit(&self) -> i32 {
+        let mut logs: Vec<i32> = Vec::new();
+        for r in &self.rows {
+            let n = r.a.hypot(r.b);
+            if r.c < 0.0 && n > 0.0 && n.is_finite() {
+                // exponent(-c) - exponent(n): the distance's power of two, without dividing
+                // (which could overflow or flush to zero)
+                logs.push(exponent(-r.c) - exponent(n));
+            }
+        }
+        for b in [&self.x_bounds, &self.u_bounds].into_iter().flatten() {
+            for &[lo, hi] in b {
+                for v in [lo, hi] {
+                    if v.is_finite() && v != 0.0 {
+                        logs.push(exponent(v.abs()));
+                    }
+                }
+            }
+        }
+        if logs.is_empty() {
+            return 0;
+        }
+        let mid = logs.len() / 2;
+        let (_, median, _) = logs.select_nth_unstable(mid);
+        // T = 4^m: its square root 2^m maps speeds back exactly
+        (median.div_euclid(2)).clamp(-MAX_TIME_EXPONENT, MAX_TIME_EXPONENT)
+    }
+
+    /// The same constraints in the time unit `T = 4^m` of [`Self::time_unit`]: `x = T x~`,
+    /// `u = T u~`, so a row `a u + b x + c <= 0` is `a u~ + b x~ + c / T <= 0` (exact: `T` is a
+    /// power of two; each row brought back into the window), and the bounds divide by `T`.
+    /// `None` when `|m| <=` [`NEAR_TIME`]: the tolerances, relative to `max(1, |(u, x)|)`, then
+    /// change their decisions by at most that factor, and the copy would cost more than it
+    /// gives.
+    pub(crate) fn on_unit_time(&self) -> Option<(Self, i32)> {
+        let m = self.time_unit();
+        if m.abs() <= NEAR_TIME {
+            return None;
+        }
+        let rows = self
+            .rows
+            .iter()
+            .map(|r| {
+                let exps = [(r.a, 0), (r.b, 0), (r.c, -2 * m)];
+                let Some(top) = exps
+                    .iter()
+                    .filter(|(x, _)| *x != 0.0)
+                    .map(|&(x, k)| exponent(x) + k)
+                    .max()
+                else {
+                    return *r;
+                };
+                let k = -(top + 1);
+                Row {
+                    a: ldexp(r.a, k),
+                    b: ldexp(r.b, k),
+                    c: ldexp(r.c, k - 2 * m),
+                }
+            })
+            .collect();
+        let scale = |b: &Option<Vec<[f64; 2]>>| {
+            b.as_ref().map(|v| {
+                v.iter()
+                    .map(|&[lo, hi]| [ldexp(lo, -2 * m), ldexp(hi, -2 * m)])
+                    .collect()
+            })
+        };
+        Some((
+            Self {
+                s: self.s.clone(),
+                offsets: self.offsets.clone(),
+                rows,
+                x_bounds: scale(&self.x_bounds),
+                u_bounds: scale(&self.u_bounds),
+                next_counts: self.next_counts.clone(),
+            },
+            m,
+        ))
     }
 
     /// The rows' rescaling of [`Self::on_unit_grid`] for a far-off unit (`|e|` above

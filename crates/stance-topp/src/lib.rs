@@ -84,7 +84,11 @@
 //!   measured to violate the GIWC by up to 69 % of `m |g|` on `mc_minvel` at N = 100 (0 % with
 //!   interpolation); use interpolation, or [`between::refine_until`].
 //! - When the rows leave `u` or `x` unbounded, the LPs are bounded by the box `tol.max_u`,
-//!   `tol.max_x` and [`Solution::hit_box`] says so.
+//!   `tol.max_x` and [`Solution::hit_box`] says so. The box, like the tolerances, is in the
+//!   unit of time the solver decides in ([`tol`]): the rows' own when it is far from 1.
+//! - With a separation oracle the problem is solved in the caller's unit of time (its cuts are
+//!   in that unit): contact-stability rows of a humanoid are near unit time; a problem far from
+//!   it decides at the tolerances' absolute level (`tol.state` on `x` below 1).
 //! - The LP kernel inserts lines in a fixed (warm-start, then index) order, not a random one:
 //!   worst case `O(m^2)` per LP on adversarial row orders (not observed on GIWC rows).
 //! - Producing `a, b, c` from `U` ([`factored::FactoredRows::fill`]) for 101 grid points runs

@@ -3,7 +3,13 @@
 //! Units: the path parameter `s` is dimensionless here (any unit works as long as it is used
 //! consistently); `u = s''` and `x = s'^2` are then both in `1/time^2`, so after a constraint row
 //! `a u + b x + c <= 0` is scaled to `|(a, b)| = 1`, its value is a distance in the `(u, x)` plane
-//! measured in `1/time^2`. The thresholds below that compare such values are in that unit.
+//! measured in `1/time^2`. The thresholds below that compare such values are in that unit, and
+//! that unit is the problem's own: the solver works on a path parameter of unit range
+//! (`CanonicalConstraints::on_unit_grid`) and, when the rows' typical distance from the origin
+//! of the `(u, x)` plane is more than 256 times off 1, in a time unit `4^m` near it
+//! (`CanonicalConstraints::on_unit_time`; not with a separation oracle, whose cuts are in the
+//! caller's units), so that a path crossed in days and one crossed in microseconds get the same
+//! decisions.
 
 /// Numerical thresholds of the solver, passed through [`crate::SolveOptions`].
 #[derive(Debug, Clone, Copy, PartialEq)]

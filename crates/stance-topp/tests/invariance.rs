@@ -9,7 +9,12 @@
 //!   same duration to the solver's state accuracy (`tol.state`, `1e-8` relative) and end speeds
 //!   to `1e-10`, except where a profile comes to rest within that accuracy: there `1 / sqrt(x)`
 //!   makes the duration ill-conditioned (a stall, or a "finite" 3e6 s, depending on the last bit
-//!   of a row).
+//!   of a row);
+//! - the unit of time (`c -> lambda c` in every row: `x`, `u` and the bounds scale by `lambda`,
+//!   durations by `1 / sqrt(lambda)`), for `lambda` from `1e-12` to `1e12`: the solver decides
+//!   in the rows' own time unit (`CanonicalConstraints::on_unit_time`), so the same duration
+//!   to the solver's state accuracy, and the closed forms of bounded acceleration and speed are
+//!   met across that range.
 
 use proptest::prelude::*;
 use stance_topp::{
@@ -192,6 +197,117 @@ proptest! {
             // (1e-10: the grid shifted by up to 1e3 ranges rounds at 1e3 eps per point.)
             prop_assert!((la * la * a2 - lb * lb).abs() <= 1e-10 * b2, "{} {}", la * alpha, lb);
             prop_assert!((ha * ha * a2 - b2).abs() <= 1e-10 * b2, "{} {}", ha * alpha, hb);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+
+    /// `c -> lambda c` (time in a unit `sqrt(lambda)` times larger): the same status, the
+    /// duration divided by `sqrt(lambda)`, states multiplied by `lambda`.
+    #[test]
+    fn the_unit_of_time_does_not_matter(
+        seed in any::<u64>(), n in 2usize..40, m in 0usize..6, interp in any::<bool>(),
+        log_lambda in -12.0f64..12.0, sd in 0.0f64..0.5,
+    ) {
+        let (s, offsets, rows) = instance(seed, n, m, 1.0);
+        let lambda = 10f64.powf(log_lambda);
+        let rows2: Vec<Row> = rows.iter().map(|r| Row { c: r.c * lambda, ..*r }).collect();
+        let a = solve(&constraints(&s, &offsets, &rows), &opts(interp, sd)).unwrap();
+        let b = solve(&constraints(&s, &offsets, &rows2), &opts(interp, sd * lambda.sqrt())).unwrap();
+        if near_stall(&a) || near_stall(&b) {
+            return Ok(());
+        }
+        prop_assert_eq!(a.status, b.status);
+        if let (Some(da), Some(db)) = (a.duration(), b.duration()) {
+            let db = db * lambda.sqrt();
+            prop_assert!(da == db || close(da, db, 1e-8), "{} against {}", da, db);
+        }
+        if let (Some(pa), Some(pb)) = (&a.profile, &b.profile) {
+            let top = pa.x().iter().copied().fold(1.0, f64::max);
+            for (xa, xb) in pa.x().iter().zip(pb.x()) {
+                prop_assert!((xa * lambda - xb).abs() <= 1e-9 * top * lambda);
+            }
+        }
+    }
+
+    /// `|u| <= A`, `x <= V^2` over a path of length `L` (the sweep's closed forms): rest to
+    /// rest in `L / V + V / A` when the cruise is reached, `2 sqrt(L / A)` when the switch is
+    /// at the middle, for `L` from `1e-4` to `1e4` and `V` from `1e-2` to `1e2` (speeds and
+    /// accelerations over twenty orders of magnitude).
+    #[test]
+    fn bounded_acceleration_and_speed_meet_their_closed_form(
+        log_len in -4.0f64..4.0, log_v in -2.0f64..2.0, k in 1usize..=5, interp in any::<bool>(),
+    ) {
+        let (len, v) = (10f64.powf(log_len), 10f64.powf(log_v));
+        // the switch points on the grid: accelerate over k tenths of the path
+        let acc = v * v / (2.0 * len * k as f64 / 10.0);
+        let want = if k == 5 { 2.0 * (len / acc).sqrt() } else { len / v + v / acc };
+        let n = 11;
+        let s: Vec<f64> = (0..n).map(|j| len * j as f64 / (n - 1) as f64).collect();
+        let rows: Vec<Row> = (0..n)
+            .flat_map(|_| {
+                [
+                    Row { a: 1.0, b: 0.0, c: -acc },
+                    Row { a: -1.0, b: 0.0, c: -acc },
+                    Row { a: 0.0, b: 1.0, c: -v * v },
+                ]
+            })
+            .collect();
+        let offsets: Vec<usize> = (0..=n).map(|i| 3 * i).collect();
+        let sol = solve(&constraints(&s, &offsets, &rows), &opts(interp, 0.0)).unwrap();
+        prop_assert_eq!(sol.status, Status::Optimal);
+        let got = sol.duration().unwrap();
+        prop_assert!(close(got, want, 1e-9), "{} against {}", got, want);
+    }
+}
+
+/// The sweep's two closed forms the solver answered wrongly before it decided in the rows' own
+/// time unit: 395,344 s for 530,410 s (accelerations of 4.9e-8 over a path of 3460) and
+/// 1.45e-4 s for 1.6e-5 s (2.9e7 over 1.03e-3, which hit the speed box).
+#[test]
+fn closed_forms_far_from_unit_time() {
+    for (len, v, k) in [(3460.0f64, 1.7e-4f64.sqrt(), 5usize), (1.03e-3, 0.0, 5)] {
+        let acc = if v > 0.0 {
+            v * v / (2.0 * len * k as f64 / 10.0)
+        } else {
+            2.9e7
+        };
+        let v = if v > 0.0 { v } else { 1e9 };
+        let want = if 2.0 * (len / 2.0) * acc <= v * v {
+            2.0 * (len / acc).sqrt()
+        } else {
+            len / v + v / acc
+        };
+        let n = 11;
+        let s: Vec<f64> = (0..n).map(|j| len * j as f64 / (n - 1) as f64).collect();
+        let rows: Vec<Row> = (0..n)
+            .flat_map(|_| {
+                [
+                    Row {
+                        a: 1.0,
+                        b: 0.0,
+                        c: -acc,
+                    },
+                    Row {
+                        a: -1.0,
+                        b: 0.0,
+                        c: -acc,
+                    },
+                    Row {
+                        a: 0.0,
+                        b: 1.0,
+                        c: -v * v,
+                    },
+                ]
+            })
+            .collect();
+        let offsets: Vec<usize> = (0..=n).map(|i| 3 * i).collect();
+        for interp in [false, true] {
+            let sol = solve(&constraints(&s, &offsets, &rows), &opts(interp, 0.0)).unwrap();
+            let got = sol.duration().unwrap();
+            assert!(close(got, want, 1e-9), "{got} against {want}");
         }
     }
 }

@@ -183,7 +183,7 @@ fn solve_in(
     // from unit range or origin: the answer does not depend on the unit or the origin of the
     // path parameter.
     let Some((k_unit, l)) = k.on_unit_grid()? else {
-        return solve_unit(k, opts, sep);
+        return solve_timed(k, opts, sep);
     };
     let unit_opts = SolveOptions {
         sd_start: opts.sd_start / l,
@@ -191,12 +191,12 @@ fn solve_in(
         ..*opts
     };
     let sol = match sep {
-        Some(inner) => solve_unit(
+        Some(inner) => solve_timed(
             &k_unit,
             &unit_opts,
             Some(&mut OnUnitGrid { inner, l } as &mut dyn Separation),
         )?,
-        None => solve_unit(&k_unit, &unit_opts, None)?,
+        None => solve_timed(&k_unit, &unit_opts, None)?,
     };
     let l2 = l * l;
     let status = match sol.status {
@@ -233,6 +233,70 @@ fn solve_in(
             .controllable
             .iter()
             .map(|c| c.map(|[lo, hi]| [lo * l2, hi * l2]))
+            .collect(),
+        profile,
+        cuts,
+        ..sol
+    })
+}
+
+/// [`solve_unit`] in the rows' own time unit `T = 4^m`
+/// ([`CanonicalConstraints::on_unit_time`]) when it is far from 1, so that the tolerances and
+/// the box, relative to `max(1, |(u, x)|)`, are relative to the problem's own speeds: a path
+/// crossed in days and one crossed in microseconds get the same decisions. States map back with
+/// `T`, speeds with `2^m` (exact). With a separation oracle (the lifted rows of contact
+/// stability, whose cuts are in the caller's units) the problem is solved as it is.
+fn solve_timed(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    sep: Option<&mut dyn Separation>,
+) -> Result<Solution, ToppError> {
+    if sep.is_some() {
+        return solve_unit(k, opts, sep);
+    }
+    let Some((k_time, m)) = k.on_unit_time() else {
+        return solve_unit(k, opts, None);
+    };
+    let (r, t) = (
+        crate::constraints::ldexp(1.0, m),
+        crate::constraints::ldexp(1.0, 2 * m),
+    );
+    let time_opts = SolveOptions {
+        sd_start: opts.sd_start / r,
+        sd_end: [opts.sd_end[0] / r, opts.sd_end[1] / r],
+        ..*opts
+    };
+    let sol = solve_unit(&k_time, &time_opts, None)?;
+    let status = match sol.status {
+        Status::StartOutsideControllable { x_start, lo, hi } => Status::StartOutsideControllable {
+            x_start: x_start * t,
+            lo: lo * t,
+            hi: hi * t,
+        },
+        other => other,
+    };
+    let profile = sol.profile.map(|p| {
+        let x = p.x().iter().map(|x| x * t).collect();
+        let u = p.u().iter().map(|u| u * t).collect();
+        Profile::from_valid_states(k.grid().to_vec(), x, u)
+    });
+    let mut cuts = sol.cuts;
+    for row in cuts
+        .rows
+        .iter_mut()
+        .flatten()
+        .chain(cuts.next_rows.iter_mut().flatten())
+    {
+        // a u~ + b x~ + c <= 0 with u~ = u / T, x~ = x / T: (a, b, c T)
+        row.c = crate::constraints::ldexp(row.c, 2 * m);
+        crate::constraints::into_window(row);
+    }
+    Ok(Solution {
+        status,
+        controllable: sol
+            .controllable
+            .iter()
+            .map(|c| c.map(|[lo, hi]| [lo * t, hi * t]))
             .collect(),
         profile,
         cuts,
@@ -680,14 +744,31 @@ pub fn end_speed_range(
     opts.validate()?;
     // On the unit grid, as in `Workspace::solve`: speeds s' = L s~'.
     let Some((k_unit, l)) = k.on_unit_grid()? else {
-        return end_speed_range_unit(k, opts);
+        return end_speed_range_timed(k, opts);
     };
     let unit_opts = SolveOptions {
         sd_start: opts.sd_start / l,
         sd_end: [opts.sd_end[0] / l, opts.sd_end[1] / l],
         ..*opts
     };
-    Ok(end_speed_range_unit(&k_unit, &unit_opts)?.map(|[lo, hi]| [lo * l, hi * l]))
+    Ok(end_speed_range_timed(&k_unit, &unit_opts)?.map(|[lo, hi]| [lo * l, hi * l]))
+}
+
+/// [`end_speed_range_unit`] in the rows' own time unit, as [`solve_timed`]: speeds `2^m s~'`.
+fn end_speed_range_timed(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+) -> Result<Option<[f64; 2]>, ToppError> {
+    let Some((k_time, m)) = k.on_unit_time() else {
+        return end_speed_range_unit(k, opts);
+    };
+    let r = crate::constraints::ldexp(1.0, m);
+    let time_opts = SolveOptions {
+        sd_start: opts.sd_start / r,
+        sd_end: [opts.sd_end[0] / r, opts.sd_end[1] / r],
+        ..*opts
+    };
+    Ok(end_speed_range_unit(&k_time, &time_opts)?.map(|[lo, hi]| [lo * r, hi * r]))
 }
 
 /// [`end_speed_range`] on a grid the solver works on as it is.
