@@ -119,6 +119,26 @@ pub(crate) fn exponent(x: f64) -> i32 {
     e
 }
 
+/// The row `(a 2^ka, b 2^kb, c 2^kc)` brought into `[0.5, 1)` by one more power of two, computed
+/// as one factor per coefficient from their exponents, so that nothing overflows or flushes to
+/// zero on the way (a zero row stays as it is).
+fn scaled_into_window(r: &Row, [ka, kb, kc]: [i32; 3]) -> Row {
+    let Some(top) = [(r.a, ka), (r.b, kb), (r.c, kc)]
+        .iter()
+        .filter(|(x, _)| *x != 0.0)
+        .map(|&(x, k)| exponent(x) + k)
+        .max()
+    else {
+        return *r;
+    };
+    let k = -(top + 1);
+    Row {
+        a: ldexp(r.a, ka + k),
+        b: ldexp(r.b, kb + k),
+        c: ldexp(r.c, kc + k),
+    }
+}
+
 /// `x 2^k`, in steps that neither overflow nor flush to zero before the end (exact unless the
 /// result itself overflows or is subnormal).
 pub fn ldexp(mut x: f64, mut k: i32) -> f64 {
@@ -568,23 +588,7 @@ impl CanonicalConstraints {
         let rows = self
             .rows
             .iter()
-            .map(|r| {
-                let exps = [(r.a, 0), (r.b, 0), (r.c, -2 * m)];
-                let Some(top) = exps
-                    .iter()
-                    .filter(|(x, _)| *x != 0.0)
-                    .map(|&(x, k)| exponent(x) + k)
-                    .max()
-                else {
-                    return *r;
-                };
-                let k = -(top + 1);
-                Row {
-                    a: ldexp(r.a, k),
-                    b: ldexp(r.b, k),
-                    c: ldexp(r.c, k - 2 * m),
-                }
-            })
+            .map(|r| scaled_into_window(r, [0, 0, -2 * m]))
             .collect();
         let scale = |b: &Option<Vec<[f64; 2]>>| {
             b.as_ref().map(|v| {
@@ -611,21 +615,7 @@ impl CanonicalConstraints {
     /// nothing overflows or flushes to zero on the way.
     fn rescale_rows_far(&self, rows: &mut [Row], e: i32) {
         for r in rows.iter_mut() {
-            let exps = [(r.a, e), (r.b, 2 * e), (r.c, 0)];
-            let Some(top) = exps
-                .iter()
-                .filter(|(x, _)| *x != 0.0)
-                .map(|&(x, k)| exponent(x) + k)
-                .max()
-            else {
-                continue;
-            };
-            let k = -(top + 1);
-            *r = Row {
-                a: ldexp(r.a, e + k),
-                b: ldexp(r.b, 2 * e + k),
-                c: ldexp(r.c, k),
-            };
+            *r = scaled_into_window(r, [e, 2 * e, 0]);
         }
     }
 

@@ -199,20 +199,39 @@ fn solve_in(
         None => solve_timed(&k_unit, &unit_opts, None)?,
     };
     let l2 = l * l;
+    // the cuts back in the caller's units: (a / L, b / L^2, c), scaled into the window
+    Ok(mapped_back(sol, k.grid(), l2, l, |r| {
+        *r = Row {
+            a: r.a / l,
+            b: r.b / l2,
+            c: r.c,
+        };
+    }))
+}
+
+/// A solution found in other units, back in the caller's: states (profile, controllable sets,
+/// the start status) times `x_scale`, controls times `u_scale`, the profile on `grid`, and each
+/// cut row mapped by `row` then brought into the window.
+fn mapped_back(
+    sol: Solution,
+    grid: &[f64],
+    x_scale: f64,
+    u_scale: f64,
+    row: impl Fn(&mut Row),
+) -> Solution {
     let status = match sol.status {
         Status::StartOutsideControllable { x_start, lo, hi } => Status::StartOutsideControllable {
-            x_start: x_start * l2,
-            lo: lo * l2,
-            hi: hi * l2,
+            x_start: x_start * x_scale,
+            lo: lo * x_scale,
+            hi: hi * x_scale,
         },
         other => other,
     };
     let profile = sol.profile.map(|p| {
-        let x = p.x().iter().map(|x| x * l2).collect();
-        let u = p.u().iter().map(|u| u * l).collect();
-        Profile::from_valid_states(k.grid().to_vec(), x, u)
+        let x = p.x().iter().map(|x| x * x_scale).collect();
+        let u = p.u().iter().map(|u| u * u_scale).collect();
+        Profile::from_valid_states(grid.to_vec(), x, u)
     });
-    // the cuts back in the caller's units: (a / L, b / L^2, c), scaled into the window
     let mut cuts = sol.cuts;
     for r in cuts
         .rows
@@ -220,24 +239,20 @@ fn solve_in(
         .flatten()
         .chain(cuts.next_rows.iter_mut().flatten())
     {
-        *r = Row {
-            a: r.a / l,
-            b: r.b / l2,
-            c: r.c,
-        };
+        row(r);
         crate::constraints::into_window(r);
     }
-    Ok(Solution {
+    Solution {
         status,
         controllable: sol
             .controllable
             .iter()
-            .map(|c| c.map(|[lo, hi]| [lo * l2, hi * l2]))
+            .map(|c| c.map(|[lo, hi]| [lo * x_scale, hi * x_scale]))
             .collect(),
         profile,
         cuts,
         ..sol
-    })
+    }
 }
 
 /// [`solve_unit`] in the rows' own time unit `T = 4^m`
@@ -267,41 +282,10 @@ fn solve_timed(
         ..*opts
     };
     let sol = solve_unit(&k_time, &time_opts, None)?;
-    let status = match sol.status {
-        Status::StartOutsideControllable { x_start, lo, hi } => Status::StartOutsideControllable {
-            x_start: x_start * t,
-            lo: lo * t,
-            hi: hi * t,
-        },
-        other => other,
-    };
-    let profile = sol.profile.map(|p| {
-        let x = p.x().iter().map(|x| x * t).collect();
-        let u = p.u().iter().map(|u| u * t).collect();
-        Profile::from_valid_states(k.grid().to_vec(), x, u)
-    });
-    let mut cuts = sol.cuts;
-    for row in cuts
-        .rows
-        .iter_mut()
-        .flatten()
-        .chain(cuts.next_rows.iter_mut().flatten())
-    {
-        // a u~ + b x~ + c <= 0 with u~ = u / T, x~ = x / T: (a, b, c T)
-        row.c = crate::constraints::ldexp(row.c, 2 * m);
-        crate::constraints::into_window(row);
-    }
-    Ok(Solution {
-        status,
-        controllable: sol
-            .controllable
-            .iter()
-            .map(|c| c.map(|[lo, hi]| [lo * t, hi * t]))
-            .collect(),
-        profile,
-        cuts,
-        ..sol
-    })
+    // a u~ + b x~ + c <= 0 with u~ = u / T, x~ = x / T: the cut (a, b, c T)
+    Ok(mapped_back(sol, k.grid(), t, t, |r| {
+        r.c = crate::constraints::ldexp(r.c, 2 * m);
+    }))
 }
 
 /// [`Workspace::solve`] on a grid the solver works on as it is (`s_0 = 0`, `s_N` in `(0.5, 1]`).
