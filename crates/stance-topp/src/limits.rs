@@ -10,14 +10,15 @@
 //! `torque_path_terms`). The limits `|v_j| <= V_j`, `|a_j| <= A_j`, `|tau_j| <= T_j` are then
 //!
 //! ```text
-//!     x <= (V_j / q_s,j)^2                                   (a bound on x: only the tightest
+//!     x (q_s,j / V_j)^2 - 1 <= 0                             (a bound on x: only the tightest
 //!                                                             joint gives a row)
 //!     +-(q_s,j u + q_ss,j x) / A_j - 1 <= 0                  (two rows per joint)
 //!     +-(tau_a,j u + tau_b,j x + tau_c,j) / T_j - 1 <= 0     (two rows per joint)
 //! ```
 //!
 //! Each row is divided by its limit, so that its value is the ratio to the limit minus one
-//! (unitless, `0` on the limit). Every point has the same rows ([`JointLimits::layout`]): a
+//! (the velocity row: the squared ratio minus one), unitless and `0` on the limit: a violation
+//! between grid points reads the same whatever the path parameter's unit. Every point has the same rows ([`JointLimits::layout`]): a
 //! joint whose path does not move it (`q_s,j = q_ss,j = 0`) gives the constant row `-1 <= 0`;
 //! a torque row with `tau_a,j = tau_b,j = 0` is constant too, and violated when gravity alone
 //! exceeds the limit (the grid point is then infeasible whatever the timing, and the solver
@@ -249,7 +250,8 @@ impl JointLimits {
     /// let mut rows = vec![Row::default(); l.layout().len()];
     /// let tight = l.fill_rows(&[0.5, 4.0], &[1.0, 0.0], None, &mut rows);
     /// assert_eq!(tight, Some(1)); // (2 / 4)^2 < (1 / 0.5)^2
-    /// assert_eq!((rows[0].b, rows[0].c), (1.0, -0.25));
+    /// // x (4 / 2)^2 - 1 <= 0, that is x <= 0.25
+    /// assert_eq!((rows[0].b, rows[0].c), (4.0, -1.0));
     /// // at u = 2, x = 4 joint 0 accelerates at 0.5 * 2 + 1 * 4 = 5 against its limit 4
     /// assert_eq!(rows[1].value(2.0, 4.0), 5.0 / 4.0 - 1.0);
     /// ```
@@ -278,7 +280,7 @@ impl JointLimits {
     /// l.velocity = vec![1.0];
     /// let mut rows = vec![Row::default(); 1];
     /// l.fill_rows_on_step(&[0.5], Some(&[1.0]), &[0.0], None, &mut rows);
-    /// assert_eq!(rows[0].c, -1.0); // (1 / max(0.5, 1.0))^2
+    /// assert_eq!(rows[0].b, 1.0); // (max(0.5, 1.0) / 1)^2
     /// ```
     pub fn fill_rows_on_step(
         &self,
@@ -291,26 +293,34 @@ impl JointLimits {
         let mut k = 0;
         let mut tight = None;
         if self.velocity.iter().any(|v| v.is_finite()) {
-            let mut best = f64::INFINITY;
+            // The tightest joint has the largest |q_s,j| / V_j.
+            let mut worst = 0.0;
             for (j, (&d0, &v)) in q_s.iter().zip(&self.velocity).enumerate() {
                 let d = q_s_other.map_or(d0.abs(), |o| d0.abs().max(o[j].abs()));
                 if d == 0.0 || v.is_infinite() {
                     continue;
                 }
-                let x_max = (v / d) * (v / d);
-                if x_max < best {
-                    best = x_max;
+                let r = d / v;
+                if r > worst {
+                    worst = r;
                     tight = Some(j);
                 }
             }
-            out[k] = if tight.is_some() {
-                Row {
+            out[k] = match tight {
+                None => CONSTANT,
+                // x (q_s,j / V_j)^2 - 1 <= 0: unitless, like the other rows, so that its value
+                // does not depend on the path parameter's unit
+                Some(_) if (worst * worst).is_finite() => Row {
+                    a: 0.0,
+                    b: worst * worst,
+                    c: -1.0,
+                },
+                // a ratio whose square overflows: the bound on x itself (0 or subnormal)
+                Some(_) => Row {
                     a: 0.0,
                     b: 1.0,
-                    c: -best,
-                }
-            } else {
-                CONSTANT
+                    c: -(1.0 / worst) * (1.0 / worst),
+                },
             };
             k += 1;
         }
