@@ -875,12 +875,15 @@ def motion_cases():
     for mu in [0.9, 1e6]:
         cases.append(Case("motion", f"check_friction_{mu:g}",
                           ["motion", "small-sway", "--check-friction", repr(mu)], oracle=motion_vs(SWAY_REF)))
-    # Grid intervals per segment: an optimal, checked answer close to the reference.
-    # (Two intervals are too few for the IK's steps: it may fail, and says where.)
-    for n in [2, 10, 300]:
+    # Grid intervals per segment: an optimal answer that passes the force check at every sample.
+    # (Two intervals are too few for the IK's steps: it may fail, and says where.) A coarse grid
+    # holds s'' constant over long intervals: slower than the default 100 (measured 2.83 s at 10,
+    # 2.33 s at 20, 2.07 s at 100 and 2.02 s at 300), within 10 % from 100 intervals on.
+    for n, relation, rel in [(2, "ge", 1e-6), (10, "ge", 1e-6), (300, "eq", 0.1)]:
         cases.append(Case("motion", f"grid_{n}", ["motion", "small-sway", "--grid", str(n)],
-                          oracle=lambda out, run, n=n: None if out.get("status") == "ik_failed" and n == 2
-                          else motion_vs(SWAY_REF, rel=0.1)(out, run)))
+                          oracle=lambda out, run, n=n, relation=relation, rel=rel: None
+                          if out.get("status") == "ik_failed" and n == 2
+                          else motion_vs(SWAY_REF, relation=relation, rel=rel)(out, run)))
     # Options that write or repeat: the same answer.
     cases.append(Case("motion", "repeat_3", ["motion", "small-sway", "--repeat", "3", "--no-checks"],
                       oracle=motion_vs(SWAY_REF)))
@@ -909,8 +912,8 @@ def motion_cases():
     # JVRC-1, the paper's robot (its description from PyPI): a handful.
     cases.append(Case("motion", "stair_climbing", ["motion", "stair-climbing", "--no-checks"],
                       oracle=lambda out, run: motion_ok(out, run) or (
-                          None if abs(number(out["duration"]) - 5.563) < 1e-3
-                          else f"duration {out['duration']}, the README's table says 5.563 s")))
+                          None if abs(number(out["duration"]) - 5.564) < 1e-3
+                          else f"duration {out['duration']}, the README's table says 5.564 s")))
     cases.append(Case("motion", "box_climbing_grid_bad", ["motion", "box-climbing", "--grid", "1"],
                       expect="error", keywords=[("--grid", "2..=10000")]))
     return cases
@@ -2639,13 +2642,6 @@ OUTCOMES = ("ok", "unclear", "wrong", "panic", "crash", "slow", "known", "fixed"
 # is left). They are reported as `known` and do not fail --check; one that passes is reported
 # as `fixed`, which fails --check until it is taken off this list (so the list stays true).
 KNOWN = {
-    "motion/grid_10": "with 10 grid intervals, 8 samples of the force check (18 before the midpoint "
-                      "refinement) "
-                      "have no supporting forces though the retiming is optimal",
-    "joints/knots_3_-2": "retime-joints: the grid refinement between grid points depends on the "
-                         "knots' unit (13 points added at knots x3; 1e-5 relative in the duration)",
-    "joints/knots_1000_1000": "same, knots x1000 (7,658 points added)",
-    "joints/knots_1e+06_0": "same, knots x1e6 (16,145 points added, not converged)",
 }
 
 

@@ -64,10 +64,11 @@
 //!   corner); free links move along straight lines with minimum-jerk timing and stop at every
 //!   via-point. The IK is integrated with `q_ss` constant per step: the retiming enforces the
 //!   rows on both sides of every grid point, refines the grid at IK samples where they fail and
-//!   at the midpoints of IK steps where the model's exact rows there fail (`midpoints`, for the
-//!   steps whose ends are within 1e-3 of the weight of a bound), so the rows hold at every IK
-//!   sample and step midpoint; elsewhere between IK samples only as the independent force check
-//!   measures (no sample of the built-in or gallery motions fails it at 1 ms). The
+//!   at points inside IK steps where the model's exact rows there fail (`midpoints`, for the
+//!   steps whose ends are within 1e-3 of the weight of a bound: the quarters, then down to 1/32
+//!   of a step where one fails), so the rows hold at every IK sample and those points;
+//!   elsewhere between IK samples only as the independent force check measures (no sample of
+//!   the built-in or gallery motions fails it at 1 ms, nor small-sway's on a 10-interval grid). The
 //!   greedy profile is time-optimal as the grid is refined, not exactly on the grid (measured:
 //!   0.23 % longer than a one-shot LP's on `small-sway`). Path speeds are unbounded where the
 //!   whole body is at rest in path terms (the start, via-points where nothing else moves):

@@ -182,6 +182,21 @@ fn small_sway_is_retimed_and_every_sample_has_supporting_forces() {
     assert!(vmax(&tr.v[0]) < 1e-12 && vmax(tr.v.last().unwrap()) < 1e-9);
 }
 
+/// On a coarse grid (10 intervals per segment) the rows between IK samples decide: the
+/// refinement evaluates them inside the steps that come close to a bound, down to 1/32 of a
+/// step where a point fails, and every 1 ms sample of the force check then has supporting forces
+/// (with the midpoints alone, 8 samples at 0.85 s had none: a row 4.6e-6 of the weight over its
+/// bound at 0.88 of an IK step).
+#[test]
+fn a_coarse_grid_still_passes_the_force_check_at_every_sample() {
+    let mut s = spec("small-sway");
+    s.retiming.grid = 10;
+    let r = run(s, &RunOptions::default()).unwrap();
+    assert_eq!(r.status, MotionStatus::Optimal, "{:?}", r.failure);
+    let c = r.checks.as_ref().unwrap();
+    assert_eq!(c.samples_without_forces, 0, "{:?}", c.first_without_forces);
+}
+
 /// Small-sway with the CoM still moving (1 cm further over the left foot) while the right foot
 /// lifts: it crosses the first stance switch moving, where chaining gains. (In small-sway
 /// itself the CoM arrives at rest on its via-point before the foot lifts, and the whole body is
