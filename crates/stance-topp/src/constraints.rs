@@ -96,9 +96,10 @@ const ROW_WINDOW: i32 = 100;
 /// from overflowing or flushing to zero, so that a row scaled by any power of two gives the same
 /// answer bit for bit.
 pub(crate) fn into_window(r: &mut Row) {
+    const LO: f64 = pow2(-ROW_WINDOW);
+    const HI: f64 = pow2(ROW_WINDOW);
     let m = r.a.abs().max(r.b.abs()).max(r.c.abs());
-    let (lo, hi) = (2f64.powi(-ROW_WINDOW), 2f64.powi(ROW_WINDOW));
-    if m == 0.0 || !m.is_finite() || (lo..=hi).contains(&m) {
+    if m == 0.0 || !m.is_finite() || (LO..=HI).contains(&m) {
         return;
     }
     let k = -(exponent(m) + 1);
@@ -107,16 +108,40 @@ pub(crate) fn into_window(r: &mut Row) {
     }
 }
 
-/// `floor(log2 |x|)` for a finite nonzero `x` (subnormals included), exactly.
+/// `2^k` for a normal power of two (`-1022 <= k <= 1023`), from its bits.
+const fn pow2(k: i32) -> f64 {
+    assert!(-1022 <= k && k <= 1023);
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// `floor(log2 |x|)` for a finite nonzero `x` (subnormals included), exactly: read from the
+/// bits of `x`.
 pub(crate) fn exponent(x: f64) -> i32 {
-    let mut e = x.abs().log2().floor() as i32;
-    // `log2` may round across a power of two: corrected.
-    if ldexp(x.abs(), -e) >= 2.0 {
-        e += 1;
-    } else if ldexp(x.abs(), -e) < 1.0 {
-        e -= 1;
+    debug_assert!(x.is_finite() && x != 0.0, "exponent of {x}");
+    let bits = x.abs().to_bits();
+    let biased = (bits >> 52) as i32;
+    if biased == 0 {
+        // subnormal: m 2^-1074 with the mantissa's highest set bit giving the power
+        let m = bits & ((1u64 << 52) - 1);
+        63 - m.leading_zeros() as i32 - 1074
+    } else {
+        biased - 1023
     }
-    e
+}
+
+/// `floor(log2 |(a, b)|)` for finite `(a, b)` not both zero, without forming `a^2 + b^2` (which
+/// could overflow or flush to zero): the larger magnitude's exponent, plus one when the
+/// Euclidean norm reaches the next power of two (the norm is between the larger magnitude and
+/// `sqrt 2` times it). Computed on the mantissas, so the same for `(a, b)` and `(a 2^k, b 2^k)`.
+pub(crate) fn norm_exponent(a: f64, b: f64) -> i32 {
+    let (hi, lo) = if a.abs() >= b.abs() {
+        (a.abs(), b.abs())
+    } else {
+        (b.abs(), a.abs())
+    };
+    let e = exponent(hi);
+    let (h, l) = (ldexp(hi, -e), ldexp(lo, -e));
+    e + i32::from(h * h + l * l >= 4.0)
 }
 
 /// The row `(a 2^ka, b 2^kb, c 2^kc)` brought into `[0.5, 1)` by one more power of two, computed
@@ -144,14 +169,19 @@ fn scaled_into_window(r: &Row, [ka, kb, kc]: [i32; 3]) -> Row {
 pub fn ldexp(mut x: f64, mut k: i32) -> f64 {
     const STEP: i32 = 1000;
     while k > STEP {
-        x *= 2f64.powi(STEP);
+        x *= pow2(STEP);
         k -= STEP;
     }
     while k < -STEP {
-        x *= 2f64.powi(-STEP);
+        x *= pow2(-STEP);
         k += STEP;
     }
-    x * 2f64.powi(k)
+    if k >= -1022 {
+        x * pow2(k)
+    } else {
+        // 2^k itself is subnormal: in two exact steps
+        x * pow2(k + 1000) * pow2(-1000)
+    }
 }
 
 pub(crate) fn check_grid(s: &[f64]) -> Result<(), ToppError> {
@@ -547,29 +577,45 @@ impl CanonicalConstraints {
     /// that the states the solver compares with its tolerances are of order one whatever the
     /// unit of time. `m = 0` without such rows. Unit: `1/time^2`; `|m| <=` [`MAX_TIME_EXPONENT`].
     pub(crate) fn time_unit(&self) -> i32 {
-        let mut logs: Vec<i32> = Vec::new();
+        // A histogram of the powers of two (each within +-2100), read at its median: the
+        // rows of a whole motion number tens of thousands, and this runs at every solve.
+        const HALF: i32 = 2200;
+        let mut counts = vec![0u32; 2 * HALF as usize + 1];
+        let mut n = 0usize;
+        let mut add = |e: i32| {
+            counts[(e + HALF) as usize] += 1;
+            n += 1;
+        };
         for r in &self.rows {
-            let n = r.a.hypot(r.b);
-            if r.c < 0.0 && n > 0.0 && n.is_finite() {
-                // exponent(-c) - exponent(n): the distance's power of two, without dividing
-                // (which could overflow or flush to zero)
-                logs.push(exponent(-r.c) - exponent(n));
+            if r.c < 0.0 && (r.a != 0.0 || r.b != 0.0) && r.a.is_finite() && r.b.is_finite() {
+                // the distance's power of two, without dividing (which could overflow or
+                // flush to zero)
+                add(exponent(r.c) - norm_exponent(r.a, r.b));
             }
         }
         for b in [&self.x_bounds, &self.u_bounds].into_iter().flatten() {
             for &[lo, hi] in b {
                 for v in [lo, hi] {
                     if v.is_finite() && v != 0.0 {
-                        logs.push(exponent(v.abs()));
+                        add(exponent(v));
                     }
                 }
             }
         }
-        if logs.is_empty() {
+        if n == 0 {
             return 0;
         }
-        let mid = logs.len() / 2;
-        let (_, median, _) = logs.select_nth_unstable(mid);
+        // the element at index n / 2 of the sorted list
+        let mid = n / 2;
+        let mut seen = 0usize;
+        let mut median = 0;
+        for (i, &c) in counts.iter().enumerate() {
+            seen += c as usize;
+            if seen > mid {
+                median = i as i32 - HALF;
+                break;
+            }
+        }
         // T = 4^m: its square root 2^m maps speeds back exactly
         (median.div_euclid(2)).clamp(-MAX_TIME_EXPONENT, MAX_TIME_EXPONENT)
     }
@@ -708,6 +754,54 @@ impl CanonicalConstraints {
         match &self.u_bounds {
             Some(b) => b[i],
             None => [f64::NEG_INFINITY, f64::INFINITY],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn exponents_at_the_ends_of_the_range() {
+        assert_eq!(exponent(1.0), 0);
+        assert_eq!(exponent(-3.0), 1);
+        assert_eq!(exponent(0.75), -1);
+        assert_eq!(exponent(f64::MAX), 1023);
+        assert_eq!(exponent(f64::MIN_POSITIVE), -1022);
+        assert_eq!(exponent(f64::MIN_POSITIVE / 2.0), -1023);
+        assert_eq!(exponent(5e-324), -1074);
+        assert_eq!(norm_exponent(3.0, 4.0), 2);
+        assert_eq!(norm_exponent(1.0, 1.0), 0);
+        assert_eq!(norm_exponent(0.0, -1.5), 0);
+        assert_eq!(norm_exponent(f64::MAX, f64::MAX), 1024);
+        assert_eq!(norm_exponent(5e-324, 0.0), -1074);
+        assert_eq!(ldexp(1.0, -1074), 5e-324);
+        assert_eq!(
+            ldexp(f64::MAX, -2046),
+            ldexp(f64::MAX, -1023) / 8.0_f64.powi(341)
+        );
+        assert_eq!(ldexp(3.0, 1022), 3.0 * 2f64.powi(1022));
+    }
+
+    proptest! {
+        /// `2^e <= |x| < 2^(e+1)`, and the norm's exponent as `hypot`'s where `hypot` is not
+        /// within an ulp of a power of two.
+        #[test]
+        fn exponents_bracket_the_value(m in 1.0f64..2.0, e in -1074i32..1024, r in 0.0f64..1.0) {
+            let x = ldexp(m, e);
+            prop_assume!(x.is_finite() && x > 0.0);
+            let k = exponent(x);
+            prop_assert!(ldexp(1.0, k) <= x && x < ldexp(2.0, k), "{x:e}: {k}");
+            let (a, b) = (x, x * r);
+            let h = a.hypot(b);
+            prop_assume!(h.is_finite() && h >= f64::MIN_POSITIVE);
+            let f = exponent(h);
+            let near = (h / ldexp(1.0, f) - 1.0).abs() < 1e-15 || (h / ldexp(2.0, f) - 1.0).abs() < 1e-15;
+            prop_assume!(!near);
+            prop_assert_eq!(norm_exponent(a, b), f);
+            prop_assert_eq!(norm_exponent(-b, a), f);
         }
     }
 }
