@@ -24,33 +24,59 @@ pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, String> {
     let mut de = serde_json::Deserializer::from_str(text);
     // The key an error is about, from the root (`contacts[0].position`): serde_json's own
     // message gives only a line and column, which in a file written on one line is no help.
-    // (An unknown field's message names it: then the path is its parent's.)
     let v = serde_path_to_error::deserialize(Strict(&mut de)).map_err(|e| {
         let inner = e.inner().to_string();
-        let segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
-        let keep = if inner.starts_with("unknown field") {
-            segments.len().saturating_sub(1)
-        } else {
-            segments.len()
-        };
-        let path = segments[..keep].iter().filter(|s| s.as_str() != "?").fold(
-            String::new(),
-            |mut p, s| {
+        format!("{}{inner}", key_prefix(e.path(), &inner))
+    })?;
+    de.end().map_err(|e| e.to_string())?;
+    Ok(v)
+}
+
+/// "key `contacts[0].position`: " for the key an error is about (empty at the root). An
+/// unknown field's message names it: then the path is its parent's.
+fn key_prefix(path: &serde_path_to_error::Path, message: &str) -> String {
+    let segments: Vec<String> = path.iter().map(|s| s.to_string()).collect();
+    let keep = if message.starts_with("unknown field") {
+        segments.len().saturating_sub(1)
+    } else {
+        segments.len()
+    };
+    let path =
+        segments[..keep]
+            .iter()
+            .filter(|s| s.as_str() != "?")
+            .fold(String::new(), |mut p, s| {
                 if !(p.is_empty() || s.starts_with('[')) {
                     p.push('.');
                 }
                 p.push_str(s);
                 p
-            },
-        );
-        if path.is_empty() {
-            inner
-        } else {
-            format!("key `{path}`: {inner}")
-        }
-    })?;
-    de.end().map_err(|e| e.to_string())?;
-    Ok(v)
+            });
+    if path.is_empty() {
+        path
+    } else {
+        format!("key `{path}`: ")
+    }
+}
+
+/// A TOML error on one line: where (line, column and the line itself, shortened), the key,
+/// then the message.
+fn toml_message(text: &str, e: &toml::de::Error, key: &str) -> String {
+    let place = e
+        .span()
+        .map(|r| r.start.min(text.len()))
+        .filter(|&start| text.is_char_boundary(start))
+        .map_or(String::new(), |start| {
+            let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+            let line = text[line_start..].lines().next().unwrap_or("").trim();
+            format!(
+                "line {}, column {} (`{}`): ",
+                text[..start].matches('\n').count() + 1,
+                text[line_start..start].chars().count() + 1,
+                shorten_lines(line)
+            )
+        });
+    format!("{place}{key}{}", e.message().trim())
 }
 
 /// Reads a JSON file, or a TOML file when its extension is `.toml`, into `T`.
@@ -82,15 +108,12 @@ pub fn read_file<T: DeserializeOwned>(path: &Path) -> Result<T, StanceError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
     if is_toml {
-        toml::Deserializer::parse(text)
-            .and_then(|de| T::deserialize(Strict(de)))
-            .map_err(|e| {
-                StanceError::File(format!(
-                    "invalid TOML in {}: {}",
-                    path.display(),
-                    shorten_lines(&e.to_string())
-                ))
-            })
+        let bad = |m: String| StanceError::File(format!("invalid TOML in {}: {m}", path.display()));
+        let de = toml::Deserializer::parse(text).map_err(|e| bad(toml_message(text, &e, "")))?;
+        serde_path_to_error::deserialize(Strict(de)).map_err(|e| {
+            let key = key_prefix(e.path(), e.inner().message());
+            bad(toml_message(text, e.inner(), &key))
+        })
     } else {
         from_json_str(text).map_err(|e| {
             // Every input file is an object of named fields: say so when it is something else.

@@ -89,3 +89,32 @@ fn trailing_text_after_the_object_is_an_error() {
     .unwrap_err();
     assert!(e.contains("trailing"), "{e}");
 }
+
+/// A TOML error is one line that says where (line, column and the line itself), which key,
+/// and what is wrong: the key path as in JSON's messages.
+#[test]
+fn toml_errors_name_the_line_and_the_key() {
+    let e = read(
+        "wrong-type.toml",
+        "mass = 39\n[[contacts]]\nname = \"LF\"\nposition = [0, 0, \"up\"]\nfriction = 0.7\n",
+    )
+    .unwrap_err();
+    assert!(!e.contains('\n'), "{e}");
+    assert!(
+        e.contains("wrong-type.toml")
+            && e.contains("line 4, column 19")
+            && e.contains("(`position = [0, 0, \"up\"]`)")
+            && e.contains("key `contacts[0].position[2]`")
+            && e.contains("invalid type"),
+        "{e}"
+    );
+    let e = read("syntax.toml", "mass = 39\nname = \"LF\n").unwrap_err();
+    assert!(e.contains("line 2") && e.contains("`name = \"LF`"), "{e}");
+    // the same key path as the JSON file's message
+    let j = read(
+        "wrong-type.json",
+        r#"{"mass": 39, "contacts": [{"name": "LF", "position": [0, 0, "up"], "friction": 0.7}]}"#,
+    )
+    .unwrap_err();
+    assert!(j.contains("key `contacts[0].position[2]`"), "{j}");
+}
