@@ -1139,10 +1139,15 @@ def motion_error_cases():
     for name, path, value, kw in bad:
         spec = mutate(SWAY, path, value)
         cases.append(motion_case(f"bad_{name}", spec, expect="error", keywords=kw))
-    # Out of reach: a landing 5 m away is an answer saying the IK failed in segment 2, not
-    # an error and not an optimal plan.
+    # Out of reach: a landing 5 m away on a floor that extends there is an answer saying the
+    # IK failed in segment 2, not an error and not an optimal plan; off the 2 m floor, the same
+    # landing is refused before any work, naming the move and the distance (issue 30).
     far = mutate(SWAY, SEG + [1, "moves", 1, "links", 0, "at"], [5.0, -0.1])
-    cases.append(motion_case("landing_out_of_reach", far, ["--no-checks"], oracle=status_is("ik_failed", 2)))
+    wide = mutate(far, ["environment", 0, "shape", "rectangle", "half_length"], 6.0)
+    cases.append(motion_case("landing_out_of_reach", wide, ["--no-checks"], oracle=status_is("ik_failed", 2)))
+    cases.append(motion_case("landing_off_the_floor", far, expect="error",
+                             keywords=[("segment 2", "move 2", '"RF" placed at [5, -0.1]', "3.11",
+                                        "outside that surface")]))
     # Gravity pulling the robot off the floor: no timing holds (an answer, not retimable).
     up = mutate(SWAY, ["gravity"], [0.0, 0.0, 9.81])
     cases.append(motion_case("gravity_up", up, ["--no-checks"], oracle=status_is("not_retimable", 1)))
@@ -2750,6 +2755,17 @@ def footholds_cases():
     nowhere = mutate(STEPS, SEG + [1, "moves", 0, "links", 0], {"surface": "RF", "onto": "floor"})
     cases.append(motion_case("bad_onto_without_at", nowhere, expect="error",
                              keywords=[("segment 2", "at = [x, y]")], group=g))
+    # A landing off its surface (a fuzz finding, issue 30: 500 km off a 4 m floor took 9 s of
+    # search before its error): refused at once, naming the segment, the surfaces, the distance.
+    for x, far in [(500302.0, "500300."), (2.0, "0.")]:
+        off = mutate(STEPS, SEG + [1, "moves", 0, "links", 0, "at"], [x, -0.1])
+        cases.append(motion_case(f"bad_landing_off_floor_{x:g}", off, expect="error",
+                                 keywords=[("segment 2", '"RF" placed at', far, "outside that surface")],
+                                 group=g))
+    off_start = mutate(STEPS, ["initial", "standing", "contacts", "LF", "at"], [0.0, 7.0])
+    cases.append(motion_case("bad_initial_off_floor", off_start, expect="error",
+                             keywords=[("initial.standing", '"LF" placed at [0, 7]', "outside that surface")],
+                             group=g))
     # Bounded work: 30 planned steps (91 segments) complete within the bound.
     cases.append(motion_case("many_steps_30", footholds_steps(30, stride=0.05), ["--no-checks"],
                              oracle=lambda out, run: motion_ok(out, run, checks=False), group=g))

@@ -388,6 +388,41 @@ struct Names<'a> {
 }
 
 impl Names<'_> {
+    /// Robot surface `r` placed at `at` with `yaw` on environment surface `e`: its pose, or an
+    /// error when the placed surface leaves `e`'s polygon by more than the contact tolerance
+    /// (the same test the stances' contacts pass later, made here before any planning: a target
+    /// kilometres off its surface is a typo, not a search problem).
+    fn placement(
+        &self,
+        r: usize,
+        e: usize,
+        at: [f64; 2],
+        yaw: f64,
+        what: &str,
+    ) -> Result<Pose, StanceError> {
+        let env = &self.environment[e];
+        let surf = &self.robot.surfaces[r];
+        let pose = env.placement(at, yaw);
+        let poly = super::environment::polygon_of(&surf.shape, &surf.name, true)?;
+        let outside = env.check(&pose, &poly).outside;
+        if outside > crate::tol::CONTACT_OUTSIDE {
+            return Err(bad(format!(
+                "{what}: {:?} placed at [{}, {}] on {:?} reaches {:.4} m outside that surface \
+                 (tolerance {} mm); give an `at` (metres, in {:?}'s frame) at which the whole of \
+                 {:?} lies on it",
+                surf.name,
+                at[0],
+                at[1],
+                env.name,
+                outside,
+                crate::tol::CONTACT_OUTSIDE * 1e3,
+                env.name,
+                surf.name,
+            )));
+        }
+        Ok(pose)
+    }
+
     fn env(&self, name: &str, what: &str) -> Result<usize, StanceError> {
         self.environment
             .iter()
@@ -523,7 +558,7 @@ fn segment(
             if links.iter().any(|o| o.surface == surface) {
                 return Err(bad(format!("{mw} moves {:?} twice", l.surface)));
             }
-            let goal = link_goal(l, &mw, names)?;
+            let goal = link_goal(l, surface, &mw, names)?;
             links.push(LinkMove { surface, goal });
         }
         moves.push(Move {
@@ -558,8 +593,9 @@ fn segment(
 }
 
 /// A free link's goal: exactly one of `by` (with optional `rotate_by`), `to` (with optional
-/// `rpy`) or `onto` (with `at` and optional `yaw`), all finite. `mw` names the move in errors.
-fn link_goal(l: &LinkMoveSpec, mw: &str, names: &Names) -> Result<LinkGoal, StanceError> {
+/// `rpy`) or `onto` (with `at` and optional `yaw`), all finite, an `onto` placing robot surface
+/// `r` on its environment surface. `mw` names the move in errors.
+fn link_goal(l: &LinkMoveSpec, r: usize, mw: &str, names: &Names) -> Result<LinkGoal, StanceError> {
     let finite = |v: &Option<[f64; 3]>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
     if !(finite(&l.by) && finite(&l.to) && finite(&l.rotate_by) && finite(&l.rpy))
         || l.at.is_some_and(|a| a.iter().any(|x| !x.is_finite()))
@@ -592,7 +628,7 @@ fn link_goal(l: &LinkMoveSpec, mw: &str, names: &Names) -> Result<LinkGoal, Stan
             })?;
             LinkGoal::Onto {
                 surface: e,
-                pose: names.environment[e].placement(at, l.yaw.unwrap_or(0.0)),
+                pose: names.placement(r, e, at, l.yaw.unwrap_or(0.0), mw)?,
             }
         }
         _ => {
@@ -626,7 +662,8 @@ fn initial(spec: &MotionSpec, names: &Names) -> Result<Vec<f64>, StanceError> {
                         "initial.standing: {rs:?} has a non-finite placement"
                     )));
                 }
-                let pose = names.environment[e].placement(placement.at, placement.yaw);
+                let pose =
+                    names.placement(r, e, placement.at, placement.yaw, "initial.standing")?;
                 mean += pose.translation;
                 targets.push((robot.surfaces[r].frame, pose));
             }
