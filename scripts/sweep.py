@@ -2762,6 +2762,13 @@ def footholds_cases():
         cases.append(motion_case(f"bad_landing_off_floor_{x:g}", off, expect="error",
                                  keywords=[("segment 2", '"RF" placed at', far, "outside that surface")],
                                  group=g))
+    # A floor too large for the collision queries (a fuzz finding: 1e161 m made them panic,
+    # 1e20 m see a collision that was not there): refused with the supported size.
+    for hw in [1e20, 6.7e160]:
+        huge = mutate(STEPS, ["environment", 0, "shape", "rectangle", "half_width"], hw)
+        cases.append(motion_case(f"bad_floor_size_{hw:g}", huge, expect="error",
+                                 keywords=[('environment surface "floor"', "supported size is up to 1e5 m")],
+                                 group=g))
     off_start = mutate(STEPS, ["initial", "standing", "contacts", "LF", "at"], [0.0, 7.0])
     cases.append(motion_case("bad_initial_off_floor", off_start, expect="error",
                              keywords=[("initial.standing", '"LF" placed at [0, 7]', "outside that surface")],

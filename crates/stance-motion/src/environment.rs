@@ -129,6 +129,17 @@ impl EnvSurface {
             (None, None) => Pose::from_xyz_rpy(spec.position, [0.0; 3]),
         };
         let polygon = polygon_of(&spec.shape, &what, false)?;
+        let extent = polygon
+            .iter()
+            .map(|v| v[0].hypot(v[1]))
+            .fold(0.0f64, f64::max);
+        if extent > crate::tol::MAX_SURFACE_EXTENT {
+            return Err(StanceError::BadMotion(format!(
+                "{what}: its polygon reaches {extent:.3e} m from its origin; the supported size \
+                 is up to {:.0e} m: give its shape in metres, within that",
+                crate::tol::MAX_SURFACE_EXTENT
+            )));
+        }
         if !(spec.friction.is_finite() && spec.friction >= 0.0) {
             return Err(StanceError::BadMotion(format!(
                 "{what}: friction is {}; give Coulomb's coefficient, >= 0 (e.g. 0.9)",

@@ -120,6 +120,13 @@ pub const BINDING: f64 = 1e-6;
 /// microsecond for an arm).
 pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
 
+/// Largest distance (m) of an environment surface's polygon vertex from the surface's origin.
+/// Default 1e5 m (100 km): far beyond any scene, and the collision queries (GJK and EPA, on
+/// the surface's solid against links of centimetres) stay reliable; a floor of 1e20 m made
+/// them report a collision that was not there, and one of 1e160 m made them fail (a fuzz
+/// finding).
+pub const MAX_SURFACE_EXTENT: f64 = 1e5;
+
 /// Largest thickness (m) of an environment surface's solid. Default 100 m: far beyond any
 /// scene; a larger value is a unit mistake.
 pub const MAX_SOLID_THICKNESS: f64 = 100.0;

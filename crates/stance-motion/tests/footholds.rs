@@ -318,6 +318,39 @@ stance = {{ LF = \"floor\", RF = \"floor\" }}
     );
 }
 
+/// A fuzz finding (issue 30): a floor 1.3e161 m wide made the collision queries of the swing
+/// planner panic (a floor of 1e20 m made them see a collision that was not there). Environment
+/// surfaces larger than `tol::MAX_SURFACE_EXTENT` are refused, naming the surface and the
+/// range; the fuzz input itself is kept here as it was found.
+#[test]
+fn a_surface_too_large_for_the_collision_queries_is_refused() {
+    let found = r#"{"name": "way", "robot": "small-humanoid", "environment": [{"name":"floor", "position": [6.0, 0.0, 0.1], "shape": {"rectangle": {"half_length": 6.0, "half_width": 66666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666666661.0}}, "friction": 0.0}], "initial": {"standing": {"com_height":0.9, "contacts": {"LF": {"surface": "floor",  "at": [0.0, -0.0]}}}}, "segments": [{"name": "shif", "stance": {"LF": "floor"}, "moves": [{"links": [{"surface": "RF", "onto": "floor", "at": [0.1, -0.1]}]}]}]}"#;
+    let spec: MotionSpec = serde_json::from_str(found).unwrap();
+    let e = run(spec, &RunOptions::default()).unwrap_err().to_string();
+    assert!(
+        e.contains("environment surface \"floor\"")
+            && e.contains("6.667e160 m from its origin")
+            && e.contains("supported size is up to 1e5 m"),
+        "{e}"
+    );
+    let mut wide = small_steps();
+    if let stance_contact::Shape::Rectangle { half_width, .. } = &mut wide.environment[0].shape {
+        *half_width = 1e20;
+    }
+    let e = run(wide, &RunOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("1.000e20 m from its origin"), "{e}");
+    // 100 km is within the range: the same steps on it are planned
+    let mut large = small_steps();
+    if let stance_contact::Shape::Rectangle {
+        half_width,
+        half_length,
+    } = &mut large.environment[0].shape
+    {
+        (*half_width, *half_length) = (7e4, 7e4);
+    }
+    assert!(footholds::plan(&large, &RunOptions::default()).is_ok());
+}
+
 #[test]
 fn bad_planner_options_are_refused_naming_the_key() {
     let mut spec = small_steps();
