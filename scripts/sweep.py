@@ -1040,6 +1040,7 @@ def motion_error_cases():
         ("area_scale_zero", ["planning", "area_scale"], 0.0, ["planning.area_scale"]),
         ("area_scale_above_one", ["planning", "area_scale"], 1.5, ["planning.area_scale"]),
         ("area_scale_nan", ["planning", "area_scale"], nan, ["planning.area_scale"]),
+        ("area_scale_tiny", ["planning", "area_scale"], 2e-16, ["planning.area_scale", "[1e-6, 1]"]),
         ("margin_negative", ["planning", "margin"], -0.1, ["planning.margin"]),
         ("margin_above_half", ["planning", "margin"], 0.6, ["planning.margin"]),
         ("margin_nan", ["planning", "margin"], nan, ["planning.margin"]),
@@ -2769,6 +2770,12 @@ def footholds_cases():
         cases.append(motion_case(f"bad_floor_size_{hw:g}", huge, expect="error",
                                  keywords=[('environment surface "floor"', "supported size is up to 1e5 m")],
                                  group=g))
+    # A hand in the first stance that was never placed (a fuzz finding: the planner computed
+    # its regions for seconds before the IK found it): refused before any planning.
+    hand = mutate(STEPS, SEG + [0, "stance"], {"LF": "floor", "RF": "floor", "LH": "floor"})
+    cases.append(motion_case("bad_unplaced_hand", hand, expect="error",
+                             keywords=[("segment 1", '"LH" is not on "floor"', "initial.standing.contacts")],
+                             group=g))
     off_start = mutate(STEPS, ["initial", "standing", "contacts", "LF", "at"], [0.0, 7.0])
     cases.append(motion_case("bad_initial_off_floor", off_start, expect="error",
                              keywords=[("initial.standing", '"LF" placed at [0, 7]', "outside that surface")],

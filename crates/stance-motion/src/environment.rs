@@ -61,6 +61,22 @@ impl OnSurface {
     }
 }
 
+/// How far a robot surface is from lying on an environment surface, against the tolerances,
+/// for messages: "12.3 mm from its plane, normals 38.42 deg apart, 0.0 mm outside it;
+/// tolerances 5 mm, 2.86 deg, 5 mm".
+pub fn describe(on: &OnSurface) -> String {
+    format!(
+        "{:.1} mm from its plane, normals {:.2} deg apart, {:.1} mm outside it; tolerances {} mm, \
+         {:.2} deg, {} mm",
+        on.distance * 1e3,
+        on.angle.to_degrees(),
+        on.outside * 1e3,
+        crate::tol::CONTACT_DISTANCE * 1e3,
+        crate::tol::CONTACT_ANGLE.to_degrees(),
+        crate::tol::CONTACT_OUTSIDE * 1e3,
+    )
+}
+
 /// The polygon of a shape (a rectangle's four corners; a point as one vertex when
 /// `allow_point`), validated as a contact would be.
 ///

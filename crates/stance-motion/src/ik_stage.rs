@@ -448,19 +448,16 @@ fn placed_contacts(
         let poly = polygon_of(&surf.shape, &surf.name, true)?;
         let on = plan.environment[e].check(&pose, &poly);
         if !on.holds() {
+            let env = &plan.environment[e].name;
+            let fix = if k == 0 {
+                format!("place it on {env:?} in initial.standing.contacts")
+            } else {
+                format!("land it there in the previous segment (a move with onto = {env:?})")
+            };
             return Err(StanceError::BadMotion(format!(
-                "{what}: {:?} is not on {:?} at the segment's start ({:.1} mm from its plane, \
-                 normals {:.2} deg apart, {:.1} mm outside it; tolerances {} mm, {} deg, {} mm): \
-                 land it there in the previous segment (a move with onto = {:?})",
+                "{what}: {:?} is not on {env:?} at the segment's start ({}): {fix}",
                 surf.name,
-                plan.environment[e].name,
-                on.distance * 1e3,
-                on.angle.to_degrees(),
-                on.outside * 1e3,
-                crate::tol::CONTACT_DISTANCE * 1e3,
-                crate::tol::CONTACT_ANGLE.to_degrees(),
-                crate::tol::CONTACT_OUTSIDE * 1e3,
-                plan.environment[e].name,
+                crate::environment::describe(&on),
             )));
         }
         contacts.push(PlacedContact {

@@ -301,9 +301,9 @@ fn check_options(spec: &MotionSpec) -> Result<(), StanceError> {
     finite_in(
         "planning.area_scale",
         p.area_scale,
-        f64::MIN_POSITIVE,
+        crate::tol::MIN_AREA_SCALE,
         1.0,
-        "give a fraction in (0, 1] (the paper: 0.7)",
+        "give a fraction in [1e-6, 1] (the paper: 0.7)",
     )?;
     finite_in(
         "planning.margin",

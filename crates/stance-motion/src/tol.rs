@@ -127,6 +127,12 @@ pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
 /// finding).
 pub const MAX_SURFACE_EXTENT: f64 = 1e5;
 
+/// Smallest `planning.area_scale`: the contact polygons are scaled by its square root, so 1e-6
+/// leaves a thousandth of a sole's length, a fraction of a millimetre. Below about 1e-10 the
+/// polygons are nanometres wide and the cones of the footholds planner's regions degenerate
+/// (1e-12: 0.9 s for what 1e-8 does in 2 ms; a fuzz input at 2e-16 took over 12 s).
+pub const MIN_AREA_SCALE: f64 = 1e-6;
+
 /// Largest thickness (m) of an environment surface's solid. Default 100 m: far beyond any
 /// scene; a larger value is a unit mistake.
 pub const MAX_SOLID_THICKNESS: f64 = 100.0;

@@ -351,6 +351,38 @@ fn a_surface_too_large_for_the_collision_queries_is_refused() {
     assert!(footholds::plan(&large, &RunOptions::default()).is_ok());
 }
 
+/// A fuzz finding (issue 30): a planning `area_scale` of 2e-16 (soles nanometres wide) and a
+/// hand in the first stance that was never placed took the footholds planner over 12 s of
+/// degenerate cones before any error. The scale is refused below `tol::MIN_AREA_SCALE`, and a
+/// contact that is not on its surface where its segment starts is refused before the regions
+/// are computed (the walk checked it after snapping it onto the surface, which always holds).
+#[test]
+fn a_degenerate_area_scale_and_an_unplaced_contact_are_refused_at_once() {
+    let found = r#"{"name": "footholds-steps", "robot": "small-humanoid", "environment": [{"name": "floor", "position": [0.0, 0.1, 0.3], "shape": {"rectangle": {"half_length": 1.0, "half_width": 1.0}}, "friction": 0.9}], "initial": {"standing": {"com_height": 0.9, "contacts": {"LF": {"surface": "floor", "at": [0.0, -0.0]}}}}, "planning": {"friction": 0.7, "area_scale": 0.00000000000000020000000000000000000000007}, "segments": [{"stance": {"LF": "floor", "LH": "floor"}}, {"name": "RF step 1", "stance": {"LF": "floor"}, "moves": [{"links": []}]}, {"stance": {"LF": "floor", "RF": "floor"}}]}"#;
+    let start = std::time::Instant::now();
+    let spec: MotionSpec = serde_json::from_str(found).unwrap();
+    let e = run(spec, &RunOptions::default()).unwrap_err().to_string();
+    assert!(
+        e.contains("planning.area_scale is 0.0000000000000002") && e.contains("[1e-6, 1]"),
+        "{e}"
+    );
+    let placed = found.replace("0.00000000000000020000000000000000000000007", "0.7");
+    let spec: MotionSpec = serde_json::from_str(&placed).unwrap();
+    let e = run(spec, &RunOptions::default()).unwrap_err().to_string();
+    assert!(
+        e.contains("segment 1 (segment 1): \"LH\" is not on \"floor\" where the segment starts")
+            && e.contains("559.3 mm from its plane")
+            && e.contains("place it on \"floor\" in initial.standing.contacts"),
+        "{e}"
+    );
+    assert!(start.elapsed().as_secs_f64() < 1.0, "{:?}", start.elapsed());
+    // the smallest scale accepted plans
+    let mut small = small_steps();
+    small.planning.area_scale = 1e-6;
+    small.planning.switch_margin = Some(0.5);
+    assert!(footholds::plan(&small, &RunOptions::default()).is_ok());
+}
+
 #[test]
 fn bad_planner_options_are_refused_naming_the_key() {
     let mut spec = small_steps();

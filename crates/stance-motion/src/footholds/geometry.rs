@@ -52,20 +52,28 @@ fn walk(plan: &MotionPlan, data: &Data) -> Result<Walk, StanceError> {
         let mut stance = Vec::new();
         for &(r, e) in &seg.stance {
             if resting[r] != Some(e) {
-                pose[r] = plan.environment[e].snap(&pose[r]);
+                // checked where the walk put it (as the IK stage checks the pose it reached),
+                // then snapped onto the surface
                 let surf = &plan.robot.surfaces[r];
                 let poly = crate::environment::polygon_of(&surf.shape, &surf.name, true)?;
-                if !plan.environment[e].check(&pose[r], &poly).holds() {
+                let on = plan.environment[e].check(&pose[r], &poly);
+                if !on.holds() {
+                    let env = &plan.environment[e].name;
+                    let fix = if k == 0 {
+                        format!("place it on {env:?} in initial.standing.contacts")
+                    } else {
+                        format!("land it there in the segment before (a move with onto = {env:?})")
+                    };
                     return Err(StanceError::BadMotion(format!(
-                        "segment {} ({}): {:?} is not on {:?} where the segment starts; land it \
-                         there in the segment before (a move with onto = {:?})",
+                        "segment {} ({}): {:?} is not on {env:?} where the segment starts ({}); \
+                         {fix}",
                         k + 1,
                         seg.name,
                         surf.name,
-                        plan.environment[e].name,
-                        plan.environment[e].name
+                        crate::environment::describe(&on),
                     )));
                 }
+                pose[r] = plan.environment[e].snap(&pose[r]);
                 resting[r] = Some(e);
             }
             stance.push((r, e, pose[r]));
