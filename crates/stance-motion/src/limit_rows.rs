@@ -42,6 +42,7 @@
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use stance_contact::Stance;
 use stance_robot::{frame_jacobian, torque_path_terms_two, Data, ReferenceFrame};
+use stance_topp::facets::{redundant_rows, FacetWorkspace};
 use stance_topp::lifted::LiftedRows;
 use stance_topp::limits::{JointLimits, LimitKind, LimitTag};
 use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
@@ -188,6 +189,8 @@ pub struct LimitWorkspace {
     pub(crate) scratch: [(Vec<Row>, Vec<RowOrigin>); 2],
     /// The bounding boxes' warm start, per side.
     pub(crate) box_warm: [BoxWarm; 2],
+    /// Buffers of [`drop_redundant`].
+    facets: (FacetWorkspace, Vec<bool>, Vec<(Row, RowOrigin)>),
 }
 
 impl LimitWorkspace {
@@ -203,6 +206,7 @@ impl LimitWorkspace {
             buf: Vec::new(),
             scratch: Default::default(),
             box_warm: [BoxWarm::default(); 2],
+            facets: Default::default(),
         }
     }
 }
@@ -714,4 +718,40 @@ pub(crate) fn prune_unreachable(
     }
     rows.truncate(j);
     origins.truncate(j);
+}
+
+/// Moves the rows of a side that are redundant at its own polygon
+/// ([`stance_topp::facets`]) behind the others, with their origins, and returns how many rows
+/// come first (all of them when the polygon is empty, or not bounded by the rows themselves
+/// within the solver's box: then nothing is left out). The grid's LPs read the first rows
+/// only; the samples' checks read them all.
+pub(crate) fn drop_redundant(
+    rows: &mut [Row],
+    origins: &mut [RowOrigin],
+    ws: &mut LimitWorkspace,
+) -> usize {
+    let n = rows.len();
+    let tol = Tolerances::default();
+    let b = Box2 {
+        u_lo: -tol.max_u,
+        u_hi: tol.max_u,
+        x_lo: 0.0,
+        x_hi: tol.max_x,
+    };
+    let (facets, redundant, buf) = &mut ws.facets;
+    match redundant_rows(rows, b, facets, redundant) {
+        Some(0) | None => return n,
+        Some(_) => {}
+    }
+    buf.clear();
+    buf.extend(rows.iter().copied().zip(origins.iter().copied()));
+    let (mut front, mut back) = (0, n - redundant.iter().filter(|r| **r).count());
+    let kept = back;
+    for (&(r, o), &red) in buf.iter().zip(redundant.iter()) {
+        let at = if red { &mut back } else { &mut front };
+        rows[*at] = r;
+        origins[*at] = o;
+        *at += 1;
+    }
+    kept
 }

@@ -138,6 +138,7 @@
 pub mod between;
 pub mod constraints;
 pub mod error;
+pub mod facets;
 pub mod factored;
 pub mod lifted;
 pub mod limits;
