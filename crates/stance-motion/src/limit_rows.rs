@@ -505,66 +505,72 @@ fn lifted_torque_rows(
     let nk: Vec<Matrix6<f64>> = (1..k)
         .map(|q| m1 * jac[q].fixed_view::<6, 6>(0, 0).transpose() * weight)
         .collect();
+    let rows_count = contacts.cwc.iter().map(Vec::len).sum::<usize>() + 2 * chain.len();
+    // the two sides differ only in their `x` terms: each row's `d` is computed once
+    let mut lifted = [0, 1].map(|_| LiftedRows::with_capacity(ky, Y_BOUND, rows_count));
+    let mut origins = Vec::with_capacity(rows_count);
     let mut d = vec![0.0; ky];
-    let mut result: [Option<Lifted>; 2] = [None, None];
-    for (side, slot) in result.iter_mut().enumerate() {
-        let rows_count = contacts.cwc.iter().map(Vec::len).sum::<usize>() + 2 * chain.len();
-        let mut lifted = LiftedRows::with_capacity(ky, Y_BOUND, rows_count);
-        let mut lifted_origin = Vec::with_capacity(rows_count);
-        // contact 1's cone: h . w_1 <= 0
-        for h in &contacts.cwc[0] {
-            let hv = Vector6::from_row_slice(h);
-            for (q, nq) in nk.iter().enumerate() {
-                let g = nq.transpose() * hv;
-                for i in 0..6 {
-                    d[6 * q + i] = -g[i];
-                }
-            }
-            lifted.push(hv.dot(&wa), hv.dot(&wb[side]), hv.dot(&wc), &d);
-            lifted_origin.push(RowOrigin::Contact);
-        }
-        // the other cones: W h . y_k <= 0
-        for q in 1..k {
-            for h in &contacts.cwc[q] {
-                d.fill(0.0);
-                for (i, x) in h.iter().enumerate() {
-                    d[6 * (q - 1) + i] = weight * x;
-                }
-                lifted.push(0.0, 0.0, 0.0, &d);
-                lifted_origin.push(RowOrigin::Contact);
+    // contact 1's cone: h . w_1 <= 0
+    for h in &contacts.cwc[0] {
+        let hv = Vector6::from_row_slice(h);
+        for (q, nq) in nk.iter().enumerate() {
+            let g = nq.transpose() * hv;
+            for i in 0..6 {
+                d[6 * q + i] = -g[i];
             }
         }
-        // chain torques: tau_j = r_j - J_1j . w_1 - sum_k J_kj . W y_k
-        for &c in chain {
-            let iv = lp.velocity_index[c];
-            let t = lp.torque[c];
-            let j1 = column6(&jac[0], iv);
-            let a = terms.tau_a[iv] - j1.dot(&wa);
-            let b = terms.tau_b[side][iv] - j1.dot(&wb[side]);
-            let cc = terms.tau_c[iv] - j1.dot(&wc);
-            for (q, nq) in nk.iter().enumerate() {
-                // + J_1j . N_q y_q - W J_qj . y_q
-                let g = nq.transpose() * j1 - column6(&jac[q + 1], iv) * weight;
-                for i in 0..6 {
-                    d[6 * q + i] = g[i] / t;
-                }
-            }
-            lifted.push(a / t, b / t, cc / t - 1.0, &d);
-            for x in d.iter_mut() {
-                *x = -*x;
-            }
-            lifted.push(-a / t, -b / t, -cc / t - 1.0, &d);
-            for upper in [true, false] {
-                lifted_origin.push(RowOrigin::TorqueWithContacts(LimitTag {
-                    kind: LimitKind::Torque,
-                    coordinate: c,
-                    upper,
-                }));
-            }
+        for (side, l) in lifted.iter_mut().enumerate() {
+            l.push(hv.dot(&wa), hv.dot(&wb[side]), hv.dot(&wc), &d);
         }
-        *slot = Some((lifted, lifted_origin));
+        origins.push(RowOrigin::Contact);
     }
-    result
+    // the other cones: W h . y_k <= 0
+    for q in 1..k {
+        for h in &contacts.cwc[q] {
+            d.fill(0.0);
+            for (i, x) in h.iter().enumerate() {
+                d[6 * (q - 1) + i] = weight * x;
+            }
+            for l in lifted.iter_mut() {
+                l.push(0.0, 0.0, 0.0, &d);
+            }
+            origins.push(RowOrigin::Contact);
+        }
+    }
+    // chain torques: tau_j = r_j - J_1j . w_1 - sum_k J_kj . W y_k
+    for &c in chain {
+        let iv = lp.velocity_index[c];
+        let t = lp.torque[c];
+        let j1 = column6(&jac[0], iv);
+        let a = terms.tau_a[iv] - j1.dot(&wa);
+        let b = [0, 1].map(|side| terms.tau_b[side][iv] - j1.dot(&wb[side]));
+        let cc = terms.tau_c[iv] - j1.dot(&wc);
+        for (q, nq) in nk.iter().enumerate() {
+            // + J_1j . N_q y_q - W J_qj . y_q
+            let g = nq.transpose() * j1 - column6(&jac[q + 1], iv) * weight;
+            for i in 0..6 {
+                d[6 * q + i] = g[i] / t;
+            }
+        }
+        for (side, l) in lifted.iter_mut().enumerate() {
+            l.push(a / t, b[side] / t, cc / t - 1.0, &d);
+        }
+        for x in d.iter_mut() {
+            *x = -*x;
+        }
+        for (side, l) in lifted.iter_mut().enumerate() {
+            l.push(-a / t, -b[side] / t, -cc / t - 1.0, &d);
+        }
+        for upper in [true, false] {
+            origins.push(RowOrigin::TorqueWithContacts(LimitTag {
+                kind: LimitKind::Torque,
+                coordinate: c,
+                upper,
+            }));
+        }
+    }
+    let [right, left] = lifted;
+    [Some((right, origins.clone())), Some((left, origins))]
 }
 
 /// The Jacobian (6 x nv, linear rows first) of the frame rigidly attached to the robot surface
