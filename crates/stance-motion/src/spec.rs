@@ -157,7 +157,8 @@ pub struct EnvironmentSurfaceSpec {
         deserialize_with = "opt_mat3"
     )]
     pub rotation: Option<[[f64; 3]; 3]>,
-    /// Shape in the surface frame (the plane z = 0).
+    /// Shape in the surface frame (the plane z = 0), within 100 km of its origin
+    /// ([`crate::tol::MAX_SURFACE_EXTENT`]).
     pub shape: Shape,
     /// Friction coefficient of the surface (the physical one; planning may use less).
     pub friction: f64,
@@ -220,7 +221,7 @@ pub struct PlanningSpec {
     /// surface's own).
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub friction: Option<f64>,
-    /// Area scale of every contact polygon in the GIWC (in (0, 1]; half sizes scaled by its
+    /// Area scale of every contact polygon in the GIWC (in [1e-6, 1]; half sizes scaled by its
     /// square root; default 1).
     #[serde(default = "one")]
     pub area_scale: f64,
