@@ -486,9 +486,8 @@ fn solve_layout(
             grid_point,
             s,
             reason: format!(
-                "in segment {} ({}), grid point {grid_point} (s = {s:.3}): {}",
-                seg + 1,
-                names.segments.get(seg).map_or("", String::as_str),
+                "in {}, grid point {grid_point} (s = {s:.3}): {}",
+                crate::plan::segment_label(seg, names.segments.get(seg).map_or("", String::as_str)),
                 reason(status, &constraints)
             ),
             constraints,

@@ -440,7 +440,7 @@ fn placed_contacts(
     data: &Data,
 ) -> Result<Vec<PlacedContact>, StanceError> {
     let seg = &plan.segments[k];
-    let what = format!("segment {} ({})", k + 1, seg.name);
+    let what = crate::plan::segment_label(k, &seg.name);
     let mut contacts = Vec::new();
     for &(r, e) in &seg.stance {
         let pose = surface_pose(plan, data, r)?;

@@ -506,10 +506,9 @@ fn ik_paths(
                 s: path.references.length() * *i as f64 / (grid * substeps) as f64,
                 constraints: Vec::new(),
                 reason: format!(
-                    "in segment {} ({}), grid point {}: the IK stopped at step {i} of {}: \
+                    "in {}, grid point {}: the IK stopped at step {i} of {}: \
                      {status:?} (a joint limit, or a via-point out of reach)",
-                    k + 1,
-                    plan.segments[k].name,
+                    plan::segment_label(k, &plan.segments[k].name),
                     i / substeps,
                     grid * substeps
                 ),

@@ -134,6 +134,23 @@ fn bad(msg: String) -> StanceError {
     StanceError::BadMotion(msg)
 }
 
+/// How messages name segment `k` (from 0) called `name`: "segment 2 (step up)", or "segment 2"
+/// when the file gave it no name (its default name is that).
+///
+/// ```
+/// use stance_motion::plan::segment_label;
+/// assert_eq!(segment_label(1, "step up"), "segment 2 (step up)");
+/// assert_eq!(segment_label(1, "segment 2"), "segment 2");
+/// ```
+pub fn segment_label(k: usize, name: &str) -> String {
+    let number = format!("segment {}", k + 1);
+    if name == number {
+        number
+    } else {
+        format!("{number} ({name})")
+    }
+}
+
 fn finite_in(what: &str, x: f64, lo: f64, hi: f64, hint: &str) -> Result<(), StanceError> {
     if x.is_finite() && x >= lo && x <= hi {
         Ok(())
@@ -498,7 +515,7 @@ fn segment(
         .name
         .clone()
         .unwrap_or_else(|| format!("segment {}", k + 1));
-    let what = format!("segment {} ({name})", k + 1);
+    let what = segment_label(k, &name);
     if s.stance.is_empty() {
         return Err(bad(format!(
             "{what} has an empty stance; give at least one contact"

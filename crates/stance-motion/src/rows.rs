@@ -460,10 +460,9 @@ pub fn segment_rows(
     let t_u = t0.elapsed();
     if giwc.equations.nrows() > 0 {
         return Err(StanceError::BadMotion(format!(
-            "segment {} ({}): the stance's GIWC is lower-dimensional ({} equation(s)); \
-             retiming needs surface contacts",
-            k + 1,
-            plan.segments[k].name,
+            "{}: the stance's GIWC is lower-dimensional ({} equation(s)); retiming needs \
+             surface contacts",
+            crate::plan::segment_label(k, &plan.segments[k].name),
             giwc.equations.nrows()
         )));
     }

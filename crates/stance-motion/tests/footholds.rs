@@ -370,7 +370,7 @@ fn a_degenerate_area_scale_and_an_unplaced_contact_are_refused_at_once() {
     let spec: MotionSpec = serde_json::from_str(&placed).unwrap();
     let e = run(spec, &RunOptions::default()).unwrap_err().to_string();
     assert!(
-        e.contains("segment 1 (segment 1): \"LH\" is not on \"floor\" where the segment starts")
+        e.contains("segment 1: \"LH\" is not on \"floor\" where the segment starts")
             && e.contains("559.3 mm from its plane")
             && e.contains("place it on \"floor\" in initial.standing.contacts"),
         "{e}"

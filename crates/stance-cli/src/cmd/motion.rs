@@ -294,7 +294,7 @@ pub fn table(r: &MotionResult) -> String {
             let _ = writeln!(
                 o,
                 "  via-point missed: {} {:.1} mm{} from its target at the end of move {} of \
-                 segment {} ({}): out of reach, held off a solid by the clearance (ik.clearance), or traded for \
+                 {}: out of reach, held off a solid by the clearance (ik.clearance), or traded for \
                  another task (ik.w_com, ik.w_link)",
                 v.target,
                 v.distance * 1e3,
@@ -304,8 +304,7 @@ pub fn table(r: &MotionResult) -> String {
                     String::new()
                 },
                 v.move_number,
-                v.segment,
-                v.segment_name
+                plan::segment_label(v.segment.saturating_sub(1), &v.segment_name)
             );
         }
         for k in &c.unplanned_touches {

@@ -65,10 +65,8 @@ fn walk(plan: &MotionPlan, data: &Data) -> Result<Walk, StanceError> {
                         format!("land it there in the segment before (a move with onto = {env:?})")
                     };
                     return Err(StanceError::BadMotion(format!(
-                        "segment {} ({}): {:?} is not on {env:?} where the segment starts ({}); \
-                         {fix}",
-                        k + 1,
-                        seg.name,
+                        "{}: {:?} is not on {env:?} where the segment starts ({}); {fix}",
+                        crate::plan::segment_label(k, &seg.name),
                         surf.name,
                         crate::environment::describe(&on),
                     )));

@@ -208,7 +208,7 @@ pub fn plan(spec: &MotionSpec, options: &RunOptions) -> Result<PlannedMotion, St
 }
 
 fn segment_name(plan: &MotionPlan, k: usize) -> String {
-    format!("segment {} ({})", k + 1, plan.segments[k].name)
+    crate::plan::segment_label(k, &plan.segments[k].name)
 }
 
 /// "LF on floor and RH on ledge".
