@@ -77,6 +77,16 @@ pub fn describe(on: &OnSurface) -> String {
     )
 }
 
+/// What to do about a contact of segment `k` (from 0) that is not on environment surface `env`
+/// where the segment starts: place it in the initial stance, or land it in the segment before.
+pub fn landing_fix(k: usize, env: &str) -> String {
+    if k == 0 {
+        format!("place it on {env:?} in initial.standing.contacts")
+    } else {
+        format!("land it there in the segment before (a move with onto = {env:?})")
+    }
+}
+
 /// The polygon of a shape (a rectangle's four corners; a point as one vertex when
 /// `allow_point`), validated as a contact would be.
 ///

@@ -449,11 +449,7 @@ fn placed_contacts(
         let on = plan.environment[e].check(&pose, &poly);
         if !on.holds() {
             let env = &plan.environment[e].name;
-            let fix = if k == 0 {
-                format!("place it on {env:?} in initial.standing.contacts")
-            } else {
-                format!("land it there in the previous segment (a move with onto = {env:?})")
-            };
+            let fix = crate::environment::landing_fix(k, env);
             return Err(StanceError::BadMotion(format!(
                 "{what}: {:?} is not on {env:?} at the segment's start ({}): {fix}",
                 surf.name,

@@ -628,16 +628,21 @@ pub fn contact_jacobian(
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct BoxWarm([[Option<usize>; 2]; 4]);
 
-/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged
-/// (`None` when empty), warm-started from `warm`, which it updates.
-pub(crate) fn bounding_box_warm(rows: &[Row], warm: &mut BoxWarm) -> Option<Box2> {
-    let tol = Tolerances::default();
-    let bbox = Box2 {
+/// The retiming's bounding box of `(u, x)` ([`Tolerances::max_u`], [`Tolerances::max_x`]).
+fn solver_box(tol: &Tolerances) -> Box2 {
+    Box2 {
         u_lo: -tol.max_u,
         u_hi: tol.max_u,
         x_lo: 0.0,
         x_hi: tol.max_x,
-    };
+    }
+}
+
+/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged
+/// (`None` when empty), warm-started from `warm`, which it updates.
+pub(crate) fn bounding_box_warm(rows: &[Row], warm: &mut BoxWarm) -> Option<Box2> {
+    let tol = Tolerances::default();
+    let bbox = solver_box(&tol);
     let lines = StageLines::from_rows(rows);
     let mut stats = Lp2Stats::default();
     let mut ext = |c: [f64; 2], w: usize| {
@@ -737,13 +742,7 @@ pub(crate) fn drop_redundant(
     ws: &mut LimitWorkspace,
 ) -> usize {
     let n = rows.len();
-    let tol = Tolerances::default();
-    let b = Box2 {
-        u_lo: -tol.max_u,
-        u_hi: tol.max_u,
-        x_lo: 0.0,
-        x_hi: tol.max_x,
-    };
+    let b = solver_box(&Tolerances::default());
     let (facets, redundant, buf) = &mut ws.facets;
     match redundant_rows(rows, b, facets, redundant) {
         Some(0) | None => return n,

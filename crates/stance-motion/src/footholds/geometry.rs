@@ -59,11 +59,7 @@ fn walk(plan: &MotionPlan, data: &Data) -> Result<Walk, StanceError> {
                 let on = plan.environment[e].check(&pose[r], &poly);
                 if !on.holds() {
                     let env = &plan.environment[e].name;
-                    let fix = if k == 0 {
-                        format!("place it on {env:?} in initial.standing.contacts")
-                    } else {
-                        format!("land it there in the segment before (a move with onto = {env:?})")
-                    };
+                    let fix = crate::environment::landing_fix(k, env);
                     return Err(StanceError::BadMotion(format!(
                         "{}: {:?} is not on {env:?} where the segment starts ({}); {fix}",
                         crate::plan::segment_label(k, &seg.name),
