@@ -124,6 +124,9 @@ pub struct SideRows {
 /// Both sides of an IK sample (the left is the right's copy at a segment's first sample).
 pub type Sides = [SideRows; 2];
 
+/// Both sides of several IK samples, each with its index.
+type SamplesSides = Vec<(usize, Box<Sides>)>;
+
 /// The GIWC of one segment, and its rows at its current retiming grid.
 #[derive(Debug, Clone)]
 pub struct SegmentRows {
@@ -173,14 +176,17 @@ impl SegmentRows {
         self.points.origins_at(i)
     }
 
-    /// Computes both sides of the IK samples `samples` that have none yet.
+    /// Computes both sides of the IK samples `samples` that have none yet, in chunks of
+    /// [`crate::tol::ROWS_CHUNK`] samples in parallel (a segment's samples are independent, and
+    /// the segments differ in size: two threads working a segment each waited for the
+    /// largest).
     fn compute(
         &mut self,
         plan: &MotionPlan,
         path: &SegmentPath,
         samples: &[usize],
-        ws: &mut LimitWorkspace,
     ) -> Result<(), StanceError> {
+        use rayon::prelude::*;
         let todo: Vec<usize> = samples
             .iter()
             .copied()
@@ -189,6 +195,31 @@ impl SegmentRows {
         if todo.is_empty() {
             return Ok(());
         }
+        let this = &*self;
+        let done = todo
+            .par_chunks(crate::tol::ROWS_CHUNK)
+            .map_init(
+                || LimitWorkspace::new(plan),
+                |ws, chunk| this.sides_of(plan, path, chunk, ws),
+            )
+            .collect::<Result<Vec<_>, _>>()?;
+        for (sides, t) in done {
+            for (j, s) in sides {
+                self.sides[j] = Some(s);
+            }
+            self.t_limits += t;
+        }
+        Ok(())
+    }
+
+    /// Both sides of the IK samples `todo`, and the time of their actuator-limit rows.
+    fn sides_of(
+        &self,
+        plan: &MotionPlan,
+        path: &SegmentPath,
+        todo: &[usize],
+        ws: &mut LimitWorkspace,
+    ) -> Result<(SamplesSides, Duration), StanceError> {
         let m = self.u.len();
         let mass = plan.robot.model.total_mass();
         let s: Vec<f64> = todo.iter().map(|&j| path.samples[j].s).collect();
@@ -207,6 +238,7 @@ impl SegmentRows {
         // limit rows are pruned, and writing them into the kept rows made most of this stage's
         // time the kernel's (fresh pages for rows that were then dropped)
         let mut scratch = std::mem::take(&mut ws.scratch);
+        let mut out = Vec::with_capacity(todo.len());
         for (i, &j) in todo.iter().enumerate() {
             let smp = &path.samples[j];
             for (side, (rows, origins)) in scratch.iter_mut().enumerate() {
@@ -264,11 +296,10 @@ impl SegmentRows {
                 keep(&scratch[0], kept[0], lifted_r),
                 keep(&scratch[1], kept[1], lifted_l),
             ];
-            self.sides[j] = Some(Box::new(sides));
+            out.push((j, Box::new(sides)));
         }
         ws.scratch = scratch;
-        self.t_limits += t0.elapsed();
-        Ok(())
+        Ok((out, t0.elapsed()))
     }
 
     /// Computes the rows at every IK sample (both sides), once.
@@ -278,7 +309,7 @@ impl SegmentRows {
         path: &SegmentPath,
     ) -> Result<(), StanceError> {
         let all: Vec<usize> = (0..path.samples.len()).collect();
-        self.compute(plan, path, &all, &mut LimitWorkspace::new(plan))
+        self.compute(plan, path, &all)
     }
 
     /// The rows of IK sample `j`: the right side (`left = false`) or the left one (after
@@ -491,7 +522,7 @@ pub fn segment_rows(
         t_limits: Duration::ZERO,
         cuts: 0,
     };
-    out.compute(plan, path, &grid, &mut LimitWorkspace::new(plan))?;
+    out.compute(plan, path, &grid)?;
     out.lay_out();
     out.t_abc = t1.elapsed();
     Ok(out)

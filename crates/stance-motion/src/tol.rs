@@ -267,3 +267,8 @@ pub const STEP_INTERIOR_SPACING: usize = 32;
 /// wrench cone's generators. Default 256: two rectangular feet with 32-sided cones, computed in
 /// about 3 s (debug build; 48 sides took 13 s, 64 sides 40 s and 7 GB). Reason: bounded work.
 pub const MAX_STANCE_EDGES: usize = 256;
+
+/// IK samples per parallel task when the rows are built (`rows::SegmentRows::compute`): small
+/// enough that both threads share every segment's work, large enough that each task's setup
+/// (its buffers, the contact rows' factorization) stays small beside it.
+pub const ROWS_CHUNK: usize = 16;
