@@ -342,7 +342,8 @@ fn check_friction_option(options: &RunOptions) -> Result<(), StanceError> {
 }
 
 /// Stage 3: every segment's `U_stance` and rows, in parallel (their inverse dynamics dominate
-/// with limits), each thread with its own cone workspace.
+/// with limits), each thread with its own cone workspace; within a segment, its samples' rows
+/// in parallel chunks too (`rows::SegmentRows::compute`).
 fn all_segment_rows(
     plan: &MotionPlan,
     paths: &[SegmentPath],
