@@ -176,10 +176,11 @@ impl SegmentRows {
         self.points.origins_at(i)
     }
 
-    /// Computes both sides of the IK samples `samples` that have none yet, in chunks of
+    /// Computes both sides of the IK samples `samples` that have none yet, in chunks of about
     /// [`crate::tol::ROWS_CHUNK`] samples in parallel (a segment's samples are independent, and
     /// the segments differ in size: two threads working a segment each waited for the
-    /// largest).
+    /// largest). The chunks share the samples evenly, so that none has a lone sample when
+    /// there are two or more.
     fn compute(
         &mut self,
         plan: &MotionPlan,
@@ -195,9 +196,18 @@ impl SegmentRows {
         if todo.is_empty() {
             return Ok(());
         }
+        let parts = todo.len().div_ceil(crate::tol::ROWS_CHUNK);
+        let (size, longer) = (todo.len() / parts, todo.len() % parts);
+        let mut chunks = Vec::with_capacity(parts);
+        let mut at = 0;
+        for p in 0..parts {
+            let n = size + usize::from(p < longer);
+            chunks.push(&todo[at..at + n]);
+            at += n;
+        }
         let this = &*self;
-        let done = todo
-            .par_chunks(crate::tol::ROWS_CHUNK)
+        let done = chunks
+            .par_iter()
             .map_init(
                 || LimitWorkspace::new(plan),
                 |ws, chunk| this.sides_of(plan, path, chunk, ws),
@@ -222,15 +232,27 @@ impl SegmentRows {
     ) -> Result<(SamplesSides, Duration), StanceError> {
         let m = self.u.len();
         let mass = plan.robot.model.total_mass();
-        let s: Vec<f64> = todo.iter().map(|&j| path.samples[j].s).collect();
+        // the contact rows' factorization is over a grid of two points or more: a lone sample
+        // takes a neighbour along, whose rows are not kept
+        let mut factored = todo.to_vec();
+        if let &[j] = todo {
+            let other = if j + 1 < path.samples.len() {
+                j + 1
+            } else {
+                j - 1
+            };
+            factored = vec![j.min(other), j.max(other)];
+        }
+        let at = |i: usize| factored.binary_search(&todo[i]).expect("a factored sample");
+        let s: Vec<f64> = factored.iter().map(|&j| path.samples[j].s).collect();
         let mut contact = [Vec::new(), Vec::new()];
         for (side, left) in [false, true].into_iter().enumerate() {
-            let w = todo
+            let w = factored
                 .iter()
                 .map(|&j| eq14_of(&path.samples[j], left, mass, plan.gravity))
                 .collect();
             let f = FactoredRows::new(&self.u, s.clone(), w)?;
-            contact[side] = vec![Row::default(); todo.len() * m];
+            contact[side] = vec![Row::default(); factored.len() * m];
             f.fill(&mut contact[side])?;
         }
         let t0 = Instant::now();
@@ -243,7 +265,7 @@ impl SegmentRows {
             let smp = &path.samples[j];
             for (side, (rows, origins)) in scratch.iter_mut().enumerate() {
                 rows.clear();
-                rows.extend_from_slice(&contact[side][i * m..(i + 1) * m]);
+                rows.extend_from_slice(&contact[side][at(i) * m..(at(i) + 1) * m]);
                 origins.clear();
                 origins.resize(m, RowOrigin::Contact);
             }
@@ -558,5 +580,53 @@ mod doc_examples {
         .unwrap();
         let stance = rows::planned_stance(&plan, &path).unwrap();
         assert_eq!(stance.contacts().len(), 2);
+    }
+
+    /// A sample whose rows are computed alone (the contact rows' factorization needs two
+    /// points: it takes a neighbour along) has the rows it has among all the samples.
+    #[test]
+    fn a_lone_sample_has_the_rows_it_has_among_all() {
+        use crate::{
+            experiments,
+            ik_stage::{self, run_segment, IkStageWorkspace},
+            plan::MotionPlan,
+            rows,
+        };
+        let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
+        let mut ws = IkStageWorkspace::new(&plan);
+        let nv = plan.robot.model.nv;
+        let com = ik_stage::com_reference(&plan).unwrap();
+        let path = run_segment(
+            &plan,
+            0,
+            &com,
+            0.0,
+            &plan.q0,
+            &vec![0.0; nv],
+            &[],
+            8,
+            &mut ws,
+        )
+        .unwrap();
+        let last = path.samples.len() - 1;
+        let mut cone = polycone::Workspace::new();
+        let all = {
+            let mut r = rows::segment_rows(&plan, 0, &path, 4, &mut cone).unwrap();
+            r.ensure_sample_rows(&plan, &path).unwrap();
+            r
+        };
+        // the last sample alone (its neighbour before it), then one inside alone
+        for j in [last, 1] {
+            let mut alone = rows::segment_rows(&plan, 0, &path, 4, &mut cone).unwrap();
+            assert!(alone.sides[j].is_none());
+            alone.compute(&plan, &path, &[j]).unwrap();
+            for left in [false, true] {
+                assert_eq!(
+                    alone.sample_rows(j, left),
+                    all.sample_rows(j, left),
+                    "sample {j}"
+                );
+            }
+        }
     }
 }
