@@ -827,6 +827,12 @@ def motion_cases():
     for dx, dy in [(0.3, -0.2), (-5.0, 12.0), (1e3, -3e2), (1e5, 0.0), (0.0, -1e6)]:
         cases.append(motion_case(f"moved_{dx:g}_{dy:g}", sway_moved(dx, dy), ["--no-checks"],
                                  oracle=motion_vs(SWAY_REF)))
+    # Farther than 1000 km the digits below the millimetre go (the squat at 1e12 m moved its
+    # duration by 8e-4): refused, naming the surface and the range.
+    for dx in [1.5e6, 1e12, -1e300]:
+        cases.append(motion_case(f"moved_{dx:g}", sway_moved(dx, 0.0), ["--no-checks"],
+                                 expect="error",
+                                 keywords=["floor", "from the world origin", "within 1e6 m"]))
     for yaw in [0.5, math.pi / 2, math.pi, -2.0]:
         cases.append(motion_case(f"turned_{yaw:.3g}", sway_moved(0.0, 0.0, yaw), ["--no-checks"],
                                  oracle=motion_vs(SWAY_REF, rel=1e-4), ext=".json"))

@@ -182,6 +182,16 @@ impl EnvSurface {
             &Default::default(),
         )
         .map_err(|e| StanceError::BadMotion(format!("{what}: {e}")))?;
+        // (hypot: the squares of a position near f64::MAX overflow)
+        let distance = spec.position.iter().fold(0.0f64, |d, v| d.hypot(*v));
+        if distance > crate::tol::MAX_SCENE_DISTANCE {
+            return Err(StanceError::BadMotion(format!(
+                "{what}: its position is {distance:.3e} m from the world origin; the supported \
+                 scene is within {:.0e} m of it (double precision leaves too few digits below \
+                 the millimetre farther away): put the world origin near the scene",
+                crate::tol::MAX_SCENE_DISTANCE
+            )));
+        }
         let thickness = match spec.thickness {
             None => super::collision::MIN_SOLID_THICKNESS,
             Some(t) if t.is_finite() && t > 0.0 && t <= crate::tol::MAX_SOLID_THICKNESS => t,

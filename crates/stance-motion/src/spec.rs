@@ -140,7 +140,8 @@ pub struct RobotSurfaceSpec {
 pub struct EnvironmentSurfaceSpec {
     /// Name used by stances and moves.
     pub name: String,
-    /// Origin of the surface frame (m).
+    /// Origin of the surface frame (m), within 1000 km of the world origin
+    /// ([`crate::tol::MAX_SCENE_DISTANCE`]).
     #[serde(deserialize_with = "strict::vec3")]
     pub position: [f64; 3],
     /// Orientation as roll, pitch, yaw (rad); give this or `rotation`.

@@ -127,6 +127,13 @@ pub const MAX_OUTPUT_SAMPLES: usize = 10_000_000;
 /// finding).
 pub const MAX_SURFACE_EXTENT: f64 = 1e5;
 
+/// Largest distance (m) of an environment surface's origin from the world origin. Default 1e6 m
+/// (1000 km): the computation is in metres with double precision, which leaves fewer digits
+/// below the millimetre the farther the scene is. The gallery's squat moved along x has the
+/// duration of the squat at the origin to 1.2e-9 at 1e6 m, 7e-8 at 1e8 m, 2e-6 at 1e9 m and
+/// 8e-4 at 1e12 m, and from 1e15 m on its feet are no longer on the floor where they stand.
+pub const MAX_SCENE_DISTANCE: f64 = 1e6;
+
 /// Smallest `planning.area_scale`: the contact polygons are scaled by its square root, so 1e-6
 /// leaves a thousandth of a sole's length, a fraction of a millimetre. Below about 1e-10 the
 /// polygons are nanometres wide and the cones of the footholds planner's regions degenerate

@@ -351,6 +351,28 @@ fn a_surface_too_large_for_the_collision_queries_is_refused() {
     assert!(footholds::plan(&large, &RunOptions::default()).is_ok());
 }
 
+/// A scene far from the world origin loses the digits below the millimetre: the squat's duration
+/// moved by 8e-4 (relative) at 1e12 m, and from 1e15 m on its feet were said not to be on the
+/// floor they stand on. Surfaces farther than `tol::MAX_SCENE_DISTANCE` are refused, naming the
+/// surface, its distance and the range; at 1e6 m the steps are planned.
+#[test]
+fn a_scene_far_from_the_world_origin_is_refused() {
+    for far in [1e12, 1e300] {
+        let mut moved = small_steps();
+        moved.environment[0].position[0] = far;
+        let e = run(moved, &RunOptions::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("environment surface \"floor\": its position is")
+                && e.contains(&format!("{far:.3e} m from the world origin"))
+                && e.contains("within 1e6 m of it"),
+            "{e}"
+        );
+    }
+    let mut moved = small_steps();
+    moved.environment[0].position[1] = -1e6;
+    assert!(footholds::plan(&moved, &RunOptions::default()).is_ok());
+}
+
 /// A fuzz finding (issue 30): a planning `area_scale` of 2e-16 (soles nanometres wide) and a
 /// hand in the first stance that was never placed took the footholds planner over 12 s of
 /// degenerate cones before any error. The scale is refused below `tol::MIN_AREA_SCALE`, and a
