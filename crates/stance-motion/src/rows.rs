@@ -554,14 +554,15 @@ pub fn segment_rows(
 mod doc_examples {
     //! The examples that were in the docs of this private module.
 
-    #[test]
-    fn planned_stance_example() {
-        use crate::{
-            experiments,
-            ik_stage::{self, run_segment, IkStageWorkspace},
-            plan::MotionPlan,
-            rows,
-        };
+    use crate::{
+        experiments,
+        ik_stage::{self, run_segment, IkStageWorkspace, SegmentPath},
+        plan::MotionPlan,
+        rows,
+    };
+
+    /// The small sway's plan and the IK path of its first segment, in 8 steps.
+    fn sway_segment() -> (MotionPlan, SegmentPath) {
         let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
         let mut ws = IkStageWorkspace::new(&plan);
         let nv = plan.robot.model.nv;
@@ -578,6 +579,12 @@ mod doc_examples {
             &mut ws,
         )
         .unwrap();
+        (plan, path)
+    }
+
+    #[test]
+    fn planned_stance_example() {
+        let (plan, path) = sway_segment();
         let stance = rows::planned_stance(&plan, &path).unwrap();
         assert_eq!(stance.contacts().len(), 2);
     }
@@ -586,28 +593,7 @@ mod doc_examples {
     /// points: it takes a neighbour along) has the rows it has among all the samples.
     #[test]
     fn a_lone_sample_has_the_rows_it_has_among_all() {
-        use crate::{
-            experiments,
-            ik_stage::{self, run_segment, IkStageWorkspace},
-            plan::MotionPlan,
-            rows,
-        };
-        let plan = MotionPlan::new(experiments::by_name("small-sway").unwrap(), None).unwrap();
-        let mut ws = IkStageWorkspace::new(&plan);
-        let nv = plan.robot.model.nv;
-        let com = ik_stage::com_reference(&plan).unwrap();
-        let path = run_segment(
-            &plan,
-            0,
-            &com,
-            0.0,
-            &plan.q0,
-            &vec![0.0; nv],
-            &[],
-            8,
-            &mut ws,
-        )
-        .unwrap();
+        let (plan, path) = sway_segment();
         let last = path.samples.len() - 1;
         let mut cone = polycone::Workspace::new();
         let all = {
