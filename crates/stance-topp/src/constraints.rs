@@ -116,6 +116,27 @@ const fn pow2(k: i32) -> f64 {
 
 /// `floor(log2 |x|)` for a finite nonzero `x` (subnormals included), exactly: read from the
 /// bits of `x`.
+/// `e` of the unit `L = 2^e` of a grid of range `len` (`len` in `(L / 2, L]`).
+fn grid_exponent(len: f64) -> i32 {
+    // len = m 2^f with m in [1, 2): L = 2^(f + 1), or 2^f when len is a power of two.
+    let f = exponent(len);
+    if ldexp(len, -f) == 1.0 {
+        f
+    } else {
+        f + 1
+    }
+}
+
+/// Whether a grid from `s_0` to `s_n` (finite) is solved as it is. Near unit range and origin:
+/// the solver's tolerances and box are relative to `max(1, |(u, x)|)`, so a factor of up to
+/// `2^NEAR_UNIT` changes its decisions by no more than that factor, at the tolerance level;
+/// copying and rescaling the rows would cost more than the solve (a 172-row, 101-point
+/// instance: 3x).
+pub(crate) fn solved_as_given(s_0: f64, s_n: f64) -> bool {
+    let len = s_n - s_0;
+    len.is_finite() && grid_exponent(len).abs() <= NEAR_UNIT && s_0.abs() <= ldexp(len, NEAR_UNIT)
+}
+
 pub(crate) fn exponent(x: f64) -> i32 {
     debug_assert!(x.is_finite() && x != 0.0, "exponent of {x}");
     let bits = x.abs().to_bits();
@@ -473,14 +494,7 @@ impl CanonicalConstraints {
     /// The exponent `e` of the power of two `L = 2^e` with `(s_N - s_0) / L` in `(0.5, 1]`: the
     /// unit of the path parameter the solver works in ([`Self::on_unit_grid`]).
     pub(crate) fn grid_unit(&self) -> i32 {
-        let len = self.s[self.s.len() - 1] - self.s[0];
-        // len = m 2^f with m in [1, 2): L = 2^(f + 1), or 2^f when len is a power of two.
-        let f = exponent(len);
-        if ldexp(len, -f) == 1.0 {
-            f
-        } else {
-            f + 1
-        }
+        grid_exponent(self.s[self.s.len() - 1] - self.s[0])
     }
 
     /// The same constraints on the path parameter `s~ = (s - s_0) / L` (with `L` from
@@ -505,12 +519,7 @@ impl CanonicalConstraints {
             });
         }
         let e = self.grid_unit();
-        // Near unit range and origin the grid is solved as it is: the solver's tolerances and
-        // box are relative to `max(1, |(u, x)|)`, so a factor of up to `2^NEAR_UNIT` changes
-        // its decisions by no more than that factor, at the tolerance level; copying and
-        // rescaling the rows would cost more than the solve (a 172-row, 101-point instance:
-        // 3x).
-        if e.abs() <= NEAR_UNIT && s0.abs() <= ldexp(len, NEAR_UNIT) {
+        if solved_as_given(s0, self.s[self.s.len() - 1]) {
             return Ok(None);
         }
         let s: Vec<f64> = self.s.iter().map(|&si| ldexp(si - s0, -e)).collect();

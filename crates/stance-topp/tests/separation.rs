@@ -3,14 +3,16 @@
 //! rows only an oracle knows, both solves give the same status, controllable sets and profile;
 //! on a grid far from unit range and origin too (the oracle sees and returns the caller's
 //! units); every cut returned is one of the hidden rows; an oracle whose cuts do not cut ends
-//! the solve with an error.
+//! the solve with an error. Solved in pieces (the backward pass piece by piece, last first,
+//! then the forward pass over the whole grid), the same solution to the last bit.
 
 mod common;
 
 use common::random::random_instance;
 use proptest::prelude::*;
 use stance_topp::{
-    CanonicalConstraints, Cut, Discretization, Row, Separation, SolveOptions, ToppError, Workspace,
+    BackwardPiece, CanonicalConstraints, Cut, Discretization, Row, Separation, SolveOptions,
+    ToppError, Workspace,
 };
 
 /// The hidden rows of every grid point; returns the most violated one (by normalized
@@ -133,8 +135,103 @@ fn agree(
     Ok(())
 }
 
+/// An oracle seen from a piece of the grid that starts at global point `offset`.
+struct Shifted<'a> {
+    inner: &'a mut Hidden,
+    offset: usize,
+}
+
+impl Separation for Shifted<'_> {
+    fn separate(&mut self, point: usize, u: f64, x: f64) -> Result<Option<Cut>, ToppError> {
+        self.inner.separate(point + self.offset, u, x)
+    }
+}
+
+/// Grid points `a..=b` of `k` as constraints of their own.
+fn piece(k: &CanonicalConstraints, a: usize, b: usize) -> CanonicalConstraints {
+    let mut rows = Vec::new();
+    let mut offsets = vec![0];
+    for i in a..=b {
+        rows.extend_from_slice(k.rows_at(i));
+        offsets.push(rows.len());
+    }
+    CanonicalConstraints::new(k.grid()[a..=b].to_vec(), offsets, rows)
+        .unwrap()
+        .with_x_bounds((a..=b).map(|i| k.x_bounds_at(i)).collect())
+        .unwrap()
+        .with_next_rows((a..=b).map(|i| k.next_rows_at(i).len()).collect())
+        .unwrap()
+}
+
+/// `k` with upper bounds on `x` and fewer next rows at some points (from `seed`), as a
+/// motion's layout has at its stance switches.
+fn with_switches(k: CanonicalConstraints, seed: u64) -> CanonicalConstraints {
+    let n = k.num_points();
+    let pick = |i: usize| {
+        let h = seed
+            .wrapping_add(i as u64)
+            .wrapping_mul(6364136223846793005);
+        (h >> 33) % 7 == 0
+    };
+    let x_bounds = (0..n)
+        .map(|i| [0.0, if pick(i) { 1.5 } else { f64::INFINITY }])
+        .collect();
+    let next = (0..n)
+        .map(|i| if pick(i + 1) { 0 } else { k.rows_at(i).len() })
+        .collect();
+    k.with_x_bounds(x_bounds)
+        .unwrap()
+        .with_next_rows(next)
+        .unwrap()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    /// The backward pass in pieces (last piece first, each from the next one's set) then the
+    /// forward pass over the whole grid: the whole solve's solution, sets, cuts and counters
+    /// equal; when a piece's pass fails, the whole solve fails too.
+    #[test]
+    fn solved_in_pieces_as_a_whole(
+        seed in any::<u64>(),
+        n in 5usize..60,
+        keep in 0usize..5,
+        cuts_at in prop::collection::vec(0.0f64..1.0, 0..5),
+        interp in any::<bool>(),
+    ) {
+        let disc = if interp { Discretization::Interpolation } else { Discretization::Collocation };
+        let opts = SolveOptions::new(disc);
+        let full = with_switches(random_instance(seed, n, 3, false), seed);
+        let (explicit, mut oracle) = split(&full, keep);
+        let whole = Workspace::new().solve_separated(&explicit, &opts, &mut oracle).unwrap();
+        // the pieces' first points
+        let mut starts: Vec<usize> = cuts_at.iter().map(|f| 1 + (f * (n - 1) as f64) as usize).collect();
+        starts.push(0);
+        starts.sort_unstable();
+        starts.dedup();
+        let (explicit, mut oracle) = split(&full, keep);
+        let mut ws = Workspace::new();
+        let mut pieces: Vec<BackwardPiece> = Vec::new();
+        let mut failed = false;
+        for (p, &a) in starts.iter().enumerate().rev() {
+            let b = starts.get(p + 1).copied().unwrap_or(n);
+            let mut sep = Shifted { inner: &mut oracle, offset: a };
+            let after = pieces.first();
+            let piece = ws.backward_piece(&piece(&explicit, a, b), &opts, after, &mut sep).unwrap();
+            failed = piece.failed_at().is_some();
+            pieces.insert(0, piece);
+            if failed {
+                break;
+            }
+        }
+        if failed {
+            prop_assert!(whole.profile.is_none(), "{:?}", whole.status);
+            prop_assert!(ws.forward_over_pieces(&explicit, &opts, &pieces, &mut oracle).is_err());
+        } else {
+            let sol = ws.forward_over_pieces(&explicit, &opts, &pieces, &mut oracle).unwrap();
+            prop_assert_eq!(sol, whole);
+        }
+    }
+
     #[test]
     fn oracle_rows_give_the_same_profile_as_explicit_rows(
         seed in any::<u64>(),

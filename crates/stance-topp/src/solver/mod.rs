@@ -19,11 +19,13 @@
 //! Empty sets are reported as [`Status`] values with the grid index.
 
 mod options;
+mod pieces;
 mod reachability;
 mod report;
 pub mod separation;
 
 pub use options::{Discretization, Solution, SolveOptions, SolveStats, Status};
+pub use pieces::{grid_solved_as_given, BackwardPiece};
 pub use reachability::{end_speed_range, solve, Workspace};
 pub use report::SolutionReport;
 pub use separation::{Cut, Cuts, Separation};

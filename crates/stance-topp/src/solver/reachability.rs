@@ -294,46 +294,72 @@ fn solve_unit(
     opts: &SolveOptions,
     mut sep: Option<&mut dyn Separation>,
 ) -> Result<Solution, ToppError> {
+    let n = k.num_points();
+    let mut pass = Backward {
+        controllable: vec![None; n],
+        // (no storage without an oracle: `Cuts::at` is empty past the end)
+        cuts: if sep.is_some() {
+            Cuts::new(n)
+        } else {
+            Cuts::default()
+        },
+        stats: SolveStats::default(),
+        hit_box: false,
+    };
+    let end = [opts.sd_end[0].powi(2), opts.sd_end[1].powi(2)];
+    match backward_pass(k, opts, PassEnd::Speeds(end), &mut pass, &mut sep)? {
+        Ok(_) => forward_pass(k, opts, pass, sep),
+        Err(i_fail) => Ok(pass.failed(k, opts, i_fail)),
+    }
+}
+
+/// What a backward pass fills: the controllable sets, the cuts, the work counters.
+#[derive(Debug, Clone)]
+pub(super) struct Backward {
+    pub controllable: Vec<Option<[f64; 2]>>,
+    pub cuts: Cuts,
+    pub stats: SolveStats,
+    pub hit_box: bool,
+}
+
+impl Backward {
+    /// The solution of a backward pass that failed at `i_fail` (diagnosed).
+    pub fn failed(
+        mut self,
+        k: &CanonicalConstraints,
+        opts: &SolveOptions,
+        i_fail: usize,
+    ) -> Solution {
+        let disc = opts.discretization;
+        let status = diagnose(k, disc, &opts.tol, i_fail, &mut self.stats, &self.cuts);
+        Solution {
+            status,
+            discretization: disc,
+            controllable: self.controllable,
+            profile: None,
+            hit_box: self.hit_box,
+            stats: self.stats,
+            cuts: self.cuts,
+        }
+    }
+}
+
+/// The greedy forward pass from the backward pass's sets and cuts (module doc).
+pub(super) fn forward_pass(
+    k: &CanonicalConstraints,
+    opts: &SolveOptions,
+    pass: Backward,
+    mut sep: Option<&mut dyn Separation>,
+) -> Result<Solution, ToppError> {
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
-    let mut stats = SolveStats::default();
-    let mut hit_box = false;
-    let mut controllable: Vec<Option<[f64; 2]>> = vec![None; n];
-    // (no storage without an oracle: `Cuts::at` is empty past the end)
-    let mut cuts = if sep.is_some() {
-        Cuts::new(n)
-    } else {
-        Cuts::default()
-    };
-
-    let end = [opts.sd_end[0].powi(2), opts.sd_end[1].powi(2)];
-    let backward = backward_pass(
-        k,
-        disc,
-        end,
-        &tol,
-        opts.warm_start,
-        &mut controllable,
-        &mut stats,
-        &mut hit_box,
-        &mut sep,
-        &mut cuts,
-    )?;
-    if let Err(i_fail) = backward {
-        let status = diagnose(k, disc, &tol, i_fail, &mut stats, &cuts);
-        return Ok(Solution {
-            status,
-            discretization: disc,
-            controllable,
-            profile: None,
-            hit_box,
-            stats,
-            cuts,
-        });
-    }
-
-    // Forward pass.
+    let Backward {
+        controllable,
+        mut cuts,
+        mut stats,
+        hit_box,
+    } = pass;
     let x_start = opts.sd_start * opts.sd_start;
     let [lo0, hi0] = controllable[0].expect("backward pass succeeded");
     if x_start < lo0 - tol.state * lo0.max(1.0) || x_start > hi0 + tol.state * hi0.max(1.0) {
@@ -505,60 +531,48 @@ fn add_stats(stats: &mut SolveStats, s: &Lp2Stats) {
     stats.inner_steps += s.inner_steps;
 }
 
-/// Fills `controllable`; `Ok(Err(i))` when `K_i` is empty (or grid point `i` has a violated
-/// constant row). With a separation oracle, each stage's optima are cut off until it accepts
-/// them (module [`super::separation`]).
-#[allow(clippy::too_many_arguments)]
-fn backward_pass(
+/// Where a backward pass starts at the grid's last point.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum PassEnd {
+    /// The end interval of `x` (squared end speeds): `K_N` is its part feasible at `s_N`.
+    Speeds([f64; 2]),
+    /// `K_N` itself, as the pass over the grid after this one found it, with the lines active
+    /// at its two optima there (the warm start of the stage before): the pass resumes as if it
+    /// had run over both grids at once (module `pieces`).
+    Given([f64; 2], Actives),
+}
+
+/// Fills `pass.controllable` from `end`; `Ok(Err(i))` when `K_i` is empty (or grid point `i`
+/// has a violated constant row), else `Ok(Ok(actives))`, the lines active at the first stage's
+/// optima. With a separation oracle, each stage's optima are cut off until it accepts them
+/// (module [`super::separation`]).
+pub(super) fn backward_pass(
     k: &CanonicalConstraints,
-    disc: Discretization,
-    end: [f64; 2],
-    tol: &Tolerances,
-    warm: bool,
-    controllable: &mut [Option<[f64; 2]>],
-    stats: &mut SolveStats,
-    hit_box: &mut bool,
+    opts: &SolveOptions,
+    end: PassEnd,
+    pass: &mut Backward,
     sep: &mut Option<&mut dyn Separation>,
-    cuts: &mut Cuts,
-) -> Result<Result<(), usize>, ToppError> {
+) -> Result<Result<Actives, usize>, ToppError> {
+    let (disc, tol, warm) = (opts.discretization, &opts.tol, opts.warm_start);
+    let Backward {
+        controllable,
+        cuts,
+        stats,
+        hit_box,
+    } = pass;
     let n = k.num_points();
     let s = k.grid();
-    // K_N: the end interval intersected with the states feasible at s_N.
-    let mut rounds = 0;
-    let mut kn = loop {
-        let (lines, mut bbox) = assemble(k, disc, n - 1, None, false, tol, cuts);
-        bbox.x_lo = bbox.x_lo.max(end[0]);
-        bbox.x_hi = bbox.x_hi.min(end[1]);
-        let Some((set, _, optima)) = x_range(&lines, bbox, tol, [None, None], stats, hit_box)
-        else {
-            return Ok(Err(n - 1));
-        };
-        let Some(sep) = sep.as_deref_mut() else {
-            break set;
-        };
-        let mut cut = None;
-        for (u, x) in optima {
-            if let Some(c) = sep.separate(n - 1, u, x)? {
-                cut = Some(c);
-                break;
-            }
-        }
-        let Some(c) = cut else {
-            break set;
-        };
-        cuts.push(n - 1, c, false);
-        stats.cuts += 1;
-        rounds += 1;
-        if rounds > MAX_CUTS_PER_LP {
-            return Err(too_many_cuts(n - 1));
-        }
-    };
-    // A fixed end speed: keep it exact (the LP returns it up to round-off).
-    if end[0] == end[1] {
-        kn = [end[0], end[0]];
-    }
-    controllable[n - 1] = Some(kn);
     let mut active = [None, None];
+    match end {
+        PassEnd::Given(set, act) => {
+            controllable[n - 1] = Some(set);
+            active = act;
+        }
+        PassEnd::Speeds(end) => match end_set(k, disc, end, tol, stats, hit_box, sep, cuts)? {
+            Some(kn) => controllable[n - 1] = Some(kn),
+            None => return Ok(Err(n - 1)),
+        },
+    }
     for i in (0..n - 1).rev() {
         let k_next = controllable[i + 1].expect("set above");
         let two_delta = 2.0 * (s[i + 1] - s[i]);
@@ -601,11 +615,61 @@ fn backward_pass(
             }
         }
     }
-    Ok(Ok(()))
+    Ok(Ok(active))
+}
+
+/// `K_N`: the end interval `end` intersected with the states feasible at `s_N` (`None` when
+/// empty), cut by the oracle until it accepts both optima.
+#[allow(clippy::too_many_arguments)]
+fn end_set(
+    k: &CanonicalConstraints,
+    disc: Discretization,
+    end: [f64; 2],
+    tol: &Tolerances,
+    stats: &mut SolveStats,
+    hit_box: &mut bool,
+    sep: &mut Option<&mut dyn Separation>,
+    cuts: &mut Cuts,
+) -> Result<Option<[f64; 2]>, ToppError> {
+    let n = k.num_points();
+    let mut rounds = 0;
+    let mut kn = loop {
+        let (lines, mut bbox) = assemble(k, disc, n - 1, None, false, tol, cuts);
+        bbox.x_lo = bbox.x_lo.max(end[0]);
+        bbox.x_hi = bbox.x_hi.min(end[1]);
+        let Some((set, _, optima)) = x_range(&lines, bbox, tol, [None, None], stats, hit_box)
+        else {
+            return Ok(None);
+        };
+        let Some(sep) = sep.as_deref_mut() else {
+            break set;
+        };
+        let mut cut = None;
+        for (u, x) in optima {
+            if let Some(c) = sep.separate(n - 1, u, x)? {
+                cut = Some(c);
+                break;
+            }
+        }
+        let Some(c) = cut else {
+            break set;
+        };
+        cuts.push(n - 1, c, false);
+        stats.cuts += 1;
+        rounds += 1;
+        if rounds > MAX_CUTS_PER_LP {
+            return Err(too_many_cuts(n - 1));
+        }
+    };
+    // A fixed end speed: keep it exact (the LP returns it up to round-off).
+    if end[0] == end[1] {
+        kn = [end[0], end[0]];
+    }
+    Ok(Some(kn))
 }
 
 /// Lines active at the two optima of [`x_range`] (`[max-x actives, min-x actives]`).
-type Actives = [Option<[Option<usize>; 2]>; 2];
+pub(super) type Actives = [Option<[Option<usize>; 2]>; 2];
 
 /// What [`x_range`] finds: `[min x, max x]`, the lines active at the two optima, and the
 /// optima `(u, x)` (max first).
@@ -763,26 +827,17 @@ fn end_speed_range_unit(
     let tol = opts.tol;
     let disc = opts.discretization;
     let n = k.num_points();
-    let mut stats = SolveStats::default();
-    let mut hit = false;
-    let mut controllable = vec![None; n];
-    let cuts = &mut Cuts::default();
-    if backward_pass(
-        k,
-        disc,
-        [0.0, f64::INFINITY],
-        &tol,
-        opts.warm_start,
-        &mut controllable,
-        &mut stats,
-        &mut hit,
-        &mut None,
-        cuts,
-    )?
-    .is_err()
-    {
+    let mut pass = Backward {
+        controllable: vec![None; n],
+        cuts: Cuts::default(),
+        stats: SolveStats::default(),
+        hit_box: false,
+    };
+    let any_end = PassEnd::Speeds([0.0, f64::INFINITY]);
+    if backward_pass(k, opts, any_end, &mut pass, &mut None)?.is_err() {
         return Ok(None);
     }
+    let (controllable, cuts) = (&pass.controllable, &pass.cuts);
     let x_start = opts.sd_start * opts.sd_start;
     let [lo0, hi0] = controllable[0].expect("backward pass succeeded");
     if x_start < lo0 - tol.state * lo0.max(1.0) || x_start > hi0 + tol.state * hi0.max(1.0) {
