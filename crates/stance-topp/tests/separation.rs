@@ -171,7 +171,7 @@ fn with_switches(k: CanonicalConstraints, seed: u64) -> CanonicalConstraints {
         let h = seed
             .wrapping_add(i as u64)
             .wrapping_mul(6364136223846793005);
-        (h >> 33) % 7 == 0
+        (h >> 33).is_multiple_of(7)
     };
     let x_bounds = (0..n)
         .map(|i| [0.0, if pick(i) { 1.5 } else { f64::INFINITY }])
