@@ -65,15 +65,15 @@ pub struct CanonicalConstraints {
     next_counts: Option<Vec<usize>>,
 }
 
-/// Largest `|e|` of the path parameter's unit `L = 2^e` ([`CanonicalConstraints::grid_unit`]):
+/// Largest `|e|` of the path parameter's unit `L = 2^e` ([`grid_exponent`]):
 /// the solution is mapped back with `L^2`, which must stay a normal double.
 const MAX_GRID_EXPONENT: i32 = 500;
 
-/// Grids with `|e| <= NEAR_UNIT` ([`CanonicalConstraints::grid_unit`]) and `|s_0|` at most
+/// Grids with `|e| <= NEAR_UNIT` ([`grid_exponent`]) and `|s_0|` at most
 /// `2^NEAR_UNIT` times their range are solved as they are (see [`CanonicalConstraints::on_unit_grid`]).
 const NEAR_UNIT: i32 = 4;
 
-/// Up to this `|e|` ([`CanonicalConstraints::grid_unit`]) the rows are multiplied by `2^e` and
+/// Up to this `|e|` ([`grid_exponent`]) the rows are multiplied by `2^e` and
 /// `2^2e` directly: rows within `2^+-ROW_WINDOW` stay finite and normal (`100 + 2 * 200 < 1022`).
 /// Beyond it each coefficient gets its own power of two (slower: an exponent per coefficient).
 const FAST_GRID_EXPONENT: i32 = 200;
@@ -116,7 +116,9 @@ const fn pow2(k: i32) -> f64 {
 
 /// `floor(log2 |x|)` for a finite nonzero `x` (subnormals included), exactly: read from the
 /// bits of `x`.
-/// `e` of the unit `L = 2^e` of a grid of range `len` (`len` in `(L / 2, L]`).
+/// The exponent `e` of the power of two `L = 2^e` with `len / L` in `(0.5, 1]`: the unit of
+/// the path parameter the solver works in on a grid of range `len`
+/// ([`CanonicalConstraints::on_unit_grid`]).
 fn grid_exponent(len: f64) -> i32 {
     // len = m 2^f with m in [1, 2): L = 2^(f + 1), or 2^f when len is a power of two.
     let f = exponent(len);
@@ -491,14 +493,8 @@ impl CanonicalConstraints {
         Ok(self)
     }
 
-    /// The exponent `e` of the power of two `L = 2^e` with `(s_N - s_0) / L` in `(0.5, 1]`: the
-    /// unit of the path parameter the solver works in ([`Self::on_unit_grid`]).
-    pub(crate) fn grid_unit(&self) -> i32 {
-        grid_exponent(self.s[self.s.len() - 1] - self.s[0])
-    }
-
     /// The same constraints on the path parameter `s~ = (s - s_0) / L` (with `L` from
-    /// [`Self::grid_unit`]): `s' = L s~'`, so `x = L^2 x~`, `u = L u~`, and a row
+    /// [`grid_exponent`]): `s' = L s~'`, so `x = L^2 x~`, `u = L u~`, and a row
     /// `a u + b x + c <= 0` is `(a L) u~ + (b L^2) x~ + c <= 0` (exact: `L` is a power of two;
     /// only `s - s_0` rounds). `None` when the grid is already `[0, ...]` with `L = 1`.
     ///
@@ -506,20 +502,29 @@ impl CanonicalConstraints {
     /// unit or the origin of the path parameter: the tolerances and the bounding box are
     /// relative to `(u~, x~)`, whatever the range of `s`.
     pub(crate) fn on_unit_grid(&self) -> Result<Option<(Self, f64)>, ToppError> {
-        let s0 = self.s[0];
-        let len = self.s[self.s.len() - 1] - s0;
+        self.on_unit_grid_of([self.s[0], self.s[self.s.len() - 1]])
+    }
+
+    /// [`Self::on_unit_grid`] for points of a longer grid from `whole[0]` to `whole[1]`, on that
+    /// grid's unit: these points as they are there.
+    pub(crate) fn on_unit_grid_of(
+        &self,
+        whole: [f64; 2],
+    ) -> Result<Option<(Self, f64)>, ToppError> {
+        let s0 = whole[0];
+        let len = whole[1] - s0;
         if !len.is_finite() {
             return Err(ToppError::InvalidValue {
                 what: "s",
                 detail: format!(
                     "the grid's range s_N - s_0 overflows ({s0:e} to {:e}); use a path \
                      parameter closer to unit range",
-                    self.s[self.s.len() - 1]
+                    whole[1]
                 ),
             });
         }
-        let e = self.grid_unit();
-        if solved_as_given(s0, self.s[self.s.len() - 1]) {
+        let e = grid_exponent(len);
+        if solved_as_given(s0, whole[1]) {
             return Ok(None);
         }
         let s: Vec<f64> = self.s.iter().map(|&si| ldexp(si - s0, -e)).collect();

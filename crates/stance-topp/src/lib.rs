@@ -152,7 +152,7 @@ pub use constraints::{ldexp, CanonicalConstraints, Row};
 pub use error::ToppError;
 pub use profile::{Profile, Residuals, Sample};
 pub use solver::{
-    end_speed_range, grid_solved_as_given, solve, BackwardPiece, Cut, Cuts, Discretization,
-    Separation, Solution, SolutionReport, SolveOptions, SolveStats, Status, Workspace,
+    end_speed_range, solve, BackwardPiece, Cut, Cuts, Discretization, Separation, Solution,
+    SolutionReport, SolveOptions, SolveStats, Status, Workspace,
 };
 pub use tol::Tolerances;

@@ -189,7 +189,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
     /// The backward pass in pieces (last piece first, each from the next one's set) then the
     /// forward pass over the whole grid: the whole solve's solution, sets, cuts and counters
-    /// equal; when a piece's pass fails, the whole solve fails too.
+    /// equal, on grids near unit range and far from it (solved on a rescaled parameter); when a
+    /// piece's pass fails, the whole solve fails too.
     #[test]
     fn solved_in_pieces_as_a_whole(
         seed in any::<u64>(),
@@ -197,10 +198,12 @@ proptest! {
         keep in 0usize..5,
         cuts_at in prop::collection::vec(0.0f64..1.0, 0..5),
         interp in any::<bool>(),
+        scale in prop::sample::select(vec![1.0, 1e-3, 0.3, 7.0, 1e3]),
+        origin in prop::sample::select(vec![0.0, -250.0, 1e4]),
     ) {
         let disc = if interp { Discretization::Interpolation } else { Discretization::Collocation };
         let opts = SolveOptions::new(disc);
-        let full = with_switches(random_instance(seed, n, 3, false), seed);
+        let full = with_switches(rescaled(&random_instance(seed, n, 3, false), scale, origin), seed);
         let (explicit, mut oracle) = split(&full, keep);
         let whole = Workspace::new().solve_separated(&explicit, &opts, &mut oracle).unwrap();
         // the pieces' first points
@@ -216,7 +219,8 @@ proptest! {
             let b = starts.get(p + 1).copied().unwrap_or(n);
             let mut sep = Shifted { inner: &mut oracle, offset: a };
             let after = pieces.first();
-            let piece = ws.backward_piece(&piece(&explicit, a, b), &opts, after, &mut sep).unwrap();
+            let whole_ends = [explicit.grid()[0], explicit.grid()[n]];
+            let piece = ws.backward_piece(&piece(&explicit, a, b), &opts, whole_ends, after, &mut sep).unwrap();
             failed = piece.failed_at().is_some();
             pieces.insert(0, piece);
             if failed {

@@ -16,7 +16,9 @@
 //!   result is the pointwise-largest admissible `x` at every grid point, hence time-optimal for the
 //!   discretized problem.
 //!
-//! Empty sets are reported as [`Status`] values with the grid index.
+//! Empty sets are reported as [`Status`] values with the grid index. The backward pass can also
+//! run piece by piece, last piece first, as the pieces' rows become available (module
+//! `pieces`, [`BackwardPiece`]), with the whole solve's answer.
 
 mod options;
 mod pieces;
@@ -25,7 +27,7 @@ mod report;
 pub mod separation;
 
 pub use options::{Discretization, Solution, SolveOptions, SolveStats, Status};
-pub use pieces::{grid_solved_as_given, BackwardPiece};
+pub use pieces::BackwardPiece;
 pub use reachability::{end_speed_range, solve, Workspace};
 pub use report::SolutionReport;
 pub use separation::{Cut, Cuts, Separation};

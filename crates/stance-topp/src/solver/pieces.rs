@@ -16,13 +16,15 @@
 //! A caller that computes the rows of the pieces last to first can so run a piece's pass while
 //! the rows before it are being computed.
 //!
-//! Pieces are solved on their grid as it is: the whole grid must be one that
-//! [`super::Workspace::solve`] solves as it is ([`grid_solved_as_given`]); with a separation
-//! oracle, as here, it does not change the time unit.
+//! Each piece is solved on the path parameter the whole grid is solved on (its unit `L` and
+//! origin: [`CanonicalConstraints::on_unit_grid`]), so that its numbers are the whole solve's;
+//! with a separation oracle, as here, the solver does not change the time unit.
 
 use super::options::{Solution, SolveOptions, SolveStats};
-use super::reachability::{backward_pass, forward_pass, Actives, Backward, PassEnd};
-use super::separation::{Cuts, Separation};
+use super::reachability::{
+    backward_pass, forward_pass, from_unit_grid, Actives, Backward, PassEnd,
+};
+use super::separation::{Cuts, OnUnitGrid, Separation};
 use crate::constraints::CanonicalConstraints;
 use crate::error::ToppError;
 
@@ -33,6 +35,8 @@ pub struct BackwardPiece {
     pass: Backward,
     /// The piece's grid ends.
     ends: [f64; 2],
+    /// The whole grid's ends, which set the path parameter it is solved on.
+    whole: [f64; 2],
     /// `Ok(actives at the first stage)`, or `Err(i)`: `K_i` empty.
     outcome: Result<Actives, usize>,
 }
@@ -43,33 +47,19 @@ impl BackwardPiece {
     pub fn failed_at(&self) -> Option<usize> {
         self.outcome.err()
     }
-
-    /// The controllable sets of the piece's grid points.
-    pub fn controllable(&self) -> &[Option<[f64; 2]>] {
-        &self.pass.controllable
-    }
-}
-
-/// Whether [`super::Workspace::solve`] solves a grid from `s_0` to `s_n` as it is (not on a
-/// rescaled path parameter): the condition of solving it in pieces (module doc).
-///
-/// ```
-/// assert!(stance_topp::grid_solved_as_given(0.0, 4.0));
-/// assert!(!stance_topp::grid_solved_as_given(1e6, 1e6 + 1.0));
-/// ```
-pub fn grid_solved_as_given(s_0: f64, s_n: f64) -> bool {
-    crate::constraints::solved_as_given(s_0, s_n)
 }
 
 impl super::Workspace {
-    /// The backward pass over `k`, one piece of a grid (module doc): from the end speeds of
-    /// `opts` when `after` is `None` (the last piece), else from the controllable set the pass
-    /// over the next piece (`after`) found at its first point, which must be `k`'s last.
+    /// The backward pass over `k`, one piece of the grid from `whole[0]` to `whole[1]`
+    /// (module doc): from the end speeds of `opts` when `after` is `None` (the last piece),
+    /// else from the controllable set the pass over the next piece (`after`) found at its
+    /// first point, which must be `k`'s last. The oracle is asked about the piece's points
+    /// (from 0).
     ///
     /// # Errors
     ///
-    /// [`ToppError::InvalidValue`] when `after` failed or does not start where `k` ends; the
-    /// oracle's errors.
+    /// [`ToppError::InvalidValue`] when `after` failed, does not start where `k` ends or is a
+    /// piece of another grid; the oracle's errors.
     ///
     /// ```
     /// use stance_topp::{CanonicalConstraints, Cut, Row, Separation, SolveOptions, ToppError,
@@ -89,8 +79,8 @@ impl super::Workspace {
     /// };
     /// let (whole, first, second) = (piece(0, 10), piece(0, 5), piece(5, 10));
     /// let (opts, mut ws) = (SolveOptions::default(), Workspace::new());
-    /// let p2 = ws.backward_piece(&second, &opts, None, &mut Accept).unwrap();
-    /// let p1 = ws.backward_piece(&first, &opts, Some(&p2), &mut Accept).unwrap();
+    /// let p2 = ws.backward_piece(&second, &opts, [0.0, 1.0], None, &mut Accept).unwrap();
+    /// let p1 = ws.backward_piece(&first, &opts, [0.0, 1.0], Some(&p2), &mut Accept).unwrap();
     /// let sol = ws.forward_over_pieces(&whole, &opts, &[p1, p2], &mut Accept).unwrap();
     /// let alone = ws.solve_separated(&whole, &opts, &mut Accept).unwrap();
     /// assert_eq!(sol, alone);
@@ -100,6 +90,7 @@ impl super::Workspace {
         &mut self,
         k: &CanonicalConstraints,
         opts: &SolveOptions,
+        whole: [f64; 2],
         after: Option<&BackwardPiece>,
         sep: &mut dyn Separation,
     ) -> Result<BackwardPiece, ToppError> {
@@ -107,8 +98,26 @@ impl super::Workspace {
         let s = k.grid();
         let n = s.len();
         let ends = [s[0], s[n - 1]];
+        if !(whole[0] <= ends[0] && ends[1] <= whole[1]) {
+            return Err(piece_error(format!(
+                "a piece from {:e} to {:e} outside its grid, from {:e} to {:e}",
+                ends[0], ends[1], whole[0], whole[1]
+            )));
+        }
+        // on the whole grid's path parameter (module doc)
+        let unit = k.on_unit_grid_of(whole)?;
+        let (k, l) = match &unit {
+            Some((k_unit, l)) => (k_unit, *l),
+            None => (k, 1.0),
+        };
         let end = match after {
-            None => PassEnd::Speeds([opts.sd_end[0].powi(2), opts.sd_end[1].powi(2)]),
+            None => PassEnd::Speeds([(opts.sd_end[0] / l).powi(2), (opts.sd_end[1] / l).powi(2)]),
+            Some(next) if next.whole != whole => {
+                return Err(piece_error(format!(
+                    "the next piece is one of the grid from {:e} to {:e}, not of this one's",
+                    next.whole[0], next.whole[1]
+                )));
+            }
             Some(next) => {
                 let Ok(active) = next.outcome else {
                     return Err(piece_error(
@@ -133,10 +142,16 @@ impl super::Workspace {
             stats: SolveStats::default(),
             hit_box: false,
         };
-        let outcome = backward_pass(k, opts, end, &mut pass, &mut Some(sep))?;
+        let outcome = if unit.is_some() {
+            let mut on_unit = OnUnitGrid { inner: sep, l };
+            backward_pass(k, opts, end, &mut pass, &mut Some(&mut on_unit))?
+        } else {
+            backward_pass(k, opts, end, &mut pass, &mut Some(sep))?
+        };
         Ok(BackwardPiece {
             pass,
             ends,
+            whole,
             outcome,
         })
     }
@@ -146,9 +161,8 @@ impl super::Workspace {
     ///
     /// # Errors
     ///
-    /// [`ToppError::InvalidValue`] when a piece failed, the pieces do not make up `k`'s grid,
-    /// or the whole solve would rescale the grid ([`grid_solved_as_given`]); the oracle's
-    /// errors.
+    /// [`ToppError::InvalidValue`] when a piece failed or the pieces do not make up `k`'s grid;
+    /// the oracle's errors.
     pub fn forward_over_pieces(
         &mut self,
         k: &CanonicalConstraints,
@@ -158,16 +172,16 @@ impl super::Workspace {
     ) -> Result<Solution, ToppError> {
         opts.validate()?;
         let n = k.num_points();
-        let [s_0, s_n] = [k.grid()[0], k.grid()[n - 1]];
-        if !grid_solved_as_given(s_0, s_n) {
-            return Err(piece_error(format!(
-                "the grid from {s_0:e} to {s_n:e} is solved on a rescaled path parameter: \
-                 solve it at once"
-            )));
-        }
+        let whole_ends = [k.grid()[0], k.grid()[n - 1]];
         let mut starts = Vec::with_capacity(pieces.len());
         let mut at = 0;
         for (p, piece) in pieces.iter().enumerate() {
+            if piece.whole != whole_ends {
+                return Err(piece_error(format!(
+                    "piece {p} is one of the grid from {:e} to {:e}, not this one's",
+                    piece.whole[0], piece.whole[1]
+                )));
+            }
             if piece.outcome.is_err() {
                 return Err(piece_error(format!(
                     "the backward pass over piece {p} failed: solve the whole grid"
@@ -214,7 +228,18 @@ impl super::Workspace {
             whole.stats.cuts += p.stats.cuts;
             whole.hit_box |= p.hit_box;
         }
-        forward_pass(k, opts, whole, Some(sep))
+        // as `Workspace::solve_separated` does: on the unit grid, the answer mapped back
+        let Some((k_unit, l)) = k.on_unit_grid()? else {
+            return forward_pass(k, opts, whole, Some(sep));
+        };
+        let unit_opts = SolveOptions {
+            sd_start: opts.sd_start / l,
+            sd_end: [opts.sd_end[0] / l, opts.sd_end[1] / l],
+            ..*opts
+        };
+        let mut on_unit = OnUnitGrid { inner: sep, l };
+        let sol = forward_pass(&k_unit, &unit_opts, whole, Some(&mut on_unit))?;
+        Ok(from_unit_grid(sol, k.grid(), l))
     }
 }
 

@@ -198,15 +198,20 @@ fn solve_in(
         )?,
         None => solve_timed(&k_unit, &unit_opts, None)?,
     };
+    Ok(from_unit_grid(sol, k.grid(), l))
+}
+
+/// A solution found on the unit grid `s~ = (s - s_0) / L` back on the caller's `grid`: states
+/// times `L^2`, controls times `L`, the cuts `(a / L, b / L^2, c)` scaled into the window.
+pub(super) fn from_unit_grid(sol: Solution, grid: &[f64], l: f64) -> Solution {
     let l2 = l * l;
-    // the cuts back in the caller's units: (a / L, b / L^2, c), scaled into the window
-    Ok(mapped_back(sol, k.grid(), l2, l, |r| {
+    mapped_back(sol, grid, l2, l, |r| {
         *r = Row {
             a: r.a / l,
             b: r.b / l2,
             c: r.c,
         };
-    }))
+    })
 }
 
 /// A solution found in other units, back in the caller's: states (profile, controllable sets,
