@@ -170,7 +170,7 @@ use result::{
     ChecksInfo, ContactInfo, EnvironmentInfo, MotionResult, MotionStatus, PhaseInfo, RobotInfo,
     SegmentInfo, Timings, TrajectoryInfo,
 };
-use rows::{segment_rows, SegmentRows};
+use rows::SegmentRows;
 pub use spec::MotionSpec;
 use trajectory::TrajectorySample;
 
@@ -251,17 +251,13 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
     } else {
         RetimingMode::Chained
     };
-    let substeps = plan.spec.ik.substeps;
     let mut ik_ws = IkStageWorkspace::new(&plan);
     let (paths, mut failure) = ik_paths(&plan, &mut ik_ws)?;
     let mut rows = Vec::new();
     let mut retimed = None;
-    let mut t_rows_wall = std::time::Duration::ZERO;
     if failure.is_none() {
-        let t_rows = Instant::now();
-        rows = all_segment_rows(&plan, &paths, substeps)?;
-        t_rows_wall = t_rows.elapsed();
-        let r = retime_chained(&plan, &paths, &mut rows, mode, &mut ik_ws)?;
+        let r;
+        (rows, r) = retime_chained(&plan, &paths, mode, &mut ik_ws)?;
         failure = r.failure.clone();
         retimed = Some(r);
     }
@@ -310,12 +306,7 @@ pub fn run_full(spec: MotionSpec, options: &RunOptions) -> Result<MotionRun, Sta
         phase: retimed.as_ref().map(|r| phase_info(r, profile.as_ref())),
         checks,
         trajectory: (!samples.is_empty()).then(|| trajectory_info(m, &samples)),
-        timings: timings(
-            &paths,
-            &rows,
-            retimed.as_ref(),
-            [t_plan, t_rows_wall, t_pipeline],
-        ),
+        timings: timings(&paths, &rows, retimed.as_ref(), [t_plan, t_pipeline]),
         planning,
     };
     Ok(MotionRun {
@@ -339,24 +330,6 @@ fn check_friction_option(options: &RunOptions) -> Result<(), StanceError> {
         }
     }
     Ok(())
-}
-
-/// Stage 3: every segment's `U_stance` and rows, in parallel (their inverse dynamics dominate
-/// with limits), each thread with its own cone workspace; within a segment, its samples' rows
-/// in parallel chunks too (`rows::SegmentRows::compute`).
-fn all_segment_rows(
-    plan: &MotionPlan,
-    paths: &[SegmentPath],
-    substeps: usize,
-) -> Result<Vec<SegmentRows>, StanceError> {
-    use rayon::prelude::*;
-    paths
-        .par_iter()
-        .enumerate()
-        .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
-            segment_rows(plan, k, path, substeps, cone_ws)
-        })
-        .collect::<Result<Vec<_>, _>>()
 }
 
 /// Stages 5 and 6: the trajectory at the output step and, unless skipped, the checks at their
@@ -440,14 +413,14 @@ fn trajectory_info(m: &stance_robot::Model, samples: &[TrajectorySample]) -> Tra
 }
 
 /// The result's timings (ms): the stages' own times summed over the segments, the retiming's,
-/// and the wall times `[t_plan, t_rows_wall, t_pipeline]` that [`run_full`] measured (planning;
-/// the segments' rows in parallel; everything up to the retiming's end). `t_u_abc_topp_ms` is
-/// the rows' wall time, the global layout and the first solve.
+/// and the wall times `[t_plan, t_pipeline]` that [`run_full`] measured (planning; everything
+/// up to the retiming's end). `t_u_abc_topp_ms` is the wall time from the rows' start to the
+/// first solve's end ([`Retimed::t_rows_first`]).
 fn timings(
     paths: &[SegmentPath],
     rows: &[SegmentRows],
     retimed: Option<&Retimed>,
-    [t_plan, t_rows_wall, t_pipeline]: [std::time::Duration; 3],
+    [t_plan, t_pipeline]: [std::time::Duration; 2],
 ) -> Timings {
     let t_ik: f64 = paths.iter().map(|p| ms(p.elapsed)).sum();
     let t_u: f64 = rows.iter().map(|r| ms(r.t_u)).sum();
@@ -455,7 +428,6 @@ fn timings(
         rows.iter().map(|r| ms(r.t_abc)).sum::<f64>() + retimed.map_or(0.0, |r| ms(r.t_assemble));
     let t_topp = retimed.map_or(0.0, |r| ms(r.t_topp));
     let t_lifted = retimed.map_or(0.0, |r| ms(r.t_lifted));
-    let t_first = retimed.map_or(0.0, |r| ms(r.t_first));
     Timings {
         t_plan_ms: ms(t_plan),
         t_ik_ms: t_ik,
@@ -464,7 +436,7 @@ fn timings(
         t_topp_ms: t_topp,
         t_refine_ms: retimed.map_or(0.0, |r| ms(r.refinement.elapsed)),
         t_lifted_ms: t_lifted,
-        t_u_abc_topp_ms: ms(t_rows_wall) + retimed.map_or(0.0, |r| ms(r.t_assemble)) + t_first,
+        t_u_abc_topp_ms: retimed.map_or(0.0, |r| ms(r.t_rows_first)),
         t_pipeline_ms: ms(t_pipeline),
     }
 }

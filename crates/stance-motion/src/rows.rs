@@ -125,7 +125,22 @@ pub struct SideRows {
 pub type Sides = [SideRows; 2];
 
 /// Both sides of several IK samples, each with its index.
-type SamplesSides = Vec<(usize, Box<Sides>)>;
+pub(crate) type SamplesSides = Vec<(usize, Box<Sides>)>;
+
+/// `todo` (IK samples) in chunks of about [`crate::tol::ROWS_CHUNK`] samples that share them
+/// evenly, so that none has a lone sample when there are two or more.
+pub(crate) fn chunked(todo: &[usize]) -> Vec<&[usize]> {
+    let parts = todo.len().div_ceil(crate::tol::ROWS_CHUNK);
+    let (size, longer) = (todo.len() / parts.max(1), todo.len() % parts.max(1));
+    let mut chunks = Vec::with_capacity(parts);
+    let mut at = 0;
+    for p in 0..parts {
+        let n = size + usize::from(p < longer);
+        chunks.push(&todo[at..at + n]);
+        at += n;
+    }
+    chunks
+}
 
 /// The GIWC of one segment, and its rows at its current retiming grid.
 #[derive(Debug, Clone)]
@@ -152,7 +167,9 @@ pub struct SegmentRows {
     pub sides: Vec<Option<Box<Sides>>>,
     /// Time of `U_stance` (the paper's `T_U`).
     pub t_u: Duration,
-    /// Time of the rows on the initial retiming grid (`T_abc`), actuator limits included.
+    /// Time of the rows on the initial retiming grid (`T_abc`), actuator limits included (their
+    /// chunks' times summed where they are computed while the solve runs: module `overlap` of
+    /// `chain`).
     pub t_abc: Duration,
     /// Time of the actuator-limit rows within `t_abc`.
     pub t_limits: Duration,
@@ -196,34 +213,31 @@ impl SegmentRows {
         if todo.is_empty() {
             return Ok(());
         }
-        let parts = todo.len().div_ceil(crate::tol::ROWS_CHUNK);
-        let (size, longer) = (todo.len() / parts, todo.len() % parts);
-        let mut chunks = Vec::with_capacity(parts);
-        let mut at = 0;
-        for p in 0..parts {
-            let n = size + usize::from(p < longer);
-            chunks.push(&todo[at..at + n]);
-            at += n;
-        }
         let this = &*self;
-        let done = chunks
+        let done = chunked(&todo)
             .par_iter()
             .map_init(
                 || LimitWorkspace::new(plan),
                 |ws, chunk| this.sides_of(plan, path, chunk, ws),
             )
             .collect::<Result<Vec<_>, _>>()?;
+        self.fill(done);
+        Ok(())
+    }
+
+    /// Keeps the sides computed by [`Self::sides_of`] (chunks of the samples) and the time of
+    /// their actuator-limit rows.
+    pub(crate) fn fill(&mut self, done: Vec<(SamplesSides, Duration)>) {
         for (sides, t) in done {
             for (j, s) in sides {
                 self.sides[j] = Some(s);
             }
             self.t_limits += t;
         }
-        Ok(())
     }
 
     /// Both sides of the IK samples `todo`, and the time of their actuator-limit rows.
-    fn sides_of(
+    pub(crate) fn sides_of(
         &self,
         plan: &MotionPlan,
         path: &SegmentPath,
@@ -507,6 +521,29 @@ pub fn segment_rows(
     substeps: usize,
     ws: &mut polycone::Workspace,
 ) -> Result<SegmentRows, StanceError> {
+    let mut out = segment_skeleton(plan, k, path, substeps, ws)?;
+    let t1 = Instant::now();
+    let grid = out.grid.clone();
+    out.compute(plan, path, &grid)?;
+    out.lay_out();
+    out.t_abc += t1.elapsed();
+    Ok(out)
+}
+
+/// [`segment_rows`] before the rows of its grid's samples: the stance, `U_stance`, the
+/// contacts, the grid (the samples' rows are then [`SegmentRows::sides_of`] chunks of the grid,
+/// [`SegmentRows::fill`], [`SegmentRows::refresh`]). Its `t_abc` is the time of the contacts.
+///
+/// # Errors
+///
+/// As [`segment_rows`].
+pub(crate) fn segment_skeleton(
+    plan: &MotionPlan,
+    k: usize,
+    path: &SegmentPath,
+    substeps: usize,
+    ws: &mut polycone::Workspace,
+) -> Result<SegmentRows, StanceError> {
     let stance = planned_stance(plan, path)?;
     let t0 = Instant::now();
     let giwc = stance.u_stance_with(ws, &GiwcOptions::default())?;
@@ -530,24 +567,20 @@ pub fn segment_rows(
         _ => None,
     };
     let grid: Vec<usize> = (0..path.samples.len()).step_by(substeps).collect();
-    let mut out = SegmentRows {
+    Ok(SegmentRows {
         stance,
         u,
         certified: giwc.certified,
         contacts,
-        grid: grid.clone(),
+        grid,
         points: PointRows::new(),
         s: path.samples.iter().map(|x| x.s).collect(),
         sides: vec![None; path.samples.len()],
         t_u,
-        t_abc: Duration::ZERO,
+        t_abc: t1.elapsed(),
         t_limits: Duration::ZERO,
         cuts: 0,
-    };
-    out.compute(plan, path, &grid)?;
-    out.lay_out();
-    out.t_abc = t1.elapsed();
-    Ok(out)
+    })
 }
 
 #[cfg(test)]

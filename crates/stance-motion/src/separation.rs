@@ -71,6 +71,23 @@ impl<'a> LiftedOracle<'a> {
     /// is global point `seg_start[k] + i`; a segment's last point is the next one's first).
     /// `None` when no grid point has lifted rows.
     pub fn new(rows: &'a mut [SegmentRows], seg_start: &[usize]) -> Option<Self> {
+        Self::between(rows, seg_start, [false, false])
+    }
+
+    /// The oracle of one segment's grid points alone (its grid point `i` is point `i` here),
+    /// `[before, after]`: whether a segment comes before it and after it in the motion (its
+    /// ends are then stance switches).
+    pub fn of_segment(rows: &'a mut SegmentRows, neighbours: [bool; 2]) -> Option<Self> {
+        let seg_start = [0, rows.grid.len() - 1];
+        Self::between(std::slice::from_mut(rows), &seg_start, neighbours)
+    }
+
+    /// [`Self::new`] for segments between others (`[before, after]`: [`Self::of_segment`]).
+    fn between(
+        rows: &'a mut [SegmentRows],
+        seg_start: &[usize],
+        [before, after]: [bool; 2],
+    ) -> Option<Self> {
         let n = seg_start.last().map_or(0, |&e| e + 1);
         let mut points = vec![Vec::new(); n];
         let mut any = false;
@@ -91,13 +108,13 @@ impl<'a> LiftedOracle<'a> {
                         sample: j,
                         left,
                     };
-                    let entry = if left && i == last && k + 1 < nseg {
+                    let entry = if left && i == last && (after || k + 1 < nseg) {
                         // the stance before a switch: at the point before, in its state
                         let two_delta = 2.0 * (r.s_of(j) - r.s_of(r.grid[i - 1]));
                         (g - 1, (side, two_delta, false))
                     } else {
                         // the stance after a switch holds with its own interval only
-                        (g, (side, 0.0, !(k > 0 && i == 0)))
+                        (g, (side, 0.0, !((before || k > 0) && i == 0)))
                     };
                     points[entry.0].push(entry.1);
                     any = true;
@@ -115,14 +132,24 @@ impl<'a> LiftedOracle<'a> {
         })
     }
 
+    /// The oracle's membership workspace (its recent witnesses: states tested later start from
+    /// them), to hand on to the oracle that continues this one's work.
+    pub fn member_mut(&mut self) -> &mut Membership {
+        &mut self.member
+    }
+
     /// Keeps the cuts found in their sides' rows (the grids' rows change at the next
     /// [`SegmentRows::refresh`]); returns how many.
     pub fn keep_cuts(self) -> usize {
-        let n = self.found.len();
-        for c in &self.found {
-            self.rows[c.side.segment].add_cut(c.side.sample, c.side.left, c.row, c.origin);
-        }
-        n
+        keep_found(self.rows, &self.found);
+        self.found.len()
+    }
+}
+
+/// Keeps cuts an oracle over `rows` found ([`LiftedOracle::keep_cuts`]).
+pub fn keep_found(rows: &mut [SegmentRows], found: &[FoundCut]) {
+    for c in found {
+        rows[c.side.segment].add_cut(c.side.sample, c.side.left, c.row, c.origin);
     }
 }
 

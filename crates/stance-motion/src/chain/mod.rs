@@ -35,6 +35,10 @@
 //! gets it from its neighbours, and a slow later segment constrains earlier ones.
 //! **Rest to rest**: each segment separately, `s' = 0` at both of its ends.
 //!
+//! Chained with actuator limits, the first solve runs while the rows are computed (module
+//! `overlap`: each segment's backward pass as soon as its rows are done), with the answer of
+//! the solve on all the rows.
+//!
 //! Per-segment `T_TOPP` of a chained solve is measured by solving each segment again with the
 //! boundary speeds of the chained profile; by the principle of optimality its duration matches
 //! the chained profile's on that segment (the difference is recorded as a consistency check).
@@ -50,6 +54,8 @@ use super::separation::LiftedOracle;
 use crate::binding::RowOrigin;
 use crate::StanceError;
 use stance_topp::lifted::Membership;
+
+mod overlap;
 
 /// How the segments are retimed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -181,8 +187,12 @@ pub struct Retimed {
     /// Time to lay out the global rows (part of `T_abc`).
     pub t_assemble: Duration,
     /// Time of the first solve (on the initial grid), its separation oracle and the layout of
-    /// the cuts it found included.
+    /// the cuts it found included; made while the rows were computed (chained, with limits:
+    /// module `overlap`), the time from the rows' start.
     pub t_first: Duration,
+    /// Wall time from the start of the segments' `U_stance` and rows to the end of the first
+    /// solve, its layouts included.
+    pub t_rows_first: Duration,
     /// Time in the separation oracle of the lifted torque rows during the first solve (part of
     /// `t_first`).
     pub t_lifted: Duration,
@@ -335,47 +345,99 @@ struct Solved {
 }
 
 /// Lays out the segments' rows on the global grid (module doc), with `x` bounded above by
-/// `x_max[k]` at the boundary before segment `k` (chained) or zero there (rest to rest).
+/// `x_max[k]` at the boundary before segment `k` (chained) or zero there (rest to rest): the
+/// segments' layouts ([`segment_layout`]) end to end.
 fn layout(
     paths: &[SegmentPath],
     rows: &[SegmentRows],
     margin: f64,
     boundary_x_max: &[f64],
 ) -> Result<Layout, StanceError> {
-    let nseg = paths.len();
-    let total: usize = rows.iter().map(|r| r.points.rows.len()).sum::<usize>() + rows.len() * 200;
-    let mut s = Vec::new();
-    let mut offsets = vec![0];
-    let mut all = Vec::with_capacity(total);
-    let mut origins = Vec::with_capacity(total);
-    let mut x_bounds = Vec::new();
-    let mut seg_start = Vec::with_capacity(nseg + 1);
+    let s_offset = s_offsets(paths);
+    let pieces = (0..paths.len())
+        .map(|k| {
+            segment_layout(
+                &paths[k],
+                &rows[k],
+                rows.get(k + 1),
+                k,
+                s_offset[k],
+                margin,
+                boundary_x_max,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    joined(&pieces, s_offset)
+}
+
+/// Where each segment starts on the global path parameter, and the end.
+pub(crate) fn s_offsets(paths: &[SegmentPath]) -> Vec<f64> {
     let mut s_offset = vec![0.0];
+    for path in paths {
+        let end = path.samples.last().map_or(0.0, |x| x.s);
+        s_offset.push(s_offset[s_offset.len() - 1] + end);
+    }
+    s_offset
+}
+
+/// Segment `k`'s grid points on the global grid, both ends included (a segment's last point is
+/// the next one's first), with their rows' origins.
+pub(crate) struct SegmentLayout {
+    pub constraints: CanonicalConstraints,
+    pub origins: Vec<RowOrigin>,
+}
+
+/// Segment `k`'s grid points as the global layout has them (module doc): each point's rows with
+/// the margin; at a switch to the next segment (`next`), the stance before it at the point
+/// before (shifted into that interval's state) and the stance after it at the switch point,
+/// none of whose rows hold at the end of the interval before, and `x` there bounded by
+/// `boundary_x_max[k + 1]`. Its first point, for `k > 0`, is the previous segment's switch
+/// point, laid out the same way.
+pub(crate) fn segment_layout(
+    path: &SegmentPath,
+    r: &SegmentRows,
+    next: Option<&SegmentRows>,
+    k: usize,
+    s_offset: f64,
+    margin: f64,
+    boundary_x_max: &[f64],
+) -> Result<SegmentLayout, StanceError> {
+    let last = r.grid.len() - 1;
+    let mut s = Vec::with_capacity(last + 1);
+    let mut offsets = vec![0];
+    let mut all = Vec::with_capacity(r.points.rows.len() + 200);
+    let mut origins = Vec::with_capacity(all.capacity());
+    let mut x_bounds = Vec::with_capacity(last + 1);
     // per point, its rows also imposed at the end of the interval before it (module doc,
     // "Stance switches")
-    let mut next_counts = Vec::new();
-    for k in 0..nseg {
-        let (path, r) = (&paths[k], &rows[k]);
-        let off = s_offset[k];
-        let first = usize::from(k > 0);
-        seg_start.push(s.len() - first);
-        let last = r.grid.len() - 1;
-        let switch = k + 1 < nseg;
-        for i in first..=last {
-            s.push(off + path.samples[r.grid[i]].s);
-            let start = all.len();
-            if !(switch && i == last) {
-                extend_with_margin(
-                    &mut all,
-                    &mut origins,
-                    r.rows_at(i),
-                    r.origins_at(i),
-                    margin,
-                );
-            }
-            next_counts.push(all.len() - start);
-            let mut bound = [0.0, f64::INFINITY];
-            if switch && i + 1 == last {
+    let mut next_counts = Vec::with_capacity(last + 1);
+    // a switch point: the stance after it only, with the next interval's acceleration
+    let switch_point = |all: &mut Vec<Row>, origins: &mut Vec<RowOrigin>, after: &SegmentRows| {
+        extend_with_margin(all, origins, after.rows_at(0), after.origins_at(0), margin);
+    };
+    for i in 0..=last {
+        let mut bound = [0.0, f64::INFINITY];
+        if i == 0 && k > 0 {
+            s.push(s_offset);
+            switch_point(&mut all, &mut origins, r);
+            next_counts.push(0);
+            bound[1] = boundary_x_max[k];
+        } else if let (true, Some(after)) = (i == last, next) {
+            s.push(s_offset + path.samples[r.grid[i]].s);
+            switch_point(&mut all, &mut origins, after);
+            next_counts.push(0);
+            bound[1] = boundary_x_max[k + 1];
+        } else {
+            s.push(s_offset + path.samples[r.grid[i]].s);
+            extend_with_margin(
+                &mut all,
+                &mut origins,
+                r.rows_at(i),
+                r.origins_at(i),
+                margin,
+            );
+            next_counts.push(all.len() - offsets[i]);
+            if next.is_some() && i + 1 == last {
                 // the stance before the switch at the switch sample: with this interval's
                 // acceleration only, in this interval's state
                 let two_delta = 2.0 * (path.samples[r.grid[last]].s - path.samples[r.grid[i]].s);
@@ -390,22 +452,44 @@ fn layout(
                     .collect();
                 extend_with_margin(&mut all, &mut origins, &shifted, r.origins_at(last), margin);
             }
-            if switch && i == last {
-                // the stance after the switch: with the next interval's acceleration only
-                let next = &rows[k + 1];
-                extend_with_margin(
-                    &mut all,
-                    &mut origins,
-                    next.rows_at(0),
-                    next.origins_at(0),
-                    margin,
-                );
-                bound[1] = boundary_x_max[k + 1];
-            }
-            x_bounds.push(bound);
-            offsets.push(all.len());
         }
-        s_offset.push(off + path.samples[r.grid[last]].s);
+        x_bounds.push(bound);
+        offsets.push(all.len());
+    }
+    let constraints = CanonicalConstraints::new(s, offsets, all)?
+        .with_x_bounds(x_bounds)?
+        .with_next_rows(next_counts)?;
+    Ok(SegmentLayout {
+        constraints,
+        origins,
+    })
+}
+
+/// The global layout from the segments' layouts (each segment's first point but the first
+/// segment's is the previous segment's last).
+fn joined(pieces: &[SegmentLayout], s_offset: Vec<f64>) -> Result<Layout, StanceError> {
+    let total: usize = pieces.iter().map(|p| p.origins.len()).sum();
+    let mut s = Vec::new();
+    let mut offsets = vec![0];
+    let mut all = Vec::with_capacity(total);
+    let mut origins = Vec::with_capacity(total);
+    let mut x_bounds = Vec::new();
+    let mut next_counts = Vec::new();
+    let mut seg_start = Vec::with_capacity(pieces.len() + 1);
+    for (k, p) in pieces.iter().enumerate() {
+        let c = &p.constraints;
+        let first = usize::from(k > 0);
+        seg_start.push(s.len() - first);
+        s.extend_from_slice(&c.grid()[first..]);
+        let row0 = c.offsets()[first];
+        all.extend_from_slice(&c.rows()[row0..]);
+        origins.extend_from_slice(&p.origins[row0..]);
+        let base = offsets[offsets.len() - 1] - row0;
+        offsets.extend(c.offsets()[first + 1..].iter().map(|o| base + o));
+        for i in first..c.num_points() {
+            x_bounds.push(c.x_bounds_at(i));
+            next_counts.push(c.next_rows_at(i).len());
+        }
     }
     seg_start.push(s.len() - 1);
     let constraints = CanonicalConstraints::new(s, offsets, all)?
@@ -443,6 +527,89 @@ fn segment_constraints(l: &Layout, k: usize) -> Result<CanonicalConstraints, Sta
         .with_next_rows(next)?)
 }
 
+/// A solve's constraints `k`, whose first grid point is `first` of the global grid and first
+/// row `row0` of the layout's, with its controllable sets and end speeds.
+struct Located<'a> {
+    k: &'a CanonicalConstraints,
+    first: usize,
+    row0: usize,
+    sets: &'a [Option<[f64; 2]>],
+    sd_end: [f64; 2],
+}
+
+/// The failure `status` of a solve located on the layout: its segment, grid point and the
+/// constraints that empty it, and what to relax.
+fn locate(
+    l: &Layout,
+    status: &Status,
+    at: Located<'_>,
+    opts: &SolveOptions,
+    names: &Names<'_>,
+) -> RetimeFailure {
+    let Located {
+        k,
+        first,
+        row0,
+        sets,
+        sd_end,
+    } = at;
+    let nseg = l.seg_start.len() - 1;
+    let origins = &l.origins[row0..row0 + k.offsets()[k.num_points()]];
+    let (_, constraints) = crate::binding::explain(
+        k,
+        origins,
+        names.joints,
+        *status,
+        sets,
+        sd_end,
+        &opts.tol,
+        first,
+    );
+    // the segment and point of the failure itself (the constraints may name a later point)
+    let global = first + status.grid_index().unwrap_or(0).min(k.num_points() - 1);
+    let seg = (0..nseg)
+        .rev()
+        .find(|&q| l.seg_start[q] <= global)
+        .unwrap_or(0);
+    let grid_point = global - l.seg_start[seg];
+    let s = l.constraints.grid()[global.min(l.constraints.num_points() - 1)];
+    RetimeFailure {
+        status: FailureStatus::Solver(*status),
+        segment: seg + 1,
+        segment_name: names.segments.get(seg).cloned().unwrap_or_default(),
+        grid_point,
+        s,
+        reason: format!(
+            "in {}, grid point {grid_point} (s = {s:.3}): {}",
+            crate::plan::segment_label(seg, names.segments.get(seg).map_or("", String::as_str)),
+            reason(status, &constraints)
+        ),
+        constraints,
+    }
+}
+
+/// The profile, or the located failure, of a solve of the whole layout.
+fn chained_outcome(
+    l: &Layout,
+    sol: Solution,
+    opts: &SolveOptions,
+    names: &Names<'_>,
+) -> (Option<Profile>, Option<RetimeFailure>) {
+    match (&sol.status, sol.profile) {
+        (Status::Optimal, Some(p)) => (Some(p), None),
+        (status, _) => {
+            let at = Located {
+                k: &l.constraints,
+                first: 0,
+                row0: 0,
+                sets: &sol.controllable,
+                sd_end: opts.sd_end,
+            };
+            (None, Some(locate(l, status, at, opts, names)))
+        }
+    }
+}
+
 /// One solve of the layout: the profile or the located failure, and the per-segment solves
 /// (rest to rest). The cuts of the lifted torque rows found are kept in `rows` and the layout
 /// made again with them (so that the failure's constraints and the binding see them).
@@ -458,41 +625,6 @@ fn solve_layout(
     controllable: &mut Vec<Option<[f64; 2]>>,
     names: &Names<'_>,
 ) -> Result<Solved, StanceError> {
-    let joints = names.joints;
-    let nseg = l.seg_start.len() - 1;
-    // `k` with its first grid point at `first` of the global grid and its origins from `row0`
-    let locate = |l: &Layout,
-                  status: &Status,
-                  k: &CanonicalConstraints,
-                  first: usize,
-                  row0: usize,
-                  sets: &[Option<[f64; 2]>],
-                  sd_end: [f64; 2]| {
-        let origins = &l.origins[row0..row0 + k.offsets()[k.num_points()]];
-        let (_, constraints) =
-            crate::binding::explain(k, origins, joints, *status, sets, sd_end, &opts.tol, first);
-        // the segment and point of the failure itself (the constraints may name a later point)
-        let global = first + status.grid_index().unwrap_or(0).min(k.num_points() - 1);
-        let seg = (0..nseg)
-            .rev()
-            .find(|&q| l.seg_start[q] <= global)
-            .unwrap_or(0);
-        let grid_point = global - l.seg_start[seg];
-        let s = l.constraints.grid()[global.min(l.constraints.num_points() - 1)];
-        RetimeFailure {
-            status: FailureStatus::Solver(*status),
-            segment: seg + 1,
-            segment_name: names.segments.get(seg).cloned().unwrap_or_default(),
-            grid_point,
-            s,
-            reason: format!(
-                "in {}, grid point {grid_point} (s = {s:.3}): {}",
-                crate::plan::segment_label(seg, names.segments.get(seg).map_or("", String::as_str)),
-                reason(status, &constraints)
-            ),
-            constraints,
-        }
-    };
     segments.clear();
     controllable.clear();
     controllable.resize(l.constraints.num_points(), None);
@@ -507,21 +639,7 @@ fn solve_layout(
             }
             let t = t1.elapsed();
             controllable.clone_from(&sol.controllable);
-            let (profile, failure) = match (&sol.status, sol.profile) {
-                (Status::Optimal, Some(p)) => (Some(p), None),
-                (status, _) => (
-                    None,
-                    Some(locate(
-                        l,
-                        status,
-                        &l.constraints,
-                        0,
-                        0,
-                        &sol.controllable,
-                        opts.sd_end,
-                    )),
-                ),
-            };
+            let (profile, failure) = chained_outcome(l, sol, opts, names);
             Ok(Solved {
                 profile,
                 failure,
@@ -534,7 +652,7 @@ fn solve_layout(
             let (mut s_all, mut x_all, mut u_all) = (Vec::new(), Vec::new(), Vec::new());
             let mut total = Duration::ZERO;
             let (mut t_oracle, mut cuts) = (Duration::ZERO, 0);
-            for k in 0..nseg {
+            for k in 0..l.seg_start.len() - 1 {
                 let mut kk = segment_constraints(l, k)?;
                 let t2 = Instant::now();
                 let (sol, n_cuts, t_o) =
@@ -566,15 +684,14 @@ fn solve_layout(
                     }
                     (status, _) => {
                         let a = l.seg_start[k];
-                        let f = locate(
-                            l,
-                            status,
-                            &kk,
-                            a,
-                            l.constraints.offsets()[a],
-                            &sol.controllable,
-                            [0.0, 0.0],
-                        );
+                        let at = Located {
+                            k: &kk,
+                            first: a,
+                            row0: l.constraints.offsets()[a],
+                            sets: &sol.controllable,
+                            sd_end: [0.0, 0.0],
+                        };
+                        let f = locate(l, status, at, opts, names);
                         return Ok(Solved {
                             profile: None,
                             failure: Some(f),
@@ -596,19 +713,50 @@ fn solve_layout(
     }
 }
 
+/// The margin of the contact rows (module doc): the plan's, times the robot's weight (N).
+fn contact_margin(plan: &MotionPlan) -> f64 {
+    let mass = plan.robot.model.total_mass();
+    let weight = mass * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    plan.spec.planning.margin * weight
+}
+
+/// The layout and outcome of a first solve made while the rows were computed (module
+/// `overlap`), started at `t_rows`: as [`solve_layout`]'s (the layout made again with the cuts
+/// found).
+fn overlapped_outcome(
+    f: overlap::FirstSolve,
+    inputs: &LayoutInputs<'_>,
+    rows: &mut [SegmentRows],
+    opts: &SolveOptions,
+    names: &Names<'_>,
+    t_rows: Instant,
+) -> Result<(Layout, Solved), StanceError> {
+    let mut l = f.layout;
+    if f.cuts > 0 {
+        rows.iter_mut().for_each(SegmentRows::refresh);
+        l = inputs.lay_out(rows)?;
+    }
+    let (profile, failure) = chained_outcome(&l, f.solution, opts, names);
+    let first = Solved {
+        profile,
+        failure,
+        t: t_rows.elapsed(),
+        t_oracle: f.t_oracle,
+        cuts: f.cuts,
+    };
+    Ok((l, first))
+}
+
 /// Lays out the segments' rows on the global grid, solves, refines the grid where the rows are
 /// violated at IK samples between grid points, and measures per-segment solves.
 pub fn retime_chained(
     plan: &MotionPlan,
     paths: &[SegmentPath],
-    rows: &mut [SegmentRows],
     mode: RetimingMode,
     ik_ws: &mut IkStageWorkspace,
-) -> Result<Retimed, StanceError> {
+) -> Result<(Vec<SegmentRows>, Retimed), StanceError> {
     let nseg = paths.len();
-    let mass = plan.robot.model.total_mass();
-    let weight = mass * plan.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
-    let margin = plan.spec.planning.margin * weight;
+    let margin = contact_margin(plan);
     let (boundary_x_max, landings) = boundary_bounds(plan, paths, mode, ik_ws)?;
     let opts = SolveOptions::new(plan.spec.retiming.discretization);
     let segment_names: Vec<String> = plan.segments.iter().map(|s| s.name.clone()).collect();
@@ -624,21 +772,46 @@ pub fn retime_chained(
         margin,
         boundary_x_max: &boundary_x_max,
     };
-    let t_layout = Instant::now();
-    let mut l = inputs.lay_out(rows)?;
-    let mut t_assemble = t_layout.elapsed();
     let mut controllable = Vec::new();
-    let first = solve_layout(
-        &mut l,
-        &inputs,
-        rows,
-        mode,
-        &opts,
-        &mut ws,
-        &mut segments,
-        &mut controllable,
-        joints,
-    )?;
+    let over = overlap::Inputs {
+        plan,
+        paths,
+        substeps: plan.spec.ik.substeps,
+        margin,
+        boundary_x_max: &boundary_x_max,
+        opts: &opts,
+    };
+    let t_rows = Instant::now();
+    let (mut rows_owned, overlapped) = match (mode, &plan.limits) {
+        (RetimingMode::Chained, Some(_)) => overlap::rows_and_first_solve(&over, &mut ws)?,
+        _ => (overlap::all_segment_rows(&over)?, None),
+    };
+    let rows = &mut rows_owned[..];
+    let (mut l, first, mut t_assemble) = match overlapped {
+        Some(f) => {
+            controllable.clone_from(&f.solution.controllable);
+            let (l, first) = overlapped_outcome(f, &inputs, rows, &opts, joints, t_rows)?;
+            (l, first, Duration::ZERO)
+        }
+        None => {
+            let t_layout = Instant::now();
+            let mut l = inputs.lay_out(rows)?;
+            let t_assemble = t_layout.elapsed();
+            let first = solve_layout(
+                &mut l,
+                &inputs,
+                rows,
+                mode,
+                &opts,
+                &mut ws,
+                &mut segments,
+                &mut controllable,
+                joints,
+            )?;
+            (l, first, t_assemble)
+        }
+    };
+    let t_rows_first = t_rows.elapsed();
     let (t_first, t_lifted, cuts) = (first.t, first.t_oracle, first.cuts);
     let (mut profile, mut failure, mut t_topp) = (first.profile, first.failure, first.t);
     // The refinement: IK samples where the rows do not hold (with half the margin), or whose
@@ -698,7 +871,7 @@ pub fn retime_chained(
     let feasible = (0..l.constraints.num_points())
         .map(|i| crate::retime::feasible_set(&l.constraints, i, &opts.tol))
         .collect();
-    Ok(Retimed {
+    let retimed = Retimed {
         mode,
         constraints: l.constraints,
         origins: l.origins,
@@ -711,12 +884,14 @@ pub fn retime_chained(
         t_topp,
         t_assemble,
         t_first,
+        t_rows_first,
         t_lifted,
         cuts,
         refinement: refine,
         controllable,
         feasible,
-    })
+    };
+    Ok((rows_owned, retimed))
 }
 
 /// Speed bounds at the segment boundaries, as `x = s'^2` before each segment (infinite before

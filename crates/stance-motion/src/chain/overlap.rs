@@ -1,0 +1,454 @@
+//! Stage 3 and the first chained solve of stage 4, overlapped: the rows of the segments' grid
+//! samples are computed last segment first, and the solver's backward pass over a segment runs
+//! as soon as its rows are done, while the rows of the segments before it are computed.
+//!
+//! # Why
+//!
+//! With actuator limits the rows (inverse dynamics and the lifted torque rows at every grid
+//! sample) are most of the CPU time of `U_stance` + rows + TOPP, and the solve is serial: the
+//! second core idled during it. The backward pass computes `K_i` from `K_{i+1}` and the rows of
+//! grid points `i` and `i + 1` alone, so segment `k`'s part of it needs only segment `k`'s rows,
+//! the first point of segment `k + 1` and the set the pass over `k + 1` found there
+//! ([`stance_topp::BackwardPiece`]).
+//!
+//! # How
+//!
+//! Every segment's stance, `U_stance` and contacts first, in parallel (`segment_skeleton`);
+//! then a queue of the grid samples' chunks (about [`crate::tol::ROWS_CHUNK`] samples each), the
+//! last segment's first. Two threads: one takes chunks until none is left; the other runs the
+//! passes, last segment first, each once its segment's chunks are done, and takes chunks while
+//! they are not. The forward pass then runs over the whole grid.
+//!
+//! # The same answer
+//!
+//! The answer is the one of `solve_layout` on all the rows, bit for bit: a segment's layout is
+//! its part of the global layout (`segment_layout`); its oracle tests, at each of its grid
+//! points, the sides the global oracle tests there ([`LiftedOracle::of_segment`]: the sides'
+//! witnesses and cuts are their own, and the oracles hand their membership workspace on); the
+//! pieces' passes are the whole pass step for step, and the forward pass sees the cuts in the
+//! order the whole pass found them (module doc of `stance_topp`'s `pieces`). The cuts are kept
+//! in the rows in that order too (test below). Where that cannot hold this module gives up and
+//! the caller solves the whole layout: a segment whose rows fail (the error is then the one of
+//! the rows computed as before), a pass that finds an empty set (the diagnosis is the whole
+//! solve's; the sides' witnesses are then warm), or a motion without lifted rows (solved
+//! without an oracle, possibly in its own time unit).
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError, RwLock};
+use std::time::{Duration, Instant};
+
+use stance_topp::lifted::Membership;
+use stance_topp::{BackwardPiece, Cut, Separation, Solution, SolveOptions, ToppError, Workspace};
+
+use super::{joined, s_offsets, segment_layout, Layout, SegmentLayout};
+use crate::ik_stage::SegmentPath;
+use crate::limit_rows::LimitWorkspace;
+use crate::plan::MotionPlan;
+use crate::rows::{chunked, segment_rows, segment_skeleton, SamplesSides, SegmentRows};
+use crate::separation::{keep_found, FoundCut, LiftedOracle};
+use crate::StanceError;
+
+/// The first solve of the whole layout, made while the rows were computed.
+pub(super) struct FirstSolve {
+    /// The global layout (the cuts not in it yet).
+    pub layout: Layout,
+    /// The solver's answer.
+    pub solution: Solution,
+    /// Cuts of the lifted torque rows found, kept in the rows.
+    pub cuts: usize,
+    /// Time in the oracle (the segments' passes and the forward pass).
+    pub t_oracle: Duration,
+}
+
+/// What a segment's backward pass leaves: its layout, the pass, the cuts its oracle found,
+/// the oracle's time, and whether the segment has lifted rows.
+struct SegmentPass {
+    layout: SegmentLayout,
+    piece: BackwardPiece,
+    found: Vec<FoundCut>,
+    t_oracle: Duration,
+    lifted: bool,
+}
+
+/// An oracle for a segment without lifted rows: the global oracle has no sides there.
+struct NoLiftedRows;
+
+impl Separation for NoLiftedRows {
+    fn separate(&mut self, _: usize, _: f64, _: f64) -> Result<Option<Cut>, ToppError> {
+        Ok(None)
+    }
+}
+
+/// The layout's inputs besides the rows (module `chain`).
+pub(super) struct Inputs<'a> {
+    pub plan: &'a MotionPlan,
+    pub paths: &'a [SegmentPath],
+    pub substeps: usize,
+    pub margin: f64,
+    pub boundary_x_max: &'a [f64],
+    pub opts: &'a SolveOptions,
+}
+
+/// Every segment's `U_stance` and rows, and the first solve of the whole layout when it could
+/// be made while they were computed (module doc; `None`: solve the whole layout).
+pub(super) fn rows_and_first_solve(
+    inputs: &Inputs<'_>,
+    ws: &mut Workspace,
+) -> Result<(Vec<SegmentRows>, Option<FirstSolve>), StanceError> {
+    // on a thread of the pool (from outside it, the join would wait for a worker to wake up)
+    rayon::scope(|_| overlapped(inputs, ws))
+}
+
+/// The body of [`rows_and_first_solve`], on a thread of the pool.
+fn overlapped(
+    inputs: &Inputs<'_>,
+    ws: &mut Workspace,
+) -> Result<(Vec<SegmentRows>, Option<FirstSolve>), StanceError> {
+    use rayon::prelude::*;
+    let nseg = inputs.paths.len();
+    let s_offset = s_offsets(inputs.paths);
+    // every segment's stance, U_stance and contacts, in parallel
+    let skeletons = (0..nseg)
+        .into_par_iter()
+        .map_init(polycone::Workspace::new, |cone_ws, k| {
+            segment_skeleton(inputs.plan, k, &inputs.paths[k], inputs.substeps, cone_ws)
+        })
+        .collect::<Result<Vec<_>, _>>();
+    let Ok(skeletons) = skeletons else {
+        return Ok((all_segment_rows(inputs)?, None));
+    };
+    let queue = Queue::new(skeletons);
+    // the passes on this thread, which takes chunks while a segment's rows are not done; the
+    // other thread takes chunks until none are left
+    let (passes, ()) = rayon::join(
+        || passer(inputs, &queue, &s_offset, ws),
+        || {
+            let mut limit_ws = LimitWorkspace::new(inputs.plan);
+            while queue.take_chunk(inputs, &mut limit_ws) {}
+        },
+    );
+    // a chunk's error first, as when the rows are computed before the solve
+    let Some(mut rows) = queue.into_rows() else {
+        return Ok((all_segment_rows(inputs)?, None));
+    };
+    let (mut passes, mut member) = passes?;
+    if passes.len() < nseg || passes.last().is_some_and(|p| p.piece.failed_at().is_some()) {
+        return Ok((rows, None));
+    }
+    passes.reverse();
+    if !passes.iter().any(|p| p.lifted) {
+        return Ok((rows, None));
+    }
+    let mut pieces = Vec::with_capacity(nseg);
+    let mut seg_layouts = Vec::with_capacity(nseg);
+    let mut found = Vec::with_capacity(nseg);
+    let mut t_oracle = Duration::ZERO;
+    for p in passes {
+        pieces.push(p.piece);
+        seg_layouts.push(p.layout);
+        found.push(p.found);
+        t_oracle += p.t_oracle;
+    }
+    let layout = joined(&seg_layouts, s_offset)?;
+    let mut oracle =
+        LiftedOracle::new(&mut rows, &layout.seg_start).expect("a segment has lifted rows");
+    std::mem::swap(oracle.member_mut(), &mut member);
+    let solution =
+        ws.forward_over_pieces(&layout.constraints, inputs.opts, &pieces, &mut oracle)?;
+    t_oracle += oracle.elapsed;
+    let forward = std::mem::take(&mut oracle.found);
+    // the cuts in the order they were found: the segments' passes last first, then forward
+    let mut cuts = forward.len();
+    for (k, f) in found.iter().enumerate().rev() {
+        keep_found(std::slice::from_mut(&mut rows[k]), f);
+        cuts += f.len();
+    }
+    keep_found(&mut rows, &forward);
+    Ok((
+        rows,
+        Some(FirstSolve {
+            layout,
+            solution,
+            cuts,
+            t_oracle,
+        }),
+    ))
+}
+
+/// The rows of the segments' grid samples to compute, in chunks, last segment first, and the
+/// segments as their chunks are done.
+struct Queue {
+    /// The segments' rows (their samples' sides once their chunks are kept).
+    rows: Vec<RwLock<SegmentRows>>,
+    /// `(segment, samples)`, last segment first.
+    chunks: Vec<(usize, Vec<usize>)>,
+    /// The next chunk to take.
+    next: AtomicUsize,
+    /// Each chunk's sides, the time of their limit rows and the chunk's time, once done.
+    done: Vec<Mutex<Option<ChunkRows>>>,
+    /// Per segment, its chunks not done yet.
+    left: Vec<AtomicUsize>,
+    /// Whether a chunk failed.
+    failed: AtomicBool,
+}
+
+/// A chunk's sides and the time of their limit rows, and the chunk's time.
+type ChunkRows = (Result<(SamplesSides, Duration), StanceError>, Duration);
+
+impl Queue {
+    fn new(skeletons: Vec<SegmentRows>) -> Self {
+        let mut chunks = Vec::new();
+        let mut left = Vec::with_capacity(skeletons.len());
+        for (k, r) in skeletons.iter().enumerate().rev() {
+            let parts = chunked(&r.grid);
+            left.push(AtomicUsize::new(parts.len()));
+            chunks.extend(parts.into_iter().map(|c| (k, c.to_vec())));
+        }
+        left.reverse();
+        Self {
+            rows: skeletons.into_iter().map(RwLock::new).collect(),
+            done: chunks.iter().map(|_| Mutex::new(None)).collect(),
+            chunks,
+            next: AtomicUsize::new(0),
+            left,
+            failed: AtomicBool::new(false),
+        }
+    }
+
+    /// Computes the next chunk; `false` when none is left.
+    fn take_chunk(&self, inputs: &Inputs<'_>, ws: &mut LimitWorkspace) -> bool {
+        let i = self.next.fetch_add(1, Ordering::Relaxed);
+        let Some((k, samples)) = self.chunks.get(i) else {
+            return false;
+        };
+        let t = Instant::now();
+        let sides = read(&self.rows[*k]).sides_of(inputs.plan, &inputs.paths[*k], samples, ws);
+        *lock(&self.done[i]) = Some((sides, t.elapsed()));
+        self.left[*k].fetch_sub(1, Ordering::Release);
+        true
+    }
+
+    /// Segment `k`'s rows complete, computing chunks (or waiting for the other thread's) until
+    /// its chunks are done; `false` when one failed.
+    fn finish(&self, k: usize, inputs: &Inputs<'_>, ws: &mut LimitWorkspace) -> bool {
+        while self.left[k].load(Ordering::Acquire) > 0 {
+            if !self.take_chunk(inputs, ws) {
+                std::thread::yield_now();
+            }
+        }
+        let mut sides = Vec::new();
+        let mut t_chunks = Duration::ZERO;
+        for (i, (seg, _)) in self.chunks.iter().enumerate() {
+            if *seg == k {
+                let (chunk, t) = lock(&self.done[i]).take().expect("a chunk done");
+                let Ok(chunk) = chunk else {
+                    self.failed.store(true, Ordering::Relaxed);
+                    return false;
+                };
+                sides.push(chunk);
+                t_chunks += t;
+            }
+        }
+        let mut rows = write(&self.rows[k]);
+        let t = Instant::now();
+        rows.fill(sides);
+        rows.refresh();
+        rows.t_abc += t_chunks + t.elapsed();
+        true
+    }
+
+    /// The rows of every segment, `None` when a chunk failed (all done: the queue is empty).
+    fn into_rows(self) -> Option<Vec<SegmentRows>> {
+        let failed =
+            |d: &Mutex<Option<ChunkRows>>| lock(d).as_ref().is_some_and(|(r, _)| r.is_err());
+        if self.failed.load(Ordering::Relaxed) || self.done.iter().any(failed) {
+            return None;
+        }
+        Some(
+            self.rows
+                .into_iter()
+                .map(|r| r.into_inner().unwrap_or_else(PoisonError::into_inner))
+                .collect(),
+        )
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn read<T>(m: &RwLock<T>) -> std::sync::RwLockReadGuard<'_, T> {
+    m.read().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn write<T>(m: &RwLock<T>) -> std::sync::RwLockWriteGuard<'_, T> {
+    m.write().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The segments' backward passes, last first, each once its rows are done, until a chunk or a
+/// pass fails (the other segments' rows then completed all the same); with the oracles'
+/// membership workspace, handed from one to the next as the whole solve's one oracle keeps it
+/// (its recent witnesses).
+fn passer(
+    inputs: &Inputs<'_>,
+    queue: &Queue,
+    s_offset: &[f64],
+    ws: &mut Workspace,
+) -> Result<(Vec<SegmentPass>, Membership), StanceError> {
+    let nseg = inputs.paths.len();
+    let mut limit_ws = LimitWorkspace::new(inputs.plan);
+    let mut passes: Vec<SegmentPass> = Vec::with_capacity(nseg);
+    let mut member = Membership::new();
+    let mut stop = false;
+    for k in (0..nseg).rev() {
+        // (after a failure too: the whole layout is then solved, with every segment's rows)
+        let rows_done = queue.finish(k, inputs, &mut limit_ws);
+        stop = stop || !rows_done;
+        if stop {
+            continue;
+        }
+        let next = (k + 1 < nseg).then(|| read(&queue.rows[k + 1]));
+        let mut rows = write(&queue.rows[k]);
+        let after = next.as_deref().zip(passes.last().map(|p| &p.piece));
+        let pass = segment_pass(inputs, k, &mut rows, after, s_offset, ws, &mut member)?;
+        stop = pass.piece.failed_at().is_some();
+        passes.push(pass);
+    }
+    Ok((passes, member))
+}
+
+/// Segment `k`'s layout and backward pass (from the pass over `k + 1`, `after`), its oracle's
+/// cuts not kept yet.
+fn segment_pass(
+    inputs: &Inputs<'_>,
+    k: usize,
+    rows: &mut SegmentRows,
+    after: Option<(&SegmentRows, &BackwardPiece)>,
+    s_offset: &[f64],
+    ws: &mut Workspace,
+    member: &mut Membership,
+) -> Result<SegmentPass, StanceError> {
+    let nseg = inputs.paths.len();
+    let layout = segment_layout(
+        &inputs.paths[k],
+        rows,
+        after.map(|(r, _)| r),
+        k,
+        s_offset[k],
+        inputs.margin,
+        inputs.boundary_x_max,
+    )?;
+    let next = after.map(|(_, p)| p);
+    let k_rows = &layout.constraints;
+    // the global grid's ends (its first point is the first IK sample)
+    let whole = [inputs.paths[0].samples[0].s, s_offset[nseg]];
+    Ok(
+        match LiftedOracle::of_segment(rows, [k > 0, k + 1 < nseg]) {
+            Some(mut oracle) => {
+                std::mem::swap(oracle.member_mut(), member);
+                let piece = ws.backward_piece(k_rows, inputs.opts, whole, next, &mut oracle);
+                std::mem::swap(oracle.member_mut(), member);
+                let piece = piece?;
+                SegmentPass {
+                    piece,
+                    found: std::mem::take(&mut oracle.found),
+                    t_oracle: oracle.elapsed,
+                    lifted: true,
+                    layout,
+                }
+            }
+            None => SegmentPass {
+                piece: ws.backward_piece(k_rows, inputs.opts, whole, next, &mut NoLiftedRows)?,
+                found: Vec::new(),
+                t_oracle: Duration::ZERO,
+                lifted: false,
+                layout,
+            },
+        },
+    )
+}
+
+/// Every segment's `U_stance` and rows, the segments in parallel, each thread with its own cone
+/// workspace; within a segment, its samples' rows in parallel chunks too
+/// ([`SegmentRows::compute`]).
+pub(super) fn all_segment_rows(inputs: &Inputs<'_>) -> Result<Vec<SegmentRows>, StanceError> {
+    use rayon::prelude::*;
+    inputs
+        .paths
+        .par_iter()
+        .enumerate()
+        .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
+            segment_rows(inputs.plan, k, path, inputs.substeps, cone_ws)
+        })
+        .collect::<Result<Vec<_>, _>>()
+}
+
+#[cfg(test)]
+mod tests {
+    //! The first solve made while the rows are computed against the whole layout's solve on
+    //! all the rows.
+
+    use super::*;
+    use crate::chain::{boundary_bounds, contact_margin, layout, solve_with_oracle, RetimingMode};
+    use crate::experiments;
+    use crate::ik_stage::IkStageWorkspace;
+
+    /// The box climbing with its torque limits (lifted rows, cuts): the same
+    /// solution, layout and rows (with their cuts) as the whole solve's.
+    #[test]
+    fn the_overlapped_first_solve_is_the_whole_solve() {
+        let spec = experiments::by_name("box-climbing").unwrap();
+        let plan = MotionPlan::new(spec, None).unwrap();
+        assert!(plan.limits.is_some());
+        let mut ik_ws = IkStageWorkspace::new(&plan);
+        let (paths, failure) = crate::ik_paths(&plan, &mut ik_ws).unwrap();
+        assert!(failure.is_none());
+        let (bounds, _) =
+            boundary_bounds(&plan, &paths, RetimingMode::Chained, &mut ik_ws).unwrap();
+        let opts = SolveOptions::new(plan.spec.retiming.discretization);
+        let inputs = Inputs {
+            plan: &plan,
+            paths: &paths,
+            substeps: plan.spec.ik.substeps,
+            margin: contact_margin(&plan),
+            boundary_x_max: &bounds,
+            opts: &opts,
+        };
+        let (mut rows, first) = rows_and_first_solve(&inputs, &mut Workspace::new()).unwrap();
+        let first = first.expect("solved while the rows were computed");
+        assert!(first.cuts > 0, "the oracle cuts");
+        let mut whole_rows = all_segment_rows(&inputs).unwrap();
+        let l = layout(&paths, &whole_rows, inputs.margin, &bounds).unwrap();
+        assert_eq!(first.layout.constraints, l.constraints);
+        assert_eq!(first.layout.origins, l.origins);
+        assert_eq!(first.layout.seg_start, l.seg_start);
+        let mut ws = Workspace::new();
+        let (whole, cuts, _) = solve_with_oracle(
+            &l.constraints,
+            &opts,
+            &mut ws,
+            &mut whole_rows,
+            &l.seg_start,
+            0,
+        )
+        .unwrap();
+        let sol = &first.solution;
+        assert_eq!(sol.status, whole.status);
+        assert_eq!(sol.profile, whole.profile);
+        assert_eq!(sol.controllable, whole.controllable);
+        assert_eq!(sol.stats, whole.stats);
+        // the cuts (their tags number each oracle's own)
+        assert_eq!(sol.cuts.rows, whole.cuts.rows);
+        assert_eq!(sol.cuts.next_rows, whole.cuts.next_rows);
+        assert_eq!(first.cuts, cuts);
+        for (a, b) in rows.iter_mut().zip(&mut whole_rows) {
+            a.refresh();
+            b.refresh();
+            assert_eq!(a.grid, b.grid);
+            for i in 0..a.grid.len() {
+                assert_eq!(a.rows_at(i), b.rows_at(i));
+                assert_eq!(a.origins_at(i), b.origins_at(i));
+            }
+        }
+    }
+}
