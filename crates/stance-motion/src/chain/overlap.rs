@@ -13,11 +13,17 @@
 //!
 //! # How
 //!
-//! Every segment's stance, `U_stance` and contacts first, in parallel (`segment_skeleton`);
-//! then a queue of the grid samples' chunks (about [`crate::tol::ROWS_CHUNK`] samples each), the
-//! last segment's first. Two threads: one takes chunks until none is left; the other runs the
-//! passes, last segment first, each once its segment's chunks are done, and takes chunks while
-//! they are not. The forward pass then runs over the whole grid.
+//! A queue of tasks, last segment first: each segment's stance, `U_stance` and contacts (its
+//! skeleton, `segment_skeleton`, one segment ahead), then its grid samples' rows in chunks of
+//! about [`crate::tol::ROWS_CHUNK`] samples. Two threads: one takes tasks until none is left;
+//! the other runs the passes, last segment first, each once its segment's chunks are done, and
+//! takes tasks while they are not. The forward pass then runs over the whole grid.
+//!
+//! # Measured
+//!
+//! On this project's 2-core machines the gain is small (`bench/peers/limits.md`): two threads
+//! computing chunks at once take about 1.5 times as long per chunk as one alone, so the
+//! second core adds about a third of one, and the backward pass hides in that third only.
 //!
 //! # The same answer
 //!
@@ -33,7 +39,7 @@
 //! solve's; the sides' witnesses are then warm), or a motion without lifted rows (solved
 //! without an oracle, possibly in its own time unit).
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError, RwLock};
 use std::time::{Duration, Instant};
 
@@ -104,27 +110,16 @@ fn overlapped(
     inputs: &Inputs<'_>,
     ws: &mut Workspace,
 ) -> Result<(Vec<SegmentRows>, Option<FirstSolve>), StanceError> {
-    use rayon::prelude::*;
     let nseg = inputs.paths.len();
     let s_offset = s_offsets(inputs.paths);
-    // every segment's stance, U_stance and contacts, in parallel
-    let skeletons = (0..nseg)
-        .into_par_iter()
-        .map_init(polycone::Workspace::new, |cone_ws, k| {
-            segment_skeleton(inputs.plan, k, &inputs.paths[k], inputs.substeps, cone_ws)
-        })
-        .collect::<Result<Vec<_>, _>>();
-    let Ok(skeletons) = skeletons else {
-        return Ok((all_segment_rows(inputs)?, None));
-    };
-    let queue = Queue::new(skeletons);
-    // the passes on this thread, which takes chunks while a segment's rows are not done; the
-    // other thread takes chunks until none are left
+    let queue = Queue::new(inputs);
+    // the passes on this thread, which takes tasks while a segment's rows are not done; the
+    // other thread takes tasks until none are left
     let (passes, ()) = rayon::join(
         || passer(inputs, &queue, &s_offset, ws),
         || {
-            let mut limit_ws = LimitWorkspace::new(inputs.plan);
-            while queue.take_chunk(inputs, &mut limit_ws) {}
+            let mut task_ws = TaskWorkspace::new(inputs.plan);
+            while queue.take_task(inputs, &mut task_ws) {}
         },
     );
     // a chunk's error first, as when the rows are computed before the solve
@@ -175,73 +170,138 @@ fn overlapped(
     ))
 }
 
-/// The rows of the segments' grid samples to compute, in chunks, last segment first, and the
-/// segments as their chunks are done.
+/// What there is to compute of the segments' rows, last segment first: each segment's stance,
+/// `U_stance` and contacts (its skeleton, a segment ahead of its chunks), then its grid
+/// samples' rows in chunks.
+enum Task {
+    Skeleton(usize),
+    Chunk(usize, Vec<usize>),
+}
+
+/// A skeleton not computed yet, computed, failed.
+const PENDING: u8 = 0;
+const READY: u8 = 1;
+const FAILED: u8 = 2;
+
+/// The tasks, taken in order by both threads, and the segments' rows as their tasks are done.
 struct Queue {
-    /// The segments' rows (their samples' sides once their chunks are kept).
-    rows: Vec<RwLock<SegmentRows>>,
-    /// `(segment, samples)`, last segment first.
-    chunks: Vec<(usize, Vec<usize>)>,
-    /// The next chunk to take.
+    tasks: Vec<Task>,
+    /// The next task to take.
     next: AtomicUsize,
+    /// The segments' rows (from their skeletons; their samples' sides once their chunks are
+    /// kept).
+    rows: Vec<RwLock<Option<SegmentRows>>>,
+    /// Per segment, whether its skeleton is computed ([`PENDING`], [`READY`], [`FAILED`]).
+    skeleton: Vec<AtomicU8>,
     /// Each chunk's sides, the time of their limit rows and the chunk's time, once done.
     done: Vec<Mutex<Option<ChunkRows>>>,
     /// Per segment, its chunks not done yet.
     left: Vec<AtomicUsize>,
-    /// Whether a chunk failed.
+    /// Whether a skeleton or a chunk failed.
     failed: AtomicBool,
 }
 
 /// A chunk's sides and the time of their limit rows, and the chunk's time.
 type ChunkRows = (Result<(SamplesSides, Duration), StanceError>, Duration);
 
+/// A thread's workspaces for the tasks.
+struct TaskWorkspace {
+    cone: polycone::Workspace,
+    limits: LimitWorkspace,
+}
+
+impl TaskWorkspace {
+    fn new(plan: &MotionPlan) -> Self {
+        Self {
+            cone: polycone::Workspace::new(),
+            limits: LimitWorkspace::new(plan),
+        }
+    }
+}
+
 impl Queue {
-    fn new(skeletons: Vec<SegmentRows>) -> Self {
-        let mut chunks = Vec::new();
-        let mut left = Vec::with_capacity(skeletons.len());
-        for (k, r) in skeletons.iter().enumerate().rev() {
-            let parts = chunked(&r.grid);
+    fn new(inputs: &Inputs<'_>) -> Self {
+        let nseg = inputs.paths.len();
+        let mut tasks = Vec::new();
+        let mut left = Vec::with_capacity(nseg);
+        for k in (0..nseg).rev() {
+            // the segment's grid (as `segment_skeleton` makes it)
+            let grid: Vec<usize> = (0..inputs.paths[k].samples.len())
+                .step_by(inputs.substeps)
+                .collect();
+            let parts = chunked(&grid);
             left.push(AtomicUsize::new(parts.len()));
-            chunks.extend(parts.into_iter().map(|c| (k, c.to_vec())));
+            if k + 1 == nseg {
+                tasks.push(Task::Skeleton(k));
+            }
+            if k > 0 {
+                tasks.push(Task::Skeleton(k - 1));
+            }
+            tasks.extend(parts.into_iter().map(|c| Task::Chunk(k, c.to_vec())));
         }
         left.reverse();
         Self {
-            rows: skeletons.into_iter().map(RwLock::new).collect(),
-            done: chunks.iter().map(|_| Mutex::new(None)).collect(),
-            chunks,
+            done: tasks.iter().map(|_| Mutex::new(None)).collect(),
+            tasks,
             next: AtomicUsize::new(0),
+            rows: (0..nseg).map(|_| RwLock::new(None)).collect(),
+            skeleton: (0..nseg).map(|_| AtomicU8::new(PENDING)).collect(),
             left,
             failed: AtomicBool::new(false),
         }
     }
 
-    /// Computes the next chunk; `false` when none is left.
-    fn take_chunk(&self, inputs: &Inputs<'_>, ws: &mut LimitWorkspace) -> bool {
+    /// Computes the next task; `false` when none is left.
+    fn take_task(&self, inputs: &Inputs<'_>, ws: &mut TaskWorkspace) -> bool {
         let i = self.next.fetch_add(1, Ordering::Relaxed);
-        let Some((k, samples)) = self.chunks.get(i) else {
-            return false;
-        };
-        let t = Instant::now();
-        let sides = read(&self.rows[*k]).sides_of(inputs.plan, &inputs.paths[*k], samples, ws);
-        *lock(&self.done[i]) = Some((sides, t.elapsed()));
-        self.left[*k].fetch_sub(1, Ordering::Release);
+        match self.tasks.get(i) {
+            None => return false,
+            Some(&Task::Skeleton(k)) => {
+                let (plan, path) = (inputs.plan, &inputs.paths[k]);
+                let state = match segment_skeleton(plan, k, path, inputs.substeps, &mut ws.cone) {
+                    Ok(rows) => {
+                        *write(&self.rows[k]) = Some(rows);
+                        READY
+                    }
+                    Err(_) => {
+                        self.failed.store(true, Ordering::Relaxed);
+                        FAILED
+                    }
+                };
+                self.skeleton[k].store(state, Ordering::Release);
+            }
+            Some(Task::Chunk(k, samples)) => {
+                let k = *k;
+                // its skeleton, a task before it, may still be computed by the other thread
+                while self.skeleton[k].load(Ordering::Acquire) == PENDING {
+                    std::thread::yield_now();
+                }
+                let t = Instant::now();
+                let sides = read(&self.rows[k]).as_ref().map(|rows| {
+                    rows.sides_of(inputs.plan, &inputs.paths[k], samples, &mut ws.limits)
+                });
+                if let Some(sides) = sides {
+                    *lock(&self.done[i]) = Some((sides, t.elapsed()));
+                }
+                self.left[k].fetch_sub(1, Ordering::Release);
+            }
+        }
         true
     }
 
-    /// Segment `k`'s rows complete, computing chunks (or waiting for the other thread's) until
-    /// its chunks are done; `false` when one failed.
-    fn finish(&self, k: usize, inputs: &Inputs<'_>, ws: &mut LimitWorkspace) -> bool {
+    /// Segment `k`'s rows complete, computing tasks (or waiting for the other thread's) until
+    /// its chunks are done; `false` when its skeleton or a chunk failed.
+    fn finish(&self, k: usize, inputs: &Inputs<'_>, ws: &mut TaskWorkspace) -> bool {
         while self.left[k].load(Ordering::Acquire) > 0 {
-            if !self.take_chunk(inputs, ws) {
+            if !self.take_task(inputs, ws) {
                 std::thread::yield_now();
             }
         }
         let mut sides = Vec::new();
         let mut t_chunks = Duration::ZERO;
-        for (i, (seg, _)) in self.chunks.iter().enumerate() {
-            if *seg == k {
-                let (chunk, t) = lock(&self.done[i]).take().expect("a chunk done");
-                let Ok(chunk) = chunk else {
+        for (i, task) in self.tasks.iter().enumerate() {
+            if matches!(task, Task::Chunk(seg, _) if *seg == k) {
+                let Some((Ok(chunk), t)) = lock(&self.done[i]).take() else {
                     self.failed.store(true, Ordering::Relaxed);
                     return false;
                 };
@@ -250,6 +310,9 @@ impl Queue {
             }
         }
         let mut rows = write(&self.rows[k]);
+        let Some(rows) = rows.as_mut() else {
+            return false;
+        };
         let t = Instant::now();
         rows.fill(sides);
         rows.refresh();
@@ -257,19 +320,17 @@ impl Queue {
         true
     }
 
-    /// The rows of every segment, `None` when a chunk failed (all done: the queue is empty).
+    /// The rows of every segment, `None` when a task failed (all done: the queue is empty).
     fn into_rows(self) -> Option<Vec<SegmentRows>> {
         let failed =
             |d: &Mutex<Option<ChunkRows>>| lock(d).as_ref().is_some_and(|(r, _)| r.is_err());
         if self.failed.load(Ordering::Relaxed) || self.done.iter().any(failed) {
             return None;
         }
-        Some(
-            self.rows
-                .into_iter()
-                .map(|r| r.into_inner().unwrap_or_else(PoisonError::into_inner))
-                .collect(),
-        )
+        self.rows
+            .into_iter()
+            .map(|r| r.into_inner().unwrap_or_else(PoisonError::into_inner))
+            .collect()
     }
 }
 
@@ -296,21 +357,23 @@ fn passer(
     ws: &mut Workspace,
 ) -> Result<(Vec<SegmentPass>, Membership), StanceError> {
     let nseg = inputs.paths.len();
-    let mut limit_ws = LimitWorkspace::new(inputs.plan);
+    let mut task_ws = TaskWorkspace::new(inputs.plan);
     let mut passes: Vec<SegmentPass> = Vec::with_capacity(nseg);
     let mut member = Membership::new();
     let mut stop = false;
     for k in (0..nseg).rev() {
         // (after a failure too: the whole layout is then solved, with every segment's rows)
-        let rows_done = queue.finish(k, inputs, &mut limit_ws);
+        let rows_done = queue.finish(k, inputs, &mut task_ws);
         stop = stop || !rows_done;
         if stop {
             continue;
         }
         let next = (k + 1 < nseg).then(|| read(&queue.rows[k + 1]));
         let mut rows = write(&queue.rows[k]);
-        let after = next.as_deref().zip(passes.last().map(|p| &p.piece));
-        let pass = segment_pass(inputs, k, &mut rows, after, s_offset, ws, &mut member)?;
+        let rows = rows.as_mut().expect("its rows are done");
+        let next_rows = next.as_ref().and_then(|r| r.as_ref());
+        let after = next_rows.zip(passes.last().map(|p| &p.piece));
+        let pass = segment_pass(inputs, k, rows, after, s_offset, ws, &mut member)?;
         stop = pass.piece.failed_at().is_some();
         passes.push(pass);
     }
