@@ -254,23 +254,21 @@ impl Queue {
     /// Computes the next task; `false` when none is left.
     fn take_task(&self, inputs: &Inputs<'_>, ws: &mut TaskWorkspace) -> bool {
         let i = self.next.fetch_add(1, Ordering::Relaxed);
-        match self.tasks.get(i) {
-            None => return false,
-            Some(&Task::Skeleton(k)) => {
+        let Some(task) = self.tasks.get(i) else {
+            return false;
+        };
+        // marks the task done however it ends, a panic included: the other thread may be
+        // waiting for it
+        let _end = TaskEnd { queue: self, task };
+        match task {
+            &Task::Skeleton(k) => {
                 let (plan, path) = (inputs.plan, &inputs.paths[k]);
-                let state = match segment_skeleton(plan, k, path, inputs.substeps, &mut ws.cone) {
-                    Ok(rows) => {
-                        *write(&self.rows[k]) = Some(rows);
-                        READY
-                    }
-                    Err(_) => {
-                        self.failed.store(true, Ordering::Relaxed);
-                        FAILED
-                    }
-                };
-                self.skeleton[k].store(state, Ordering::Release);
+                if let Ok(rows) = segment_skeleton(plan, k, path, inputs.substeps, &mut ws.cone) {
+                    *write(&self.rows[k]) = Some(rows);
+                    self.skeleton[k].store(READY, Ordering::Release);
+                }
             }
-            Some(Task::Chunk(k, samples)) => {
+            Task::Chunk(k, samples) => {
                 let k = *k;
                 // its skeleton, a task before it, may still be computed by the other thread
                 while self.skeleton[k].load(Ordering::Acquire) == PENDING {
@@ -283,7 +281,6 @@ impl Queue {
                 if let Some(sides) = sides {
                     *lock(&self.done[i]) = Some((sides, t.elapsed()));
                 }
-                self.left[k].fetch_sub(1, Ordering::Release);
             }
         }
         true
@@ -331,6 +328,30 @@ impl Queue {
             .into_iter()
             .map(|r| r.into_inner().unwrap_or_else(PoisonError::into_inner))
             .collect()
+    }
+}
+
+/// The end of a task, however it ends: a skeleton not computed is marked failed, a chunk is
+/// counted done (its rows missing when it failed: [`Queue::finish`] sees it).
+struct TaskEnd<'a> {
+    queue: &'a Queue,
+    task: &'a Task,
+}
+
+impl Drop for TaskEnd<'_> {
+    fn drop(&mut self) {
+        let q = self.queue;
+        match self.task {
+            &Task::Skeleton(k) => {
+                if q.skeleton[k].load(Ordering::Acquire) == PENDING {
+                    q.failed.store(true, Ordering::Relaxed);
+                    q.skeleton[k].store(FAILED, Ordering::Release);
+                }
+            }
+            Task::Chunk(k, _) => {
+                q.left[*k].fetch_sub(1, Ordering::Release);
+            }
+        }
     }
 }
 
