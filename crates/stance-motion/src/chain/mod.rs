@@ -184,11 +184,12 @@ pub struct Retimed {
     pub landings: Vec<LandingBound>,
     /// Time of the whole-motion solve (chained), or the sum of the segments' (rest to rest).
     pub t_topp: Duration,
-    /// Time to lay out the global rows (part of `T_abc`).
+    /// Time to lay out the global rows (part of `T_abc`; made while the rows were computed,
+    /// chained with limits, the segments' layouts and their joining).
     pub t_assemble: Duration,
     /// Time of the first solve (on the initial grid), its separation oracle and the layout of
     /// the cuts it found included; made while the rows were computed (chained, with limits:
-    /// module `overlap`), the time from the rows' start.
+    /// module `overlap`), the solver's own time, its waits for rows left out.
     pub t_first: Duration,
     /// Wall time from the start of the segments' `U_stance` and rows to the end of the first
     /// solve, its layouts included.
@@ -371,7 +372,7 @@ fn layout(
 }
 
 /// Where each segment starts on the global path parameter, and the end.
-pub(crate) fn s_offsets(paths: &[SegmentPath]) -> Vec<f64> {
+fn s_offsets(paths: &[SegmentPath]) -> Vec<f64> {
     let mut s_offset = vec![0.0];
     for path in paths {
         let end = path.samples.last().map_or(0.0, |x| x.s);
@@ -382,9 +383,9 @@ pub(crate) fn s_offsets(paths: &[SegmentPath]) -> Vec<f64> {
 
 /// Segment `k`'s grid points on the global grid, both ends included (a segment's last point is
 /// the next one's first), with their rows' origins.
-pub(crate) struct SegmentLayout {
-    pub constraints: CanonicalConstraints,
-    pub origins: Vec<RowOrigin>,
+struct SegmentLayout {
+    constraints: CanonicalConstraints,
+    origins: Vec<RowOrigin>,
 }
 
 /// Segment `k`'s grid points as the global layout has them (module doc): each point's rows with
@@ -393,7 +394,7 @@ pub(crate) struct SegmentLayout {
 /// none of whose rows hold at the end of the interval before, and `x` there bounded by
 /// `boundary_x_max[k + 1]`. Its first point, for `k > 0`, is the previous segment's switch
 /// point, laid out the same way.
-pub(crate) fn segment_layout(
+fn segment_layout(
     path: &SegmentPath,
     r: &SegmentRows,
     next: Option<&SegmentRows>,
@@ -721,16 +722,16 @@ fn contact_margin(plan: &MotionPlan) -> f64 {
 }
 
 /// The layout and outcome of a first solve made while the rows were computed (module
-/// `overlap`), started at `t_rows`: as [`solve_layout`]'s (the layout made again with the cuts
-/// found).
+/// `overlap`), as [`solve_layout`]'s (the layout made again with the cuts found; its time the
+/// solver's own time and that layout's).
 fn overlapped_outcome(
     f: overlap::FirstSolve,
     inputs: &LayoutInputs<'_>,
     rows: &mut [SegmentRows],
     opts: &SolveOptions,
     names: &Names<'_>,
-    t_rows: Instant,
 ) -> Result<(Layout, Solved), StanceError> {
+    let t = Instant::now();
     let mut l = f.layout;
     if f.cuts > 0 {
         rows.iter_mut().for_each(SegmentRows::refresh);
@@ -740,7 +741,7 @@ fn overlapped_outcome(
     let first = Solved {
         profile,
         failure,
-        t: t_rows.elapsed(),
+        t: f.t_solve + t.elapsed(),
         t_oracle: f.t_oracle,
         cuts: f.cuts,
     };
@@ -775,10 +776,7 @@ pub fn retime_chained(
     let mut controllable = Vec::new();
     let over = overlap::Inputs {
         plan,
-        paths,
-        substeps: plan.spec.ik.substeps,
-        margin,
-        boundary_x_max: &boundary_x_max,
+        layout: &inputs,
         opts: &opts,
     };
     let t_rows = Instant::now();
@@ -790,8 +788,9 @@ pub fn retime_chained(
     let (mut l, first, mut t_assemble) = match overlapped {
         Some(f) => {
             controllable.clone_from(&f.solution.controllable);
-            let (l, first) = overlapped_outcome(f, &inputs, rows, &opts, joints, t_rows)?;
-            (l, first, Duration::ZERO)
+            let t_layout = f.t_layout;
+            let (l, first) = overlapped_outcome(f, &inputs, rows, &opts, joints)?;
+            (l, first, t_layout)
         }
         None => {
             let t_layout = Instant::now();

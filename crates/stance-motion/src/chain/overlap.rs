@@ -46,8 +46,7 @@ use std::time::{Duration, Instant};
 use stance_topp::lifted::Membership;
 use stance_topp::{BackwardPiece, Cut, Separation, Solution, SolveOptions, ToppError, Workspace};
 
-use super::{joined, s_offsets, segment_layout, Layout, SegmentLayout};
-use crate::ik_stage::SegmentPath;
+use super::{joined, s_offsets, segment_layout, Layout, LayoutInputs, SegmentLayout};
 use crate::limit_rows::LimitWorkspace;
 use crate::plan::MotionPlan;
 use crate::rows::{chunked, segment_rows, segment_skeleton, SamplesSides, SegmentRows};
@@ -64,16 +63,24 @@ pub(super) struct FirstSolve {
     pub cuts: usize,
     /// Time in the oracle (the segments' passes and the forward pass).
     pub t_oracle: Duration,
+    /// The solver's own time: the segments' passes and the forward pass (their layouts and the
+    /// waits for rows left out).
+    pub t_solve: Duration,
+    /// Time of the segments' layouts and of joining them.
+    pub t_layout: Duration,
 }
 
 /// What a segment's backward pass leaves: its layout, the pass, the cuts its oracle found,
-/// the oracle's time, and whether the segment has lifted rows.
+/// the oracle's time, whether the segment has lifted rows, and the times of its layout and
+/// pass.
 struct SegmentPass {
     layout: SegmentLayout,
     piece: BackwardPiece,
     found: Vec<FoundCut>,
     t_oracle: Duration,
     lifted: bool,
+    /// Time of the layout, of the pass.
+    t: [Duration; 2],
 }
 
 /// An oracle for a segment without lifted rows: the global oracle has no sides there.
@@ -85,13 +92,11 @@ impl Separation for NoLiftedRows {
     }
 }
 
-/// The layout's inputs besides the rows (module `chain`).
+/// What the rows and the first solve are made from.
 pub(super) struct Inputs<'a> {
     pub plan: &'a MotionPlan,
-    pub paths: &'a [SegmentPath],
-    pub substeps: usize,
-    pub margin: f64,
-    pub boundary_x_max: &'a [f64],
+    /// The paths, the margin and the landing bounds.
+    pub layout: &'a LayoutInputs<'a>,
     pub opts: &'a SolveOptions,
 }
 
@@ -110,8 +115,8 @@ fn overlapped(
     inputs: &Inputs<'_>,
     ws: &mut Workspace,
 ) -> Result<(Vec<SegmentRows>, Option<FirstSolve>), StanceError> {
-    let nseg = inputs.paths.len();
-    let s_offset = s_offsets(inputs.paths);
+    let nseg = inputs.layout.paths.len();
+    let s_offset = s_offsets(inputs.layout.paths);
     let queue = Queue::new(inputs);
     // the passes on this thread, which takes tasks while a segment's rows are not done; the
     // other thread takes tasks until none are left
@@ -137,14 +142,20 @@ fn overlapped(
     let mut pieces = Vec::with_capacity(nseg);
     let mut seg_layouts = Vec::with_capacity(nseg);
     let mut found = Vec::with_capacity(nseg);
-    let mut t_oracle = Duration::ZERO;
+    let (mut t_oracle, mut t_layout, mut t_solve) =
+        (Duration::ZERO, Duration::ZERO, Duration::ZERO);
     for p in passes {
         pieces.push(p.piece);
         seg_layouts.push(p.layout);
         found.push(p.found);
         t_oracle += p.t_oracle;
+        t_layout += p.t[0];
+        t_solve += p.t[1];
     }
+    let t_join = Instant::now();
     let layout = joined(&seg_layouts, s_offset)?;
+    t_layout += t_join.elapsed();
+    let t_forward = Instant::now();
     let mut oracle =
         LiftedOracle::new(&mut rows, &layout.seg_start).expect("a segment has lifted rows");
     std::mem::swap(oracle.member_mut(), &mut member);
@@ -159,6 +170,7 @@ fn overlapped(
         cuts += f.len();
     }
     keep_found(&mut rows, &forward);
+    t_solve += t_forward.elapsed();
     Ok((
         rows,
         Some(FirstSolve {
@@ -166,6 +178,8 @@ fn overlapped(
             solution,
             cuts,
             t_oracle,
+            t_solve,
+            t_layout,
         }),
     ))
 }
@@ -221,13 +235,13 @@ impl TaskWorkspace {
 
 impl Queue {
     fn new(inputs: &Inputs<'_>) -> Self {
-        let nseg = inputs.paths.len();
+        let nseg = inputs.layout.paths.len();
         let mut tasks = Vec::new();
         let mut left = Vec::with_capacity(nseg);
         for k in (0..nseg).rev() {
             // the segment's grid (as `segment_skeleton` makes it)
-            let grid: Vec<usize> = (0..inputs.paths[k].samples.len())
-                .step_by(inputs.substeps)
+            let grid: Vec<usize> = (0..inputs.layout.paths[k].samples.len())
+                .step_by(inputs.plan.spec.ik.substeps)
                 .collect();
             let parts = chunked(&grid);
             left.push(AtomicUsize::new(parts.len()));
@@ -262,8 +276,10 @@ impl Queue {
         let _end = TaskEnd { queue: self, task };
         match task {
             &Task::Skeleton(k) => {
-                let (plan, path) = (inputs.plan, &inputs.paths[k]);
-                if let Ok(rows) = segment_skeleton(plan, k, path, inputs.substeps, &mut ws.cone) {
+                let (plan, path) = (inputs.plan, &inputs.layout.paths[k]);
+                if let Ok(rows) =
+                    segment_skeleton(plan, k, path, inputs.plan.spec.ik.substeps, &mut ws.cone)
+                {
                     *write(&self.rows[k]) = Some(rows);
                     self.skeleton[k].store(READY, Ordering::Release);
                 }
@@ -276,7 +292,12 @@ impl Queue {
                 }
                 let t = Instant::now();
                 let sides = read(&self.rows[k]).as_ref().map(|rows| {
-                    rows.sides_of(inputs.plan, &inputs.paths[k], samples, &mut ws.limits)
+                    rows.sides_of(
+                        inputs.plan,
+                        &inputs.layout.paths[k],
+                        samples,
+                        &mut ws.limits,
+                    )
                 });
                 if let Some(sides) = sides {
                     *lock(&self.done[i]) = Some((sides, t.elapsed()));
@@ -377,7 +398,7 @@ fn passer(
     s_offset: &[f64],
     ws: &mut Workspace,
 ) -> Result<(Vec<SegmentPass>, Membership), StanceError> {
-    let nseg = inputs.paths.len();
+    let nseg = inputs.layout.paths.len();
     let mut task_ws = TaskWorkspace::new(inputs.plan);
     let mut passes: Vec<SegmentPass> = Vec::with_capacity(nseg);
     let mut member = Membership::new();
@@ -412,20 +433,23 @@ fn segment_pass(
     ws: &mut Workspace,
     member: &mut Membership,
 ) -> Result<SegmentPass, StanceError> {
-    let nseg = inputs.paths.len();
+    let nseg = inputs.layout.paths.len();
+    let t_layout = Instant::now();
     let layout = segment_layout(
-        &inputs.paths[k],
+        &inputs.layout.paths[k],
         rows,
         after.map(|(r, _)| r),
         k,
         s_offset[k],
-        inputs.margin,
-        inputs.boundary_x_max,
+        inputs.layout.margin,
+        inputs.layout.boundary_x_max,
     )?;
+    let t_pass = Instant::now();
+    let t = |t_pass: Instant| [t_pass - t_layout, t_pass.elapsed()];
     let next = after.map(|(_, p)| p);
     let k_rows = &layout.constraints;
     // the global grid's ends (its first point is the first IK sample)
-    let whole = [inputs.paths[0].samples[0].s, s_offset[nseg]];
+    let whole = [inputs.layout.paths[0].samples[0].s, s_offset[nseg]];
     Ok(
         match LiftedOracle::of_segment(rows, [k > 0, k + 1 < nseg]) {
             Some(mut oracle) => {
@@ -439,6 +463,7 @@ fn segment_pass(
                     t_oracle: oracle.elapsed,
                     lifted: true,
                     layout,
+                    t: t(t_pass),
                 }
             }
             None => SegmentPass {
@@ -447,6 +472,7 @@ fn segment_pass(
                 t_oracle: Duration::ZERO,
                 lifted: false,
                 layout,
+                t: t(t_pass),
             },
         },
     )
@@ -458,11 +484,12 @@ fn segment_pass(
 pub(super) fn all_segment_rows(inputs: &Inputs<'_>) -> Result<Vec<SegmentRows>, StanceError> {
     use rayon::prelude::*;
     inputs
+        .layout
         .paths
         .par_iter()
         .enumerate()
         .map_init(polycone::Workspace::new, |cone_ws, (k, path)| {
-            segment_rows(inputs.plan, k, path, inputs.substeps, cone_ws)
+            segment_rows(inputs.plan, k, path, inputs.plan.spec.ik.substeps, cone_ws)
         })
         .collect::<Result<Vec<_>, _>>()
 }
@@ -473,7 +500,7 @@ mod tests {
     //! all the rows.
 
     use super::*;
-    use crate::chain::{boundary_bounds, contact_margin, layout, solve_with_oracle, RetimingMode};
+    use crate::chain::{boundary_bounds, contact_margin, solve_with_oracle, RetimingMode};
     use crate::experiments;
     use crate::ik_stage::IkStageWorkspace;
 
@@ -490,19 +517,21 @@ mod tests {
         let (bounds, _) =
             boundary_bounds(&plan, &paths, RetimingMode::Chained, &mut ik_ws).unwrap();
         let opts = SolveOptions::new(plan.spec.retiming.discretization);
-        let inputs = Inputs {
-            plan: &plan,
+        let layout_inputs = LayoutInputs {
             paths: &paths,
-            substeps: plan.spec.ik.substeps,
             margin: contact_margin(&plan),
             boundary_x_max: &bounds,
+        };
+        let inputs = Inputs {
+            plan: &plan,
+            layout: &layout_inputs,
             opts: &opts,
         };
         let (mut rows, first) = rows_and_first_solve(&inputs, &mut Workspace::new()).unwrap();
         let first = first.expect("solved while the rows were computed");
         assert!(first.cuts > 0, "the oracle cuts");
         let mut whole_rows = all_segment_rows(&inputs).unwrap();
-        let l = layout(&paths, &whole_rows, inputs.margin, &bounds).unwrap();
+        let l = layout_inputs.lay_out(&whole_rows).unwrap();
         assert_eq!(first.layout.constraints, l.constraints);
         assert_eq!(first.layout.origins, l.origins);
         assert_eq!(first.layout.seg_start, l.seg_start);
