@@ -22,7 +22,7 @@ fn support_clarabel(rows: &LiftedRows, bbox: Box2, c: [f64; 2]) -> Option<f64> {
     for j in 0..rows.len() {
         let (ra, rb, rc, d) = rows.row(j);
         let mut r = vec![ra, rb];
-        r.extend_from_slice(d);
+        r.extend_from_slice(&d);
         a_rows.push(r);
         b.push(-rc);
     }
@@ -210,7 +210,7 @@ fn warm_start_changes_no_answer() {
         let t = step as f64 * 0.01;
         for j in 0..base.len() {
             let (ra, rb, rc, d) = base.row(j);
-            rows.push(ra + 0.3 * t.sin(), rb, rc, d);
+            rows.push(ra + 0.3 * t.sin(), rb, rc, &d);
         }
         warm.project(&rows, bbox, 1e-10, &mut a).unwrap();
         let mut fresh = Projector::new();

@@ -111,6 +111,7 @@ pub(super) fn rows_and_first_solve(
 }
 
 /// The body of [`rows_and_first_solve`], on a thread of the pool.
+#[inline(never)] // (a frame of its own in profiles: the figure)
 fn overlapped(
     inputs: &Inputs<'_>,
     ws: &mut Workspace,

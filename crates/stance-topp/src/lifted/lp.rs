@@ -47,12 +47,15 @@ pub enum LpStatus {
     Failed,
 }
 
-/// The rows (`G`, `h`, row-major `m x n`, unit rows) and the box of a program.
+/// The rows (`G`, `h`: `m x n`, unit rows) and the box of a program. `G` is stored by
+/// columns, so that `G v` (the feasibility scans, the ratio tests) runs down contiguous
+/// columns.
 #[derive(Debug, Clone, Default)]
 pub struct Program {
     /// Number of variables.
     pub n: usize,
-    /// `G`, row-major (`m * n`), every row of unit norm.
+    /// `G` by columns: `g[k * m + j]` is row `j`'s coefficient `k` (`m = h.len()`); every
+    /// row of unit norm.
     pub g: Vec<f64>,
     /// `h`.
     pub h: Vec<f64>,
@@ -69,13 +72,26 @@ impl Program {
         self.h.len()
     }
 
+    /// Sets `G` from its rows, `rows` row-major (`m x n`, `m = h.len()`).
+    pub fn set_rows(&mut self, rows: &[f64]) {
+        let (m, n) = (self.m(), self.n);
+        debug_assert_eq!(rows.len(), m * n);
+        self.g.clear();
+        self.g.resize(m * n, 0.0);
+        for (j, r) in rows.chunks_exact(n.max(1)).enumerate() {
+            for (k, &v) in r.iter().enumerate() {
+                self.g[k * m + j] = v;
+            }
+        }
+    }
+
     /// Row `j`'s coefficient `k` (rows `m + 2 i` and `m + 2 i + 1` are `v_i <= hi_i` and
     /// `-v_i <= -lo_i`).
     #[inline]
     fn coef(&self, j: usize, k: usize) -> f64 {
         let m = self.m();
         if j < m {
-            self.g[j * self.n + k]
+            self.g[k * m + j]
         } else {
             let b = j - m;
             if b / 2 != k {
@@ -84,6 +100,23 @@ impl Program {
                 1.0
             } else {
                 -1.0
+            }
+        }
+    }
+
+    /// `out = G v` over the rows (not the bounds), each entry summed in the order of the
+    /// variables.
+    #[inline]
+    fn times(&self, v: &[f64], out: &mut Vec<f64>) {
+        let m = self.m();
+        out.clear();
+        out.resize(m, 0.0);
+        if m == 0 {
+            return;
+        }
+        for (col, &vk) in self.g.chunks_exact(m).zip(&v[..self.n]) {
+            for (o, &g) in out.iter_mut().zip(col) {
+                *o += g * vk;
             }
         }
     }
@@ -100,27 +133,6 @@ impl Program {
                 self.hi[b / 2]
             } else {
                 -self.lo[b / 2]
-            }
-        }
-    }
-
-    /// `g_j . v`.
-    #[inline]
-    fn dot(&self, j: usize, v: &[f64]) -> f64 {
-        let m = self.m();
-        if j < m {
-            let r = &self.g[j * self.n..(j + 1) * self.n];
-            let mut s = 0.0;
-            for k in 0..self.n {
-                s += r[k] * v[k];
-            }
-            s
-        } else {
-            let b = j - m;
-            if b.is_multiple_of(2) {
-                v[b / 2]
-            } else {
-                -v[b / 2]
             }
         }
     }
@@ -143,6 +155,9 @@ pub struct Simplex {
     w: Vec<f64>,
     d: Vec<f64>,
     row: Vec<f64>,
+    /// `G v` and `G d` (rows only).
+    gv: Vec<f64>,
+    gd: Vec<f64>,
     mark: Vec<bool>,
     /// Swaps since the last refactorization.
     updates: usize,
@@ -169,18 +184,30 @@ impl Simplex {
     /// Recomputes `G_A^-1`, the vertex and (for `c`) the multipliers. `false` when `G_A` is
     /// singular.
     fn refactor(&mut self, p: &Program, c: &[f64]) -> bool {
-        let n = p.n;
+        let (n, m) = (p.n, p.m());
         // [G_A | I] -> [I | G_A^-1] by Gauss-Jordan with partial pivoting (row operations: the
         // right half ends as G_A^-1 whatever the row swaps)
         let w = 2 * n;
         self.tmp.clear();
         self.tmp.resize(n * w, 0.0);
-        for (i, &j) in self.active.iter().enumerate() {
-            for k in 0..n {
-                self.tmp[i * w + k] = p.coef(j, k);
+        for (i, (&j, t)) in self
+            .active
+            .iter()
+            .zip(self.tmp.chunks_exact_mut(w))
+            .enumerate()
+        {
+            if j < m {
+                for (k, tk) in t[..n].iter_mut().enumerate() {
+                    *tk = p.g[k * m + j];
+                }
+            } else if (j - m) / 2 < n {
+                let b = j - m;
+                t[b / 2] = if b.is_multiple_of(2) { 1.0 } else { -1.0 };
             }
-            self.tmp[i * w + n + i] = 1.0;
+            // (else a warm start's index beyond this program's rows: a zero row, singular)
+            t[n + i] = 1.0;
         }
+        let mut pivot_row = [0.0; 2 * MAX_VARS];
         for col in 0..n {
             let (mut best, mut piv) = (0.0, col);
             for r in col..n {
@@ -194,20 +221,22 @@ impl Simplex {
                 return false;
             }
             if piv != col {
-                for k in 0..w {
-                    self.tmp.swap(col * w + k, piv * w + k);
-                }
+                let (top, bottom) = self.tmp.split_at_mut(piv * w);
+                top[col * w..(col + 1) * w].swap_with_slice(&mut bottom[..w]);
             }
-            let d = 1.0 / self.tmp[col * w + col];
-            for k in col..w {
-                self.tmp[col * w + k] *= d;
+            let pr = &mut self.tmp[col * w..(col + 1) * w];
+            let d = 1.0 / pr[col];
+            for v in &mut pr[col..] {
+                *v *= d;
             }
-            for r in 0..n {
+            let pr_saved = &mut pivot_row[..w];
+            pr_saved.copy_from_slice(pr);
+            for (r, row) in self.tmp.chunks_exact_mut(w).enumerate() {
                 if r != col {
-                    let f = self.tmp[r * w + col];
+                    let f = row[col];
                     if f != 0.0 {
-                        for k in col..w {
-                            self.tmp[r * w + k] -= f * self.tmp[col * w + k];
+                        for (v, &q) in row[col..].iter_mut().zip(&pr_saved[col..]) {
+                            *v -= f * q;
                         }
                     }
                 }
@@ -310,18 +339,32 @@ impl Simplex {
         }));
     }
 
-    /// The most violated row, or with `bland` the violated row of smallest index.
-    fn most_violated(&self, p: &Program, bland: bool) -> Option<usize> {
-        let scale = self.v.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    /// The most violated row, or with `bland` the violated row of smallest index (the rows,
+    /// then the bounds, in the order of their indices).
+    fn most_violated(&mut self, p: &Program, bland: bool) -> Option<usize> {
+        let n = p.n;
+        let scale = self.v[..n].iter().fold(1.0f64, |a, x| a.max(x.abs()));
         let lim = FEAS * scale;
         let mut best = (lim, None);
-        for j in 0..p.m() + 2 * p.n {
-            let viol = p.dot(j, &self.v) - p.rhs(j);
+        p.times(&self.v, &mut self.gv);
+        for (j, (&s, &h)) in self.gv.iter().zip(&p.h).enumerate() {
+            let viol = s - h;
             if viol > best.0 {
                 if bland {
                     return Some(j);
                 }
                 best = (viol, Some(j));
+            }
+        }
+        let m = p.m();
+        for (i, (&vi, (&lo, &hi))) in self.v[..n].iter().zip(p.lo.iter().zip(&p.hi)).enumerate() {
+            for (j, viol) in [(m + 2 * i, vi - hi), (m + 2 * i + 1, -vi - (-lo))] {
+                if viol > best.0 {
+                    if bland {
+                        return Some(j);
+                    }
+                    best = (viol, Some(j));
+                }
             }
         }
         best.1
@@ -436,25 +479,36 @@ impl Simplex {
             }
             let mut enter = None;
             let mut best = f64::INFINITY;
-            for j in 0..p.m() + 2 * n {
-                if self.mark[j] {
-                    continue;
-                }
-                let gd = p.dot(j, &self.d);
+            let bland_step = degenerate >= DEGENERATE_RUN;
+            let mut consider = |j: usize, gd: f64, gv: f64, rhs: f64| {
                 if gd > PIVOT {
-                    let slack = (p.rhs(j) - p.dot(j, &self.v)).max(0.0);
-                    let t = slack / gd;
+                    let t = (rhs - gv).max(0.0) / gd;
                     let better = match enter {
                         None => true,
-                        Some(e) if degenerate >= DEGENERATE_RUN => {
-                            t < best - 1e-15 || (t <= best + 1e-15 && j < e)
-                        }
+                        Some(e) if bland_step => t < best - 1e-15 || (t <= best + 1e-15 && j < e),
                         Some(_) => t < best,
                     };
                     if better {
                         best = t;
                         enter = Some(j);
                     }
+                }
+            };
+            p.times(&self.d, &mut self.gd);
+            p.times(&self.v, &mut self.gv);
+            let (d, v) = (&self.d[..n], &self.v[..n]);
+            for (j, ((&gd, &gv), &h)) in self.gd.iter().zip(&self.gv).zip(&p.h).enumerate() {
+                if !self.mark[j] {
+                    consider(j, gd, gv, h);
+                }
+            }
+            let m = p.m();
+            for i in 0..n {
+                if !self.mark[m + 2 * i] {
+                    consider(m + 2 * i, d[i], v[i], p.hi[i]);
+                }
+                if !self.mark[m + 2 * i + 1] {
+                    consider(m + 2 * i + 1, -d[i], -v[i], -p.lo[i]);
                 }
             }
             let Some(j) = enter else {
@@ -513,11 +567,13 @@ mod tests {
                 lo: vec![-2.0; n],
                 hi: vec![2.0; n],
             };
+            let mut g = Vec::new();
             for _ in 0..m {
                 let r: Vec<f64> = (0..n).map(|_| rnd()).collect();
                 let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
-                p.g.extend(r.iter().map(|x| x / norm));
+                g.extend(r.iter().map(|x| x / norm));
             }
+            p.set_rows(&g);
             if case % 5 == 0 {
                 p.h[0] = -5.0; // often infeasible
             }

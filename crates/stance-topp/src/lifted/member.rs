@@ -164,27 +164,69 @@ fn scan(rows: &LiftedRows, u: f64, x: f64, y: &[f64], hint: usize) -> Result<f64
         .iter()
         .fold(u.abs().max(x.abs()).max(1.0), |a, v| a.max(v.abs()));
     let lim = EPS * scale;
-    let value = |j: usize| {
-        let (a, b, c, d) = rows.row(j);
+    if hint < rows.len() {
+        let (a, b, c) = rows.abc(hint);
         let mut v = a * u + b * x + c;
-        for (dk, yk) in d.iter().zip(y) {
-            v += dk * yk;
+        for (i, yi) in y.iter().enumerate() {
+            v += rows.d(hint, i) * yi;
         }
-        v
-    };
-    if hint < rows.len() && value(hint) > lim {
-        return Err(hint);
-    }
-    let mut slack = f64::INFINITY;
-    for j in 0..rows.len() {
-        let v = value(j);
         if v > lim {
-            return Err(j);
+            return Err(hint);
         }
-        slack = slack.min(-v);
+    }
+    // the rows in blocks, each evaluated down the columns (the same sums, in the same order,
+    // as row by row)
+    let mut slack = f64::INFINITY;
+    let mut values = [0.0; SCAN_BLOCK];
+    let (ca, cb, cc) = (rows.column(0), rows.column(1), rows.column(2));
+    for start in (0..rows.len()).step_by(SCAN_BLOCK) {
+        let end = (start + SCAN_BLOCK).min(rows.len());
+        let vals = &mut values[..end - start];
+        for (v, ((a, b), c)) in vals.iter_mut().zip(
+            ca[start..end]
+                .iter()
+                .zip(&cb[start..end])
+                .zip(&cc[start..end]),
+        ) {
+            *v = a * u + b * x + c;
+        }
+        for (i, &yi) in y.iter().enumerate() {
+            for (v, d) in vals.iter_mut().zip(&rows.column(3 + i)[start..end]) {
+                *v += d * yi;
+            }
+        }
+        // the largest value, in lanes (NaN never wins: as `f64::min` ignores it)
+        let mut lanes = [f64::NEG_INFINITY; 4];
+        let mut quads = vals.chunks_exact(4);
+        for q in quads.by_ref() {
+            for (l, &v) in lanes.iter_mut().zip(q) {
+                if v > *l {
+                    *l = v;
+                }
+            }
+        }
+        for (l, &v) in lanes.iter_mut().zip(quads.remainder()) {
+            if v > *l {
+                *l = v;
+            }
+        }
+        let largest = lanes
+            .into_iter()
+            .fold(f64::NEG_INFINITY, |a, v| if v > a { v } else { a });
+        if largest > lim {
+            let j = vals
+                .iter()
+                .position(|&v| v > lim)
+                .expect("a value above the limit");
+            return Err(start + j);
+        }
+        slack = slack.min(-largest);
     }
     Ok(slack.max(0.0))
 }
+
+/// Rows evaluated at once by [`scan`] (a block on the stack).
+const SCAN_BLOCK: usize = 16;
 
 /// A row in `(u, x)` valid for every admissible state ([`Membership::separate`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -338,14 +380,14 @@ impl Membership {
                 // the most violated row is the cut
                 let mut best = (EPS * scale, None);
                 for j in 0..rows.len() {
-                    let (a, b, c, _) = rows.row(j);
+                    let (a, b, c) = rows.abc(j);
                     let v = a * u + b * x + c;
                     if v > best.0 {
                         best = (v, Some(j));
                     }
                 }
                 Ok(best.1.map(|j| {
-                    let (a, b, c, _) = rows.row(j);
+                    let (a, b, c) = rows.abc(j);
                     LiftedCut {
                         row: Row { a, b, c },
                         support: vec![(j, 1.0)],
@@ -356,7 +398,7 @@ impl Membership {
                 row: Row {
                     a: 0.0,
                     b: 0.0,
-                    c: rows.row(j).2,
+                    c: rows.abc(j).2,
                 },
                 support: vec![(j, 1.0)],
             })),
@@ -391,7 +433,7 @@ impl Membership {
             }
             if j < m {
                 let (r, w) = self.map[j];
-                let (a, b, c, _) = rows.row(r);
+                let (a, b, c) = rows.abc(r);
                 let f = l * w;
                 row.a += f * a;
                 row.b += f * b;
@@ -440,23 +482,46 @@ impl Membership {
         // maximize t over (y, t): (d_j . y + t) / s_j <= -(a_j u + b_j x + c_j) / s_j
         let p = &mut self.program;
         p.n = k + 1;
-        p.g.clear();
-        p.h.clear();
         self.map.clear();
-        for j in 0..rows.len() {
+        for (j, &w) in rows.weights().iter().enumerate() {
             // (the rows are unit in (a, b, d): the weight is 1 / s_j)
-            let (a, b, c, d) = rows.row(j);
-            let w = rows.weight(j);
             if w == 0.0 {
-                if c > 0.0 {
+                if rows.abc(j).2 > 0.0 {
                     return Ok(Margin::ConstantRow(j));
                 }
                 continue;
             }
-            p.g.extend(d.iter().map(|v| v * w));
-            p.g.push(w);
-            p.h.push(-(a * u + b * x + c) * w);
             self.map.push((j, w));
+        }
+        // G by columns: d_j w_j, then w_j (the t column); h_j = -(a_j u + b_j x + c_j) w_j
+        let m = self.map.len();
+        p.g.clear();
+        p.h.clear();
+        if m == rows.len() {
+            // (no constant row: the columns as they are stored)
+            let w = rows.weights();
+            for i in 0..k {
+                p.g.extend(rows.column(3 + i).iter().zip(w).map(|(v, w)| v * w));
+            }
+            p.g.extend_from_slice(w);
+            let (ca, cb, cc) = (rows.column(0), rows.column(1), rows.column(2));
+            p.h.extend(
+                ca.iter()
+                    .zip(cb)
+                    .zip(cc)
+                    .zip(w)
+                    .map(|(((a, b), c), w)| -(a * u + b * x + c) * w),
+            );
+        } else {
+            p.g.resize(m * (k + 1), 0.0);
+            for (i, &(j, w)) in self.map.iter().enumerate() {
+                let (a, b, c) = rows.abc(j);
+                for kk in 0..k {
+                    p.g[kk * m + i] = rows.d(j, kk) * w;
+                }
+                p.g[k * m + i] = w;
+                p.h.push(-(a * u + b * x + c) * w);
+            }
         }
         p.lo.clear();
         p.hi.clear();

@@ -30,10 +30,17 @@ use crate::lp2::Box2;
 /// Rows `a u + b x + c + d . y <= 0` over `(u, x)` and `k` extra variables `y`, with
 /// `|y_i| <= y_bound`, stored with `|(a, b, d)| = 1` (a row and its positive multiple are the
 /// same constraint; a row with `a = b = d = 0` is the constant constraint `c <= 0`).
+///
+/// Stored by columns (`a` of every row, then `b`, `c`, `d_0`, ...): the membership tests
+/// evaluate every row at once down contiguous columns.
 #[derive(Debug, Clone, Default)]
 pub struct LiftedRows {
     k: usize,
-    /// Per row: `a, b, c, d_0 .. d_{k-1}`.
+    /// Rows stored.
+    len: usize,
+    /// Rows each column has room for (the columns' stride in `data`).
+    cap: usize,
+    /// Column `i` (`a, b, c, d_0 .. d_{k-1}`) is `data[i * cap..i * cap + len]`.
     data: Vec<f64>,
     /// Per row: `1 / sqrt(|d|^2 + 1)` (the row's weight in the margin program of
     /// [`super::member`]), 0 for a constant row.
@@ -50,27 +57,24 @@ impl LiftedRows {
     /// assert!(r.is_empty());
     /// ```
     pub fn new(k: usize, y_bound: f64) -> Self {
-        Self {
-            k,
-            data: Vec::new(),
-            weight: Vec::new(),
-            y_bound,
-        }
+        Self::with_capacity(k, y_bound, 0)
     }
 
     /// No rows, room for `rows` of them.
     pub fn with_capacity(k: usize, y_bound: f64, rows: usize) -> Self {
         Self {
             k,
-            data: Vec::with_capacity(rows * (3 + k)),
+            len: 0,
+            cap: rows,
+            data: vec![0.0; rows * (3 + k)],
             weight: Vec::with_capacity(rows),
             y_bound,
         }
     }
 
-    /// Removes every row (keeps `k` and the bound).
+    /// Removes every row (keeps `k`, the bound and the room).
     pub fn clear(&mut self) {
-        self.data.clear();
+        self.len = 0;
         self.weight.clear();
     }
 
@@ -81,12 +85,12 @@ impl LiftedRows {
 
     /// Number of rows.
     pub fn len(&self) -> usize {
-        self.data.len() / (3 + self.k)
+        self.len
     }
 
     /// Whether there are no rows.
     pub fn is_empty(&self) -> bool {
-        self.data.is_empty()
+        self.len == 0
     }
 
     /// Appends `a u + b x + c + d . y <= 0` (`d` of length `k`), normalized.
@@ -99,23 +103,62 @@ impl LiftedRows {
         } else {
             (1.0, 0.0)
         };
-        self.data.extend_from_slice(&[a * s, b * s, c * s]);
-        self.data.extend(d.iter().map(|x| x * s));
+        if self.len == self.cap {
+            self.grow();
+        }
+        let j = self.len;
+        let mut columns = self.data.chunks_exact_mut(self.cap);
+        // (the array first: zip asks it first, and leaves the columns of d alone)
+        for (v, col) in [a, b, c].into_iter().zip(columns.by_ref()) {
+            col[j] = v * s;
+        }
+        for (col, v) in columns.zip(d) {
+            col[j] = v * s;
+        }
         self.weight.push(w);
+        self.len += 1;
     }
 
-    /// Row `j`'s weight `1 / sqrt(|d|^2 + 1)` in the margin program (0 for a row with
+    /// Doubles the room of every column (at least 8 rows).
+    fn grow(&mut self) {
+        let cap = (2 * self.cap).max(8);
+        let mut data = vec![0.0; cap * (3 + self.k)];
+        for i in 0..3 + self.k {
+            data[i * cap..i * cap + self.len].copy_from_slice(self.column(i));
+        }
+        (self.data, self.cap) = (data, cap);
+    }
+
+    /// Column `i` of the rows: `a` (0), `b` (1), `c` (2), then `d_0 .. d_{k-1}`.
+    #[inline]
+    pub fn column(&self, i: usize) -> &[f64] {
+        &self.data[i * self.cap..i * self.cap + self.len]
+    }
+
+    /// Every row's weight `1 / sqrt(|d|^2 + 1)` in the margin program (0 for a row with
     /// `a = b = d = 0`, a constant).
     #[inline]
-    pub(crate) fn weight(&self, j: usize) -> f64 {
-        self.weight[j]
+    pub(crate) fn weights(&self) -> &[f64] {
+        &self.weight
+    }
+
+    /// Row `j`'s `(a, b, c)`.
+    #[inline]
+    pub fn abc(&self, j: usize) -> (f64, f64, f64) {
+        let cap = self.cap;
+        (self.data[j], self.data[cap + j], self.data[2 * cap + j])
+    }
+
+    /// Row `j`'s coefficient of `y_i`.
+    #[inline]
+    pub fn d(&self, j: usize, i: usize) -> f64 {
+        self.data[(3 + i) * self.cap + j]
     }
 
     /// Row `j` as `(a, b, c, d)`.
-    pub fn row(&self, j: usize) -> (f64, f64, f64, &[f64]) {
-        let w = 3 + self.k;
-        let r = &self.data[j * w..(j + 1) * w];
-        (r[0], r[1], r[2], &r[3..])
+    pub fn row(&self, j: usize) -> (f64, f64, f64, Vec<f64>) {
+        let (a, b, c) = self.abc(j);
+        (a, b, c, (0..self.k).map(|i| self.d(j, i)).collect())
     }
 }
 
@@ -156,6 +199,8 @@ struct Dir {
 #[derive(Debug, Clone, Default)]
 pub struct Projector {
     program: Program,
+    /// The program's rows, row-major, as they are read.
+    rows_g: Vec<f64>,
     simplex: Simplex,
     previous: Vec<[f64; 2]>,
     dirs: Vec<Dir>,
@@ -251,11 +296,13 @@ impl Projector {
         let k = rows.extra();
         let p = &mut self.program;
         p.n = 2 + k;
-        p.g.clear();
+        let g = &mut self.rows_g;
+        g.clear();
         p.h.clear();
         for j in 0..rows.len() {
-            let (a, b, c, d) = rows.row(j);
-            let norm = (a * a + b * b + d.iter().map(|x| x * x).sum::<f64>()).sqrt();
+            let (a, b, c) = rows.abc(j);
+            let d = (0..k).map(|i| rows.d(j, i));
+            let norm = (a * a + b * b + d.clone().map(|x| x * x).sum::<f64>()).sqrt();
             if !norm.is_finite() || !c.is_finite() {
                 return Err(ToppError::NotFinite {
                     what: "lifted row",
@@ -278,16 +325,17 @@ impl Projector {
                 }
                 continue;
             }
-            p.g.push(a / norm);
-            p.g.push(b / norm);
-            p.g.extend(d.iter().map(|x| x / norm));
+            g.push(a / norm);
+            g.push(b / norm);
+            g.extend(d.map(|x| x / norm));
             p.h.push(-c / norm);
         }
+        p.set_rows(g);
         // rows of zero norm were skipped: map program rows back to lifted rows
         let mut index = Vec::with_capacity(p.h.len());
         for j in 0..rows.len() {
-            let (a, b, _, d) = rows.row(j);
-            if a != 0.0 || b != 0.0 || d.iter().any(|&x| x != 0.0) {
+            let (a, b, _) = rows.abc(j);
+            if a != 0.0 || b != 0.0 || (0..k).any(|i| rows.d(j, i) != 0.0) {
                 index.push(j);
             }
         }
@@ -464,5 +512,44 @@ impl Projector {
         let before = (pos + self.dirs.len() - 1) % self.dirs.len();
         self.dirs[before].edge_done = false;
         Some(pos)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LiftedRows;
+
+    /// The columns hold what was pushed, normalized, whatever the room given at the start (the
+    /// columns grow by copies) and after a clear.
+    #[test]
+    fn rows_by_columns_keep_what_was_pushed() {
+        let row = |j: usize| {
+            let f = j as f64;
+            (f - 3.0, 0.5 * f, -1.0 - f, [f.sin(), 2.0, -f])
+        };
+        for room in [0, 1, 7, 40] {
+            let mut r = LiftedRows::with_capacity(3, 9.0, room);
+            for pass in 0..2 {
+                r.clear();
+                for j in 0..19 {
+                    let (a, b, c, d) = row(j);
+                    r.push(a, b, c, &d);
+                }
+                assert_eq!(r.len(), 19, "room {room}, pass {pass}");
+                for j in 0..19 {
+                    let (a, b, c, d) = row(j);
+                    let s = (a * a + b * b + d.iter().map(|x| x * x).sum::<f64>()).sqrt();
+                    let (ga, gb, gc, gd) = r.row(j);
+                    let near = |got: f64, want: f64| (got - want / s).abs() <= 1e-15 * want.abs();
+                    assert!(near(ga, a) && near(gb, b) && near(gc, c), "row {j}");
+                    assert_eq!(r.column(2)[j], gc);
+                    for i in 0..3 {
+                        assert!(near(gd[i], d[i]), "row {j}");
+                        assert_eq!(r.column(3 + i)[j], gd[i]);
+                        assert_eq!(r.d(j, i), gd[i]);
+                    }
+                }
+            }
+        }
     }
 }
