@@ -154,12 +154,20 @@ fn pass(
         } else {
             (data.velocity[j.parent], data.acceleration[j.parent])
         };
+        let y: &WorldInertia = &data.body_world[i];
+        if v.is_none() {
+            // every body at rest: no velocity product terms (they are zero), F = Y A
+            let ai = (ap.0 + sa.0, ap.1 + sa.1);
+            data.velocity[i] = zero;
+            data.acceleration[i] = ai;
+            data.force[i] = y.momentum(&ai.0, &ai.1);
+            continue;
+        }
         let vi = (vp.0 + sv.0, vp.1 + sv.1);
         let c = crate::kinematics::motion_cross(&vi, &sv);
         let ai = (ap.0 + sa.0 + c.0, ap.1 + sa.1 + c.1);
         data.velocity[i] = vi;
         data.acceleration[i] = ai;
-        let y: &WorldInertia = &data.body_world[i];
         let (fl, fa) = y.momentum(&ai.0, &ai.1);
         let (hl, ha) = y.momentum(&vi.0, &vi.1);
         // F = Y A + V x* (Y V), with V x* (f, n) = (w x f, w x n + v x f)
