@@ -213,11 +213,12 @@ fn scan(rows: &LiftedRows, u: f64, x: f64, y: &[f64], hint: usize) -> Result<f64
         let largest = lanes
             .into_iter()
             .fold(f64::NEG_INFINITY, |a, v| if v > a { v } else { a });
-        if largest > lim {
-            let j = vals
-                .iter()
-                .position(|&v| v > lim)
-                .expect("a value above the limit");
+        let violated = if largest > lim {
+            vals.iter().position(|&v| v > lim)
+        } else {
+            None
+        };
+        if let Some(j) = violated {
             return Err(start + j);
         }
         slack = slack.min(-largest);

@@ -142,17 +142,17 @@ impl LiftedRows {
         &self.weight
     }
 
-    /// Row `j`'s `(a, b, c)`.
+    /// Row `j`'s `(a, b, c)` (panics when there is no row `j`).
     #[inline]
     pub fn abc(&self, j: usize) -> (f64, f64, f64) {
-        let cap = self.cap;
-        (self.data[j], self.data[cap + j], self.data[2 * cap + j])
+        (self.column(0)[j], self.column(1)[j], self.column(2)[j])
     }
 
-    /// Row `j`'s coefficient of `y_i`.
+    /// Row `j`'s coefficient of `y_i` (panics when there is no row `j` or no `y_i`).
     #[inline]
     pub fn d(&self, j: usize, i: usize) -> f64 {
-        self.data[(3 + i) * self.cap + j]
+        assert!(i < self.k, "y_{i} of {} extra variables", self.k);
+        self.column(3 + i)[j]
     }
 
     /// Row `j` as `(a, b, c, d)`.
