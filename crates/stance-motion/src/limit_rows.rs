@@ -45,7 +45,7 @@ use stance_robot::{frame_jacobian, torque_path_terms_two, Data, ReferenceFrame};
 use stance_topp::facets::{redundant_rows, FacetWorkspace};
 use stance_topp::lifted::LiftedRows;
 use stance_topp::limits::{JointLimits, LimitKind, LimitTag};
-use stance_topp::lp2::{self, Box2, Lp2, Lp2Stats, StageLines};
+use stance_topp::lp2::Box2;
 use stance_topp::{Row, Tolerances};
 
 use super::ik_stage::IkSample;
@@ -187,8 +187,6 @@ pub struct LimitWorkspace {
     buf: Vec<Row>,
     /// Both sides' rows of a sample before pruning.
     pub(crate) scratch: [(Vec<Row>, Vec<RowOrigin>); 2],
-    /// The bounding boxes' warm start, per side.
-    pub(crate) box_warm: [BoxWarm; 2],
     /// Buffers of [`drop_redundant`].
     facets: (FacetWorkspace, Vec<bool>, Vec<(Row, RowOrigin)>),
 }
@@ -205,7 +203,6 @@ impl LimitWorkspace {
             qss: Vec::new(),
             buf: Vec::new(),
             scratch: Default::default(),
-            box_warm: [BoxWarm::default(); 2],
             facets: Default::default(),
         }
     }
@@ -623,11 +620,6 @@ pub fn contact_jacobian(
     Ok(())
 }
 
-/// The lines active at the four extremes of the last [`bounding_box_warm`] (tried first by the
-/// next one: along a path the same rows bound the same sides).
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct BoxWarm([[Option<usize>; 2]; 4]);
-
 /// The retiming's bounding box of `(u, x)` ([`Tolerances::max_u`], [`Tolerances::max_x`]).
 fn solver_box(tol: &Tolerances) -> Box2 {
     Box2 {
@@ -638,86 +630,56 @@ fn solver_box(tol: &Tolerances) -> Box2 {
     }
 }
 
-/// The bounding box of `{(u, x) : rows <= 0}` within the solver's box, slightly enlarged
-/// (`None` when empty), warm-started from `warm`, which it updates.
-pub(crate) fn bounding_box_warm(rows: &[Row], warm: &mut BoxWarm) -> Option<Box2> {
-    let tol = Tolerances::default();
-    let bbox = solver_box(&tol);
-    let lines = StageLines::from_rows(rows);
-    let mut stats = Lp2Stats::default();
-    let mut ext = |c: [f64; 2], w: usize| {
-        let hi = (c, [-c[1], c[0]]);
-        let lo = ([-c[0], -c[1]], [c[1], -c[0]]);
-        let first: [Vec<usize>; 2] = [0, 1].map(|p| {
-            warm.0[w + p]
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|&j| j < rows.len())
-                .collect()
-        });
-        match lp2::solve_pair(
-            &lines,
-            bbox,
-            [hi, lo],
-            [&first[0], &first[1]],
-            &tol,
-            &mut stats,
-        ) {
-            [Lp2::Optimal {
-                u: u1,
-                x: x1,
-                active: a1,
-            }, Lp2::Optimal {
-                u: u0,
-                x: x0,
-                active: a0,
-            }] => {
-                warm.0[w] = a1;
-                warm.0[w + 1] = a0;
-                Some((c[0] * u0 + c[1] * x0, c[0] * u1 + c[1] * x1))
-            }
-            _ => None,
-        }
-    };
-    let (u_lo, u_hi) = ext([1.0, 0.0], 0)?;
-    let (x_lo, x_hi) = ext([0.0, 1.0], 2)?;
-    let pad = |lo: f64, hi: f64| 1e-6 * (hi - lo).abs().max(lo.abs()).max(hi.abs()) + 1e-9;
-    let (pu, px) = (pad(u_lo, u_hi), pad(x_lo, x_hi));
-    Some(Box2 {
-        u_lo: (u_lo - pu).max(-tol.max_u),
-        u_hi: (u_hi + pu).min(tol.max_u),
-        x_lo: (x_lo - px).max(0.0),
-        x_hi: (x_hi + px).min(tol.max_x),
-    })
+/// Whether a row is a joint velocity limit (a bound on `x`).
+fn is_velocity(o: &RowOrigin) -> bool {
+    matches!(o, RowOrigin::Limit(t) if t.kind == LimitKind::Velocity)
 }
 
-/// Drops the acceleration and torque rows of a side (`rows[first..]`, with their origins) that
-/// no state within the bounding box of the other rows (`rows[..first]` and the velocity row)
-/// can reach: `max over the box of a u + b x + c < 0` with a margin. Exact, since the box is
-/// implied by rows that are kept; it spares the retiming most joints' rows (those of joints
-/// far from their limits).
-pub(crate) fn prune_unreachable(
+/// A side's explicit rows pruned and sorted: drops the acceleration and torque rows
+/// (`rows[first..]`, with their origins) that no state within the bounding box of the other
+/// rows (`rows[..first]` and the velocity rows) can reach, `max over the box of a u + b x + c
+/// < 0` with a margin (exact, since the box is implied by rows that are kept; it spares the
+/// retiming most joints' rows, those of joints far from their limits), then moves the rows
+/// redundant at the side's polygon behind the others ([`drop_redundant`]) and returns how many
+/// come first.
+///
+/// One polygon serves both: the box is that of the polygon clipped by the other rows, which
+/// is then clipped by the acceleration and torque rows kept. When that polygon is empty (or a
+/// row is not finite) nothing is dropped and every row comes first, for the diagnosis.
+pub(crate) fn prune_and_drop_redundant(
     rows: &mut Vec<Row>,
     origins: &mut Vec<RowOrigin>,
     first: usize,
-    warm: &mut BoxWarm,
-) {
-    let mut keep: Vec<Row> = rows[..first].to_vec();
-    keep.extend(
+    ws: &mut LimitWorkspace,
+) -> usize {
+    let bbox = solver_box(&Tolerances::default());
+    let facets = &mut ws.facets.0;
+    let bounding = rows[..first].iter().chain(
         rows[first..]
             .iter()
             .zip(&origins[first..])
-            .filter(|(_, o)| matches!(o, RowOrigin::Limit(t) if t.kind == LimitKind::Velocity))
-            .map(|(r, _)| *r),
+            .filter(|(_, o)| is_velocity(o))
+            .map(|(r, _)| r),
     );
-    let Some(b) = bounding_box_warm(&keep, warm) else {
-        return; // the point is infeasible: every row is kept for the diagnosis
+    let Some(b) = (facets.start(bbox) && facets.clip_all(bounding))
+        .then(|| facets.bounds())
+        .flatten()
+    else {
+        return rows.len();
+    };
+    // slightly enlarged, within the solver's box
+    let pad = |lo: f64, hi: f64| 1e-6 * (hi - lo).abs().max(lo.abs()).max(hi.abs()) + 1e-9;
+    let (pu, px) = (pad(b.u_lo, b.u_hi), pad(b.x_lo, b.x_hi));
+    let b = Box2 {
+        u_lo: (b.u_lo - pu).max(bbox.u_lo),
+        u_hi: (b.u_hi + pu).min(bbox.u_hi),
+        x_lo: (b.x_lo - px).max(bbox.x_lo),
+        x_hi: (b.x_hi + px).min(bbox.x_hi),
     };
     let mut j = first;
     for i in first..rows.len() {
         let r = rows[i];
-        let velocity = matches!(origins[i], RowOrigin::Limit(t) if t.kind == LimitKind::Velocity);
+        let velocity = is_velocity(&origins[i]);
         let top = (r.a * b.u_lo).max(r.a * b.u_hi) + (r.b * b.x_lo).max(r.b * b.x_hi) + r.c;
         let scale =
             (r.a * b.u_lo).abs().max((r.a * b.u_hi).abs()) + (r.b * b.x_hi).abs() + r.c.abs();
@@ -729,6 +691,19 @@ pub(crate) fn prune_unreachable(
     }
     rows.truncate(j);
     origins.truncate(j);
+    let kept_limits = rows[first..]
+        .iter()
+        .zip(&origins[first..])
+        .filter(|(_, o)| !is_velocity(o))
+        .map(|(r, _)| r);
+    if !ws.facets.0.clip_all(kept_limits) {
+        return rows.len();
+    }
+    let (facets, redundant, _) = &mut ws.facets;
+    match facets.mark_redundant(rows, bbox, redundant) {
+        Some(0) | None => rows.len(),
+        Some(_) => move_redundant_behind(rows, origins, ws),
+    }
 }
 
 /// Moves the rows of a side that are redundant at its own polygon
@@ -743,11 +718,22 @@ pub(crate) fn drop_redundant(
 ) -> usize {
     let n = rows.len();
     let b = solver_box(&Tolerances::default());
-    let (facets, redundant, buf) = &mut ws.facets;
+    let (facets, redundant, _) = &mut ws.facets;
     match redundant_rows(rows, b, facets, redundant) {
-        Some(0) | None => return n,
-        Some(_) => {}
+        Some(0) | None => n,
+        Some(_) => move_redundant_behind(rows, origins, ws),
     }
+}
+
+/// Moves the rows marked redundant in the workspace behind the others, keeping the order of
+/// each part, with their origins; returns how many come first.
+fn move_redundant_behind(
+    rows: &mut [Row],
+    origins: &mut [RowOrigin],
+    ws: &mut LimitWorkspace,
+) -> usize {
+    let n = rows.len();
+    let (_, redundant, buf) = &mut ws.facets;
     buf.clear();
     buf.extend(rows.iter().copied().zip(origins.iter().copied()));
     let (mut front, mut back) = (0, n - redundant.iter().filter(|r| **r).count());

@@ -39,7 +39,7 @@ use super::ik_stage::{IkSample, SegmentPath};
 use super::plan::MotionPlan;
 use crate::binding::RowOrigin;
 use crate::limit_rows::{
-    drop_redundant, prune_unreachable, sample_limit_rows, LimitWorkspace, SegmentContacts,
+    drop_redundant, prune_and_drop_redundant, sample_limit_rows, LimitWorkspace, SegmentContacts,
 };
 use crate::StanceError;
 
@@ -305,8 +305,7 @@ impl SegmentRows {
                     ws,
                     [(right_rows, right_origins), (left_rows, left_origins)],
                 )?;
-                for (q, ((rows, origins), l)) in scratch.iter_mut().zip(lifted).enumerate() {
-                    prune_unreachable(rows, origins, m, &mut ws.box_warm[q]);
+                for (q, l) in lifted.into_iter().enumerate() {
                     lifted_sides[q] = l.map(|(rows, origins)| {
                         Box::new(LiftedSide {
                             witnesses: Witnesses::new(),
@@ -316,9 +315,14 @@ impl SegmentRows {
                     });
                 }
             }
+            let limits = plan.limits.is_some();
             let kept = [0, 1].map(|q| {
                 let (rows, origins) = &mut scratch[q];
-                drop_redundant(rows, origins, ws)
+                if limits {
+                    prune_and_drop_redundant(rows, origins, m, ws)
+                } else {
+                    drop_redundant(rows, origins, ws)
+                }
             });
             let [lifted_r, lifted_l] = lifted_sides;
             let keep = |(rows, origins): &(Vec<Row>, Vec<RowOrigin>), kept, lifted| SideRows {

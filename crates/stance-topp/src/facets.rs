@@ -34,7 +34,10 @@ pub const REDUNDANT_MARGIN: f64 = 1e-5;
 /// Relative distance within which a vertex of the polygon lies on a side of the box.
 const BOX_SIDE: f64 = 1e-9;
 
-/// Reusable buffers of [`redundant_rows`].
+/// Reusable buffers of [`redundant_rows`], and the polygon it clips: built in steps by
+/// [`FacetWorkspace::start`], [`FacetWorkspace::clip_all`] and
+/// [`FacetWorkspace::mark_redundant`] when the caller needs the polygon of some rows before
+/// choosing the others (its bounding box: [`FacetWorkspace::bounds`]).
 #[derive(Debug, Clone, Default)]
 pub struct FacetWorkspace {
     poly: Vec<[f64; 2]>,
@@ -72,64 +75,134 @@ pub fn redundant_rows(
     ws: &mut FacetWorkspace,
     redundant: &mut Vec<bool>,
 ) -> Option<usize> {
-    redundant.clear();
-    redundant.resize(rows.len(), false);
-    let FacetWorkspace { poly, next } = ws;
-    poly.clear();
-    poly.extend_from_slice(&[
-        [bbox.u_lo, bbox.x_lo],
-        [bbox.u_hi, bbox.x_lo],
-        [bbox.u_hi, bbox.x_hi],
-        [bbox.u_lo, bbox.x_hi],
-    ]);
-    if poly.iter().flatten().any(|v| !v.is_finite()) {
+    if !(ws.start(bbox) && ws.clip_all(rows)) {
+        redundant.clear();
+        redundant.resize(rows.len(), false);
         return None;
     }
-    for r in rows {
-        if !(r.a.is_finite() && r.b.is_finite() && r.c.is_finite()) {
+    ws.mark_redundant(rows, bbox, redundant)
+}
+
+impl FacetWorkspace {
+    /// Starts the polygon at the box `bbox`; `false` when a corner is not finite.
+    pub fn start(&mut self, bbox: Box2) -> bool {
+        self.poly.clear();
+        self.poly.extend_from_slice(&[
+            [bbox.u_lo, bbox.x_lo],
+            [bbox.u_hi, bbox.x_lo],
+            [bbox.u_hi, bbox.x_hi],
+            [bbox.u_lo, bbox.x_hi],
+        ]);
+        self.poly.iter().flatten().all(|v| v.is_finite())
+    }
+
+    /// Clips the polygon by each row in turn; `false` when it became empty or a row is not
+    /// finite (the polygon then says nothing).
+    pub fn clip_all<'a>(&mut self, rows: impl IntoIterator<Item = &'a Row>) -> bool {
+        for r in rows {
+            if !(r.a.is_finite() && r.b.is_finite() && r.c.is_finite()) {
+                return false;
+            }
+            clip(&mut self.poly, &mut self.next, r);
+            if self.poly.is_empty() {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The bounding box of the polygon as clipped so far (`None` when it is empty).
+    pub fn bounds(&self) -> Option<Box2> {
+        let first = self.poly.first()?;
+        let mut b = Box2 {
+            u_lo: first[0],
+            u_hi: first[0],
+            x_lo: first[1],
+            x_hi: first[1],
+        };
+        for v in &self.poly[1..] {
+            b.u_lo = b.u_lo.min(v[0]);
+            b.u_hi = b.u_hi.max(v[0]);
+            b.x_lo = b.x_lo.min(v[1]);
+            b.x_hi = b.x_hi.max(v[1]);
+        }
+        Some(b)
+    }
+
+    /// [`redundant_rows`] once the polygon started at `bbox` has been clipped by every row of
+    /// `rows` (in any order, in any number of calls to [`Self::clip_all`]).
+    pub fn mark_redundant(
+        &mut self,
+        rows: &[Row],
+        bbox: Box2,
+        redundant: &mut Vec<bool>,
+    ) -> Option<usize> {
+        redundant.clear();
+        redundant.resize(rows.len(), false);
+        let FacetWorkspace { poly, next } = self;
+        // P reaches a side of the box (x_lo aside): the box, not the rows, bounds it there
+        let on_side = |v: &[f64; 2]| {
+            let near = |a: f64, b: f64| (a - b).abs() <= BOX_SIDE * b.abs().max(1.0);
+            near(v[0], bbox.u_lo) || near(v[0], bbox.u_hi) || near(v[1], bbox.x_hi)
+        };
+        if poly.is_empty() || poly.iter().any(on_side) {
             return None;
         }
-        clip(poly, next, r);
-        if poly.is_empty() {
-            return None;
+        // each vertex with its squared scale max(1, |v|)^2, for the margin
+        next.clear();
+        next.extend(poly.iter().map(|v| {
+            let s = v[0].abs().max(v[1].abs()).max(1.0);
+            [s * s, 0.0]
+        }));
+        // bounds over the vertices of |u|, |x| and the squared scale: a row whose largest
+        // value is below the margin by these bounds touches at no vertex (the rounded
+        // products and sums are monotonic, so the bounds hold as computed), and only the
+        // others are tested vertex by vertex
+        let (mut u_max, mut x_max, mut s2_max) = (0.0f64, 0.0f64, 0.0f64);
+        for (v, s2) in poly.iter().zip(next.iter()) {
+            u_max = u_max.max(v[0].abs());
+            x_max = x_max.max(v[1].abs());
+            s2_max = s2_max.max(s2[0]);
         }
-    }
-    // P reaches a side of the box (x_lo aside): the box, not the rows, bounds it there
-    let on_side = |v: &[f64; 2]| {
-        let near = |a: f64, b: f64| (a - b).abs() <= BOX_SIDE * b.abs().max(1.0);
-        near(v[0], bbox.u_lo) || near(v[0], bbox.u_hi) || near(v[1], bbox.x_hi)
-    };
-    if poly.iter().any(on_side) {
-        return None;
-    }
-    // each vertex with its squared scale max(1, |v|)^2, for the margin
-    next.clear();
-    next.extend(poly.iter().map(|v| {
-        let s = v[0].abs().max(v[1].abs()).max(1.0);
-        [s * s, 0.0]
-    }));
-    let margin2 = REDUNDANT_MARGIN * REDUNDANT_MARGIN;
-    let mut count = 0;
-    for (r, red) in rows.iter().zip(redundant.iter_mut()) {
-        // value >= -margin |(a, b)| scale, on squares
-        let m2 = margin2 * (r.a * r.a + r.b * r.b);
-        let touches = poly.iter().zip(next.iter()).any(|(v, s2)| {
-            let value = r.a * v[0] + r.b * v[1] + r.c;
-            let terms = (r.a * v[0]).abs() + (r.b * v[1]).abs() + r.c.abs();
-            value >= -REDUNDANT_MARGIN * terms || value * value <= m2 * s2[0]
-        });
-        if !touches {
-            *red = true;
-            count += 1;
+        let margin2 = REDUNDANT_MARGIN * REDUNDANT_MARGIN;
+        let mut count = 0;
+        for (r, red) in rows.iter().zip(redundant.iter_mut()) {
+            // value >= -margin |(a, b)| scale, on squares
+            let m2 = margin2 * (r.a * r.a + r.b * r.b);
+            let largest = largest_value(poly, r);
+            let terms_max = r.a.abs() * u_max + r.b.abs() * x_max + r.c.abs();
+            let surely_below =
+                largest < -REDUNDANT_MARGIN * terms_max && largest * largest > m2 * s2_max;
+            let touches = !surely_below
+                && poly.iter().zip(next.iter()).any(|(v, s2)| {
+                    let value = r.a * v[0] + r.b * v[1] + r.c;
+                    let terms = (r.a * v[0]).abs() + (r.b * v[1]).abs() + r.c.abs();
+                    value >= -REDUNDANT_MARGIN * terms || value * value <= m2 * s2[0]
+                });
+            if !touches {
+                *red = true;
+                count += 1;
+            }
         }
+        Some(count)
     }
-    Some(count)
+}
+
+/// The largest value of the row `r` at the vertices `poly` (`-inf` for none; the values are
+/// finite, the rows and vertices being so).
+fn largest_value(poly: &[[f64; 2]], r: &Row) -> f64 {
+    let mut largest = f64::NEG_INFINITY;
+    for v in poly {
+        let value = r.a * v[0] + r.b * v[1] + r.c;
+        largest = if value > largest { value } else { largest };
+    }
+    largest
 }
 
 /// Clips the convex polygon `poly` by `r <= 0` (`next`: a buffer).
 fn clip(poly: &mut Vec<[f64; 2]>, next: &mut Vec<[f64; 2]>, r: &Row) {
     let value = |v: &[f64; 2]| r.a * v[0] + r.b * v[1] + r.c;
-    if poly.iter().all(|v| value(v) <= 0.0) {
+    if largest_value(poly, r) <= 0.0 {
         return;
     }
     next.clear();
@@ -159,7 +232,116 @@ mod tests {
         (-1.0..1.0f64, -1.0..1.0f64, -2.0..0.5f64).prop_map(|(a, b, c)| Row { a, b, c })
     }
 
+    /// The rule of [`REDUNDANT_MARGIN`] at every vertex, without the bounds that spare most
+    /// rows the test vertex by vertex.
+    fn touches_slowly(poly: &[[f64; 2]], r: &Row) -> bool {
+        let m2 = REDUNDANT_MARGIN * REDUNDANT_MARGIN * (r.a * r.a + r.b * r.b);
+        poly.iter().any(|v| {
+            let s = v[0].abs().max(v[1].abs()).max(1.0);
+            let value = r.a * v[0] + r.b * v[1] + r.c;
+            let terms = (r.a * v[0]).abs() + (r.b * v[1]).abs() + r.c.abs();
+            value >= -REDUNDANT_MARGIN * terms || value * value <= m2 * (s * s)
+        })
+    }
+
+    /// Random rows near a polygon's edges: some within the margin of touching it, some just
+    /// beyond, some far (`near` moves the row's offset by a tiny multiple of its size).
+    fn near_rows() -> impl Strategy<Value = Vec<Row>> {
+        prop::collection::vec(
+            (
+                row(),
+                prop::sample::select(vec![0.0, 1e-7, 1e-6, 1e-5, 2e-5, 1e-3]),
+            ),
+            1..40,
+        )
+        .prop_map(|rows| {
+            rows.into_iter()
+                .map(|(r, near)| Row {
+                    c: r.c - near * (1.0 + r.c.abs()),
+                    ..r
+                })
+                .collect()
+        })
+    }
+
     proptest! {
+        /// The rows marked redundant are those the rule, applied at every vertex, marks: the
+        /// bounds that skip the vertex-by-vertex test never change a decision. Each row is also
+        /// given again moved to touch the polygon at a vertex, at the margin's edge.
+        #[test]
+        fn the_bounds_decide_as_every_vertex_does(rows in near_rows()) {
+            let bbox = Box2 { u_lo: -30.0, u_hi: 30.0, x_lo: 0.0, x_hi: 30.0 };
+            let mut rows = rows;
+            rows.extend([
+                Row { a: 1.0, b: 0.0, c: -2.0 },
+                Row { a: -1.0, b: 0.0, c: -2.0 },
+                Row { a: 0.0, b: 1.0, c: -2.0 },
+            ]);
+            let mut ws = FacetWorkspace::default();
+            prop_assume!(ws.start(bbox) && ws.clip_all(&rows));
+            let poly = ws.poly.clone();
+            // each row shifted so that its largest value at a vertex is -margin times its terms
+            let shifted: Vec<Row> = rows
+                .iter()
+                .map(|r| {
+                    let (v, _) = poly
+                        .iter()
+                        .map(|v| (v, r.a * v[0] + r.b * v[1]))
+                        .max_by(|a, b| a.1.total_cmp(&b.1))
+                        .expect("a vertex");
+                    let terms = (r.a * v[0]).abs() + (r.b * v[1]).abs();
+                    Row { c: -(r.a * v[0] + r.b * v[1]) - REDUNDANT_MARGIN * terms, ..*r }
+                })
+                .collect();
+            let all: Vec<Row> = rows.iter().chain(&shifted).copied().collect();
+            let mut red = Vec::new();
+            if ws.mark_redundant(&all, bbox, &mut red).is_some() {
+                for (r, red) in all.iter().zip(&red) {
+                    prop_assert_eq!(*red, !touches_slowly(&poly, r), "{:?}", r);
+                }
+            }
+        }
+
+        /// The polygon built in steps (some rows, its bounding box, the others) marks what
+        /// [`redundant_rows`] marks, and its bounding box is that of the LPs over the rows so
+        /// far.
+        #[test]
+        fn the_polygon_in_steps_is_the_polygon_at_once(rows in prop::collection::vec(row(), 1..40), cut in 0usize..40) {
+            let bbox = Box2 { u_lo: -3.0, u_hi: 3.0, x_lo: 0.0, x_hi: 3.0 };
+            let cut = cut.min(rows.len());
+            let mut ws = FacetWorkspace::default();
+            let mut red_once = Vec::new();
+            let once = redundant_rows(&rows, bbox, &mut FacetWorkspace::default(), &mut red_once);
+            prop_assert!(ws.start(bbox));
+            if !ws.clip_all(&rows[..cut]) {
+                prop_assert_eq!(once, None);
+                return Ok(());
+            }
+            let b = ws.bounds().expect("not empty");
+            let tol = Tolerances::default();
+            let mut st = Lp2Stats::default();
+            let lines = crate::lp2::StageLines::from_rows(&rows[..cut]);
+            for (c, want) in [([1.0, 0.0], b.u_hi), ([-1.0, 0.0], -b.u_lo), ([0.0, 1.0], b.x_hi), ([0.0, -1.0], -b.x_lo)] {
+                match solve(&lines, bbox, c, [-c[1], c[0]], &[], &tol, &mut st) {
+                    Lp2::Optimal { u, x, .. } => {
+                        let got = c[0] * u + c[1] * x;
+                        prop_assert!((got - want).abs() <= 1e-9, "{got} vs {want}");
+                    }
+                    other => prop_assert!(false, "{other:?}"),
+                }
+            }
+            let mut red = Vec::new();
+            let steps = if ws.clip_all(&rows[cut..]) {
+                ws.mark_redundant(&rows, bbox, &mut red)
+            } else {
+                None
+            };
+            prop_assert_eq!(steps, once);
+            if steps.is_some() {
+                prop_assert_eq!(red, red_once);
+            }
+        }
+
         /// Leaving the redundant rows out changes no LP's optimum: random polygons, eight
         /// objective directions, against the LP over every row.
         #[test]
