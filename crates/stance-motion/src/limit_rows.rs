@@ -327,7 +327,11 @@ fn inverse_dynamics_and_jacobians(
     )
     .map_err(StanceError::Robot)?;
     let k = contacts.frames.len();
-    ws.jac.resize(k, Matrix6xX::zeros(m.nv));
+    // (a new Jacobian only when there are more contacts than before: the fill value of
+    // `resize` would be built, and dropped, at every sample)
+    if ws.jac.len() != k {
+        ws.jac.resize_with(k, || Matrix6xX::zeros(m.nv));
+    }
     for (c, &f) in contacts.frames.iter().enumerate() {
         contact_jacobian(m, &ws.data, f, &contacts.poses[c], &mut ws.jac[c])?;
     }
