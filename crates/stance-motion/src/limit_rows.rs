@@ -39,6 +39,8 @@
 //! is reported as that joint's torque ([`RowOrigin::TorqueWithContacts`], the torque row of
 //! largest weight), one that involves only contact wrench cones as contact stability.
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use stance_contact::Stance;
 use stance_robot::{frame_jacobian, torque_path_terms_two, Data, ReferenceFrame};
@@ -216,8 +218,9 @@ const Y_BOUND: f64 = 1e3;
 /// The explicit rows and origins of one side of a sample.
 pub type SideLimits<'a> = (&'a mut Vec<Row>, &'a mut Vec<RowOrigin>);
 
-/// A side's torque rows with the contact forces as unknowns, and what each stands for.
-pub type Lifted = (LiftedRows, Vec<RowOrigin>);
+/// A side's torque rows with the contact forces as unknowns, and what each stands for (the
+/// same for both sides of a sample: shared).
+pub type Lifted = (LiftedRows, Arc<[RowOrigin]>);
 
 /// Appends the explicit limit rows of both sides of an IK sample (`q_ss_sides`: `q_ss` of the
 /// step leaving it and of the step arriving at it; `q_s_ends`: `q_s` at the other end of each
@@ -571,7 +574,8 @@ fn lifted_torque_rows(
         }
     }
     let [right, left] = lifted;
-    [Some((right, origins.clone())), Some((left, origins))]
+    let origins: Arc<[RowOrigin]> = origins.into();
+    [Some((right, Arc::clone(&origins))), Some((left, origins))]
 }
 
 /// The Jacobian (6 x nv, linear rows first) of the frame rigidly attached to the robot surface

@@ -96,8 +96,8 @@ impl PointRows {
 pub struct LiftedSide {
     /// The rows.
     pub rows: LiftedRows,
-    /// What each row stands for.
-    pub origins: Vec<RowOrigin>,
+    /// What each row stands for (shared by the sample's two sides).
+    pub origins: std::sync::Arc<[RowOrigin]>,
     /// The contact forces of the last admissible states found (module doc of
     /// [`stance_topp::lifted::member`]).
     pub witnesses: Witnesses,

@@ -40,11 +40,10 @@ pub struct LiftedRows {
     len: usize,
     /// Rows each column has room for (the columns' stride in `data`).
     cap: usize,
-    /// Column `i` (`a, b, c, d_0 .. d_{k-1}`) is `data[i * cap..i * cap + len]`.
+    /// Column `i` (`a, b, c, d_0 .. d_{k-1}`, then the weights: per row `1 / sqrt(|d|^2 + 1)`,
+    /// the row's weight in the margin program of [`super::member`], 0 for a constant row) is
+    /// `data[i * cap..i * cap + len]` (one block: a side of a sample allocates once).
     data: Vec<f64>,
-    /// Per row: `1 / sqrt(|d|^2 + 1)` (the row's weight in the margin program of
-    /// [`super::member`]), 0 for a constant row.
-    weight: Vec<f64>,
     /// Bound on every extra variable (in their unit).
     pub y_bound: f64,
 }
@@ -66,8 +65,7 @@ impl LiftedRows {
             k,
             len: 0,
             cap: rows,
-            data: vec![0.0; rows * (3 + k)],
-            weight: Vec::with_capacity(rows),
+            data: vec![0.0; rows * (4 + k)],
             y_bound,
         }
     }
@@ -75,7 +73,6 @@ impl LiftedRows {
     /// Removes every row (keeps `k`, the bound and the room).
     pub fn clear(&mut self) {
         self.len = 0;
-        self.weight.clear();
     }
 
     /// Number of extra variables.
@@ -112,24 +109,28 @@ impl LiftedRows {
         for (v, col) in [a, b, c].into_iter().zip(columns.by_ref()) {
             col[j] = v * s;
         }
-        for (col, v) in columns.zip(d) {
+        // (d first again: zip asks it first, and leaves the weights' column alone)
+        for (v, col) in d.iter().zip(columns.by_ref()) {
             col[j] = v * s;
         }
-        self.weight.push(w);
+        if let Some(col) = columns.next() {
+            col[j] = w;
+        }
         self.len += 1;
     }
 
     /// Doubles the room of every column (at least 8 rows).
     fn grow(&mut self) {
         let cap = (2 * self.cap).max(8);
-        let mut data = vec![0.0; cap * (3 + self.k)];
-        for i in 0..3 + self.k {
+        let mut data = vec![0.0; cap * (4 + self.k)];
+        for i in 0..4 + self.k {
             data[i * cap..i * cap + self.len].copy_from_slice(self.column(i));
         }
         (self.data, self.cap) = (data, cap);
     }
 
-    /// Column `i` of the rows: `a` (0), `b` (1), `c` (2), then `d_0 .. d_{k-1}`.
+    /// Column `i` of the rows: `a` (0), `b` (1), `c` (2), then `d_0 .. d_{k-1}` (and the
+    /// margin program's weights at `3 + k`).
     #[inline]
     pub fn column(&self, i: usize) -> &[f64] {
         &self.data[i * self.cap..i * self.cap + self.len]
@@ -139,7 +140,7 @@ impl LiftedRows {
     /// `a = b = d = 0`, a constant).
     #[inline]
     pub(crate) fn weights(&self) -> &[f64] {
-        &self.weight
+        self.column(3 + self.k)
     }
 
     /// Row `j`'s `(a, b, c)` (panics when there is no row `j`).
@@ -548,7 +549,12 @@ mod tests {
                         assert_eq!(r.column(3 + i)[j], gd[i]);
                         assert_eq!(r.d(j, i), gd[i]);
                     }
+                    // the weight 1 / sqrt(|d|^2 + 1) of the unit row
+                    let dd = d.iter().map(|x| x * x).sum::<f64>() / (s * s);
+                    let w = r.weights()[j];
+                    assert!((w - 1.0 / (dd + 1.0).sqrt()).abs() <= 1e-15, "row {j}: {w}");
                 }
+                assert_eq!(r.weights().len(), 19);
             }
         }
     }
