@@ -15,7 +15,8 @@ Run from the project root, after copying each build's runner aside, for example
 Each round runs every motion with every build (`REPEAT` runs in one process each, the runner's
 medians); the table gives, per motion and build, the median over the rounds of `U_stance` + rows
 + TOPP (`t_u_abc_topp_ms`, the issue's figure), the oracle's time in the first solve, the last
-solve and the whole pipeline (ms). A motion is a built-in name or a file of `gallery/` (by its
+solve and the whole pipeline (ms). A build written `BIN:--no-limits` runs without the actuator
+limits (`BIN BIN:--no-limits`: their cost, in one run). A motion is a built-in name or a file of `gallery/` (by its
 name without `.toml`). JVRC-1 needs the virtualenv (`STANCE_VENV`, default `.venv`).
 """
 
@@ -34,7 +35,12 @@ def main():
     ap.add_argument("--rounds", type=int, default=8)
     ap.add_argument("--repeat", type=int, default=10)
     ap.add_argument("motions", help="comma-separated built-in names or gallery/NAME.toml stems")
-    ap.add_argument("builds", nargs="+", help="runner binaries (bench_motion) to compare")
+    ap.add_argument(
+        "builds",
+        nargs="+",
+        help="runner binaries (bench_motion) to compare; BIN:--no-limits runs BIN without the "
+        "actuator limits (the same build with and without them side by side)",
+    )
     args = ap.parse_args()
     root = os.getcwd()
     env = dict(os.environ)
@@ -47,11 +53,13 @@ def main():
                 path = os.path.join("gallery", m + ".toml")
                 motion = path if os.path.exists(path) else m
                 for b in args.builds:
+                    binary, _, flag = b.partition(":")
                     # the gallery's Talos motions name their URDF relative to gallery/
                     cwd = "gallery" if motion.startswith("gallery") else root
                     arg = os.path.basename(motion) if cwd == "gallery" else motion
                     subprocess.run(
-                        [os.path.abspath(b), arg, str(args.repeat), out],
+                        [os.path.abspath(binary), arg, str(args.repeat), out]
+                        + ([flag] if flag else []),
                         cwd=cwd,
                         env=env,
                         check=True,
@@ -60,7 +68,8 @@ def main():
                     with open(out) as f:
                         t = json.load(f)["timings"]
                     for k in KEYS:
-                        found.setdefault((m, b, k), []).append(t[k])
+                        # (a runner older than the actuator limits has no oracle's time)
+                        found.setdefault((m, b, k), []).append(t.get(k, float("nan")))
     print("medians over %d rounds of %d runs each (ms)" % (args.rounds, args.repeat))
     for m in args.motions.split(","):
         for b in args.builds:
