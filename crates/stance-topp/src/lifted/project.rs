@@ -103,18 +103,12 @@ impl LiftedRows {
         if self.len == self.cap {
             self.grow();
         }
-        let j = self.len;
-        let mut columns = self.data.chunks_exact_mut(self.cap);
-        // (the array first: zip asks it first, and leaves the columns of d alone)
-        for (v, col) in [a, b, c].into_iter().zip(columns.by_ref()) {
-            col[j] = v * s;
-        }
-        // (d first again: zip asks it first, and leaves the weights' column alone)
-        for (v, col) in d.iter().zip(columns.by_ref()) {
-            col[j] = v * s;
-        }
-        if let Some(col) = columns.next() {
-            col[j] = w;
+        let (j, cap) = (self.len, self.cap);
+        // a, b, c, d (scaled), then the weight: entry j of each column in turn
+        let abc = [a, b, c];
+        let values = abc.iter().chain(d).map(|v| v * s).chain([w]);
+        for (i, v) in values.enumerate() {
+            self.data[i * cap + j] = v;
         }
         self.len += 1;
     }
